@@ -1,0 +1,55 @@
+// COBS encoder and decoder (Cheshire & Baker, "Consistent Overhead Byte Stuffing", 1999).
+#include "common/link/cobs.h"
+
+namespace dg {
+
+Status cobs_encode(const uint8_t* in, size_t in_size, uint8_t* out, size_t out_capacity,
+                   size_t* out_size) {
+  if (out_capacity < cobs_max_encoded_size(in_size)) return Status::kOverflow;
+  size_t code_index = 0;
+  size_t write = 1;
+  uint8_t code = 1;
+  for (size_t i = 0; i < in_size; ++i) {
+    if (in[i] == 0) {
+      out[code_index] = code;
+      code_index = write++;
+      code = 1;
+      continue;
+    }
+    out[write++] = in[i];
+    if (++code == 0xFF) {
+      out[code_index] = code;
+      code_index = write++;
+      code = 1;
+    }
+  }
+  out[code_index] = code;
+  *out_size = write;
+  return Status::kOk;
+}
+
+Status cobs_decode(const uint8_t* in, size_t in_size, uint8_t* out, size_t out_capacity,
+                   size_t* out_size) {
+  size_t read = 0;
+  size_t write = 0;
+  while (read < in_size) {
+    const uint8_t code = in[read++];
+    if (code == 0) return Status::kBadEncoding;
+    const size_t run = static_cast<size_t>(code) - 1;
+    if (read + run > in_size) return Status::kBadEncoding;
+    if (write + run > out_capacity) return Status::kOverflow;
+    for (size_t i = 0; i < run; ++i) {
+      if (in[read] == 0) return Status::kBadEncoding;
+      out[write++] = in[read++];
+    }
+    // A code below 0xFF stands for a zero byte, except after the last run.
+    if (code != 0xFF && read < in_size) {
+      if (write >= out_capacity) return Status::kOverflow;
+      out[write++] = 0;
+    }
+  }
+  *out_size = write;
+  return Status::kOk;
+}
+
+}  // namespace dg

@@ -1,0 +1,80 @@
+// Link frames: header + payload + CRC-32, COBS-stuffed and ended by a 0x00 delimiter.
+//
+// Before stuffing a frame is
+//   [0]    version (high nibble, kFrameVersion) | kind (low nibble, FrameKind)
+//   [1..2] seq, little endian: numbers every data frame of one direction
+//   [3..4] ack, little endian: the last seq this side received in order
+//   [5..]  payload (one encoded Envelope)
+//   [n-4..n-1] CRC-32 of bytes [0, n-4), little endian
+// seq and ack let the reliable link (retransmission, duplicates, windows) live
+// on this same frame; the 0x00 delimiter lets a reader resynchronise after
+// garbage by discarding up to the next delimiter.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+
+#include "common/link/cobs.h"
+#include "common/status.h"
+
+namespace dg {
+
+constexpr uint8_t kFrameVersion = 1;
+constexpr size_t kFrameHeaderSize = 5;
+constexpr size_t kFrameCrcSize = 4;
+constexpr size_t kFrameMaxPayload = 544;  // >= digitizer_Envelope_size (checked in messages.cpp)
+constexpr size_t kFrameMaxRaw = kFrameHeaderSize + kFrameMaxPayload + kFrameCrcSize;
+// Stuffed bytes plus the delimiter.
+constexpr size_t kFrameMaxWire = cobs_max_encoded_size(kFrameMaxRaw) + 1;
+
+enum class FrameKind : uint8_t {
+  kData = 0,     // carries a payload
+  kAckOnly = 1,  // no payload, only the ack field matters
+};
+
+struct FrameHeader {
+  FrameKind kind = FrameKind::kData;
+  uint16_t seq = 0;
+  uint16_t ack = 0;
+};
+
+// Builds a complete wire frame (stuffed, with delimiter) into `out`.
+Status frame_encode(const FrameHeader& header, const uint8_t* payload, size_t payload_size,
+                    uint8_t* out, size_t out_capacity, size_t* out_size);
+
+// Incremental frame reader. Feed bytes as they arrive; each call reports at most
+// one finished frame. Bad frames are counted and skipped, never returned.
+class FrameDecoder {
+ public:
+  struct Counters {
+    uint32_t frames = 0;
+    uint32_t bad_crc = 0;
+    uint32_t bad_encoding = 0;  // COBS errors, short frames, wrong version
+    uint32_t overflow = 0;      // more bytes than a frame can hold before a delimiter
+    uint32_t garbage_bytes = 0; // bytes thrown away while resynchronising
+  };
+
+  // Consumes bytes from `data` up to and including the delimiter that ends a
+  // frame. Returns kOk with *consumed set when a valid frame is ready (read it
+  // with header()/payload()), kNeedMore when all bytes were used without
+  // completing a frame, or an error status for a rejected frame (also with
+  // *consumed set, so the caller just keeps feeding).
+  Status feed(const uint8_t* data, size_t size, size_t* consumed);
+
+  const FrameHeader& header() const { return header_; }
+  const uint8_t* payload() const { return buffer_ + kFrameHeaderSize; }
+  size_t payload_size() const { return payload_size_; }
+  const Counters& counters() const { return counters_; }
+  void reset();
+
+ private:
+  Status finish_frame();
+
+  uint8_t buffer_[cobs_max_encoded_size(kFrameMaxRaw)] = {};
+  size_t fill_ = 0;
+  bool discarding_ = false;  // overflowed: skip until the next delimiter
+  FrameHeader header_{};
+  size_t payload_size_ = 0;
+  Counters counters_{};
+};
+
+}  // namespace dg

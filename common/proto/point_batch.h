@@ -1,0 +1,39 @@
+// Packing measured points into delta-coded PointBatch messages and reading them back.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+
+#include "common/status.h"
+#include "digitizer.pb.h"
+
+namespace dg {
+
+// One measured point as both ends see it.
+struct PointSample {
+  uint32_t seq = 0;
+  uint32_t line = 0;
+  int32_t x_nm = 0;
+  int32_t y_nm = 0;
+  int32_t z_nm = 0;
+  uint64_t t_us = 0;
+  uint32_t flags = 0;
+};
+
+constexpr size_t kMaxPointsPerBatch =
+    sizeof(digitizer_PointBatch::dx_nm) / sizeof(digitizer_PointBatch::dx_nm[0]);
+
+// Starts an empty batch for points of one line, the first numbered `first_seq`.
+void point_batch_begin(digitizer_PointBatch* batch, uint32_t first_seq, uint32_t line);
+
+// Appends a point. kOverflow when the batch is full; kInvalidArgument when the
+// point does not continue the batch (another line or a gap in seq) or its
+// deltas do not fit the wire types.
+Status point_batch_append(digitizer_PointBatch* batch, const PointSample& point);
+
+size_t point_batch_size(const digitizer_PointBatch& batch);
+
+// Expands a received batch. kBadEncoding if its arrays disagree in length.
+// `out` must hold kMaxPointsPerBatch points.
+Status point_batch_expand(const digitizer_PointBatch& batch, PointSample* out, size_t* count);
+
+}  // namespace dg

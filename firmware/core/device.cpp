@@ -1,0 +1,330 @@
+// Device message handling and the transmit scheduler (replies first, then points, then ScanDone).
+#include "firmware/core/device.h"
+
+#include "common/proto/messages.h"
+
+namespace dg {
+
+Device::Device(hal::Board& board, const DeviceConfig& config)
+    : board_(board),
+      config_(config),
+      motion_(board, config.motion),
+      gauge_(board, config.gauge),
+      scan_(board, motion_, gauge_, config.scan) {}
+
+void Device::begin() {
+  gauge_.attach();
+  board_.write_pin(hal::Pin::kGaugeReq, false);
+}
+
+void Device::run() {
+  begin();
+  for (;;) {
+    poll();
+    if (!board_.wait(next_deadline_us())) return;
+  }
+}
+
+digitizer_DeviceState Device::state() const {
+  if (alarm_) return digitizer_DeviceState_STATE_ALARM;
+  if (scan_.active()) {
+    return scan_.paused() ? digitizer_DeviceState_STATE_PAUSED : digitizer_DeviceState_STATE_SCANNING;
+  }
+  if (jogging_) return digitizer_DeviceState_STATE_JOGGING;
+  return digitizer_DeviceState_STATE_IDLE;
+}
+
+uint64_t Device::next_deadline_us() const {
+  uint64_t deadline = scan_.deadline_us();
+  // An unsent partial batch must go out when it is old enough.
+  if (!ring_.empty() && static_cast<int32_t>(next_send_seq_ - (ring_.at(0).seq + ring_.size())) < 0) {
+    const size_t offset = next_send_seq_ - ring_.at(0).seq;
+    const uint64_t due = ring_.at(offset).t_us + kBatchMaxAgeUs;
+    if (due < deadline) deadline = due;
+  }
+  return deadline;
+}
+
+bool Device::accept(const PointSample& point) {
+  PointSample numbered = point;
+  numbered.seq = next_seq_;
+  if (!ring_.push(numbered)) return false;
+  ++next_seq_;
+  return true;
+}
+
+void Device::poll() {
+  receive();
+  if (jogging_ && !motion_.busy()) jogging_ = false;
+  scan_.poll(*this);
+  transmit();
+}
+
+void Device::receive() {
+  uint8_t chunk[64];
+  for (int rounds = 0; rounds < 16; ++rounds) {
+    const size_t got = board_.link_read(chunk, sizeof(chunk));
+    if (got == 0) return;
+    size_t offset = 0;
+    while (offset < got) {
+      size_t used = 0;
+      const Status status = decoder_.feed(chunk + offset, got - offset, &used);
+      offset += used;
+      if (status == Status::kNeedMore) break;
+      if (status != Status::kOk) continue;  // damaged frame: counted and skipped
+      rx_last_seq_ = decoder_.header().seq;
+      if (decoder_.header().kind != FrameKind::kData) continue;
+      digitizer_Envelope message;
+      if (decode_envelope(decoder_.payload(), decoder_.payload_size(), &message) != Status::kOk) {
+        fault(0, digitizer_FaultCode_FAULT_BAD_FRAME, "message did not decode");
+        continue;
+      }
+      handle(message);
+    }
+  }
+}
+
+void Device::handle(const digitizer_Envelope& message) {
+  const uint32_t id = message.id;
+  switch (message.which_body) {
+    case digitizer_Envelope_host_hello_tag: {
+      const digitizer_HostHello& host = message.body.host_hello;
+      if (host.protocol_version < digitizer_ProtocolVersion_PROTOCOL_VERSION ||
+          host.min_protocol_version > digitizer_ProtocolVersion_PROTOCOL_VERSION) {
+        // The Hello still goes out so the host can say which versions differ.
+        fault(id, digitizer_FaultCode_FAULT_VERSION, "protocol versions cannot talk");
+      }
+      queue({Reply::kHello, id, digitizer_FaultCode_FAULT_NONE, nullptr});
+      return;
+    }
+    case digitizer_Envelope_scan_request_tag: {
+      if (alarm_) return fault(id, digitizer_FaultCode_FAULT_ALARM_LOCKED, "in alarm: unlock first");
+      if (jogging_) return fault(id, digitizer_FaultCode_FAULT_BUSY, "jog in progress");
+      if (scan_.finished()) scan_.acknowledge_finished();
+      const char* reason = "";
+      const digitizer_FaultCode code =
+          scan_.start(message.body.scan_request, next_seq_, config_.default_feed_um_s, &reason);
+      if (code != digitizer_FaultCode_FAULT_NONE) return fault(id, code, reason);
+      line_first_seq_ = next_seq_;
+      queue({Reply::kAccepted, id, digitizer_FaultCode_FAULT_NONE, nullptr});
+      return;
+    }
+    case digitizer_Envelope_command_tag:
+      return handle_command(id, message.body.command);
+    case digitizer_Envelope_point_ack_tag: {
+      const uint32_t acked = message.body.point_ack.seq;
+      // Never free what was not sent: a wrong ack must not lose points.
+      if (static_cast<int32_t>(acked - next_send_seq_) < 0) ring_.release_through(acked);
+      return;
+    }
+    default:
+      return fault(id, digitizer_FaultCode_FAULT_UNSUPPORTED, "not a host message");
+  }
+}
+
+void Device::handle_command(uint32_t id, const digitizer_Command& command) {
+  switch (command.kind) {
+    case digitizer_CommandKind_CMD_STATUS:
+      return queue({Reply::kStatus, id, digitizer_FaultCode_FAULT_NONE, nullptr});
+    case digitizer_CommandKind_CMD_ABORT:
+      scan_.abort();
+      motion_.stop();
+      jogging_ = false;
+      return queue({Reply::kAccepted, id, digitizer_FaultCode_FAULT_NONE, nullptr});
+    case digitizer_CommandKind_CMD_PAUSE:
+    case digitizer_CommandKind_CMD_RESUME:
+      if (!scan_.active()) return fault(id, digitizer_FaultCode_FAULT_BAD_REQUEST, "no scan running");
+      scan_.set_paused(command.kind == digitizer_CommandKind_CMD_PAUSE);
+      return queue({Reply::kAccepted, id, digitizer_FaultCode_FAULT_NONE, nullptr});
+    case digitizer_CommandKind_CMD_UNLOCK:
+      alarm_ = false;
+      alarm_code_ = digitizer_FaultCode_FAULT_NONE;
+      return queue({Reply::kAccepted, id, digitizer_FaultCode_FAULT_NONE, nullptr});
+    case digitizer_CommandKind_CMD_JOG: {
+      if (alarm_) return fault(id, digitizer_FaultCode_FAULT_ALARM_LOCKED, "in alarm: unlock first");
+      if (scan_.active() || motion_.busy()) return fault(id, digitizer_FaultCode_FAULT_BUSY, "busy");
+      const int64_t per = config_.motion.nm_per_step;
+      const int64_t tx = motion_.x_steps() + command.dx_nm / per;
+      const int64_t ty = motion_.y_steps() + command.dy_nm / per;
+      const uint32_t feed = command.feed_um_s != 0 ? command.feed_um_s : config_.default_feed_um_s;
+      const uint32_t rate = static_cast<uint32_t>(static_cast<uint64_t>(feed) * 1000 / per);
+      if (tx < INT32_MIN || tx > INT32_MAX || ty < INT32_MIN || ty > INT32_MAX ||
+          motion_.move_to(static_cast<int32_t>(tx), static_cast<int32_t>(ty), rate) != Status::kOk) {
+        return fault(id, digitizer_FaultCode_FAULT_SOFT_LIMIT, "jog target outside the table");
+      }
+      jogging_ = motion_.busy();
+      return queue({Reply::kAccepted, id, digitizer_FaultCode_FAULT_NONE, nullptr});
+    }
+    case digitizer_CommandKind_CMD_HOME:
+      return fault(id, digitizer_FaultCode_FAULT_UNSUPPORTED, "homing is not in this firmware yet");
+    default:
+      return fault(id, digitizer_FaultCode_FAULT_UNSUPPORTED, "unknown command");
+  }
+}
+
+void Device::queue(Reply reply) {
+  if (reply_count_ == sizeof(replies_) / sizeof(replies_[0])) {
+    reply_overflow_ = true;  // a host flooding requests loses replies, never points
+    return;
+  }
+  replies_[reply_count_++] = reply;
+}
+
+bool Device::flush_tx() {
+  while (tx_sent_ < tx_size_) {
+    const size_t n = board_.link_write(tx_wire_ + tx_sent_, tx_size_ - tx_sent_);
+    if (n == 0) return false;
+    tx_sent_ += n;
+  }
+  return true;
+}
+
+bool Device::send(const digitizer_Envelope& message) {
+  if (!flush_tx()) return false;
+  uint8_t payload[kFrameMaxPayload];
+  size_t payload_size = 0;
+  if (encode_envelope(message, payload, sizeof(payload), &payload_size) != Status::kOk) return false;
+  FrameHeader header;
+  header.kind = FrameKind::kData;
+  header.seq = ++tx_seq_;
+  header.ack = rx_last_seq_;
+  if (frame_encode(header, payload, payload_size, tx_wire_, sizeof(tx_wire_), &tx_size_) !=
+      Status::kOk) {
+    return false;
+  }
+  tx_sent_ = 0;
+  flush_tx();
+  return true;
+}
+
+bool Device::send_reply(const Reply& reply) {
+  digitizer_Envelope message = digitizer_Envelope_init_zero;
+  message.id = reply.request_id;
+  switch (reply.kind) {
+    case Reply::kHello: {
+      message.which_body = digitizer_Envelope_hello_tag;
+      digitizer_Hello& h = message.body.hello;
+      h.protocol_version = digitizer_ProtocolVersion_PROTOCOL_VERSION;
+      h.min_protocol_version = digitizer_ProtocolVersion_PROTOCOL_VERSION;
+      set_string(h.firmware_version, config_.firmware_version);
+      set_string(h.device_id, config_.device_id);
+      set_string(h.board, config_.board);
+      h.capabilities = config_.capabilities;
+      h.has_table = true;
+      h.table.has_x = h.table.has_y = h.table.has_z = true;
+      const int64_t per = config_.motion.nm_per_step;
+      h.table.x.max_nm = static_cast<int32_t>(config_.motion.x_max_steps * per);
+      h.table.y.max_nm = static_cast<int32_t>(config_.motion.y_max_steps * per);
+      h.table.z.min_nm = config_.gauge_min_nm;
+      h.table.z.max_nm = config_.gauge_max_nm;
+      h.gauge_resolution_nm = config_.gauge_resolution_nm;
+      h.axis_resolution_nm = config_.motion.nm_per_step;
+      h.point_ring_capacity = kPointRingCapacity;
+      h.max_points_per_batch = kMaxPointsPerBatch;
+      break;
+    }
+    case Reply::kStatus: {
+      message.which_body = digitizer_Envelope_status_tag;
+      digitizer_Status& s = message.body.status;
+      s.state = state();
+      const int64_t per = config_.motion.nm_per_step;
+      s.x_nm = static_cast<int32_t>(motion_.x_steps() * per);
+      s.y_nm = static_cast<int32_t>(motion_.y_steps() * per);
+      s.z_nm = scan_.last_z_nm();
+      s.scan_id = scan_.scan_id();
+      s.points_done = scan_.points_done();
+      s.points_total = scan_.points_total();
+      s.ring_used = static_cast<uint32_t>(ring_.size());
+      s.alarm = alarm_code_;
+      break;
+    }
+    case Reply::kAccepted:
+      message.which_body = digitizer_Envelope_accepted_tag;
+      message.body.accepted.request_id = reply.request_id;
+      break;
+    case Reply::kFault:
+      message.which_body = digitizer_Envelope_fault_tag;
+      message.body.fault.code = reply.code;
+      message.body.fault.request_id = reply.request_id;
+      set_string(message.body.fault.detail, reply.detail);
+      break;
+  }
+  return send(message);
+}
+
+bool Device::send_points() {
+  if (ring_.empty()) return false;
+  const uint32_t oldest = ring_.at(0).seq;
+  const size_t held = ring_.size();
+  size_t offset = next_send_seq_ - oldest;
+  if (offset >= held) return false;
+  digitizer_Envelope message = digitizer_Envelope_init_zero;
+  message.which_body = digitizer_Envelope_points_tag;
+  digitizer_PointBatch& batch = message.body.points;
+  const PointSample& first = ring_.at(offset);
+  point_batch_begin(&batch, first.seq, first.line);
+  bool line_end = false;
+  for (; offset < held && !line_end; ++offset) {
+    if (point_batch_append(&batch, ring_.at(offset)) != Status::kOk) break;
+    line_end = (ring_.at(offset).flags & digitizer_PointFlag_POINT_LINE_END) != 0;
+  }
+  const size_t count = point_batch_size(batch);
+  // Send a full batch, a line's end, or whatever waits when the scan is over or it is old.
+  const bool due = count == kMaxPointsPerBatch || line_end || !scan_.active() ||
+                   board_.now_us() >= first.t_us + kBatchMaxAgeUs;
+  if (!due) return false;
+  if (!send(message)) return false;
+  next_send_seq_ = first.seq + static_cast<uint32_t>(count);
+  if (line_end) {
+    line_done_ = digitizer_LineDone_init_zero;
+    line_done_.line = first.line;
+    line_done_.last_seq = next_send_seq_ - 1;
+    line_done_.points = next_send_seq_ - line_first_seq_;
+    line_first_seq_ = next_send_seq_;
+    line_done_pending_ = true;
+  }
+  return true;
+}
+
+void Device::transmit() {
+  for (int rounds = 0; rounds < 8; ++rounds) {
+    if (!flush_tx()) return;
+    if (reply_count_ > 0) {
+      if (!send_reply(replies_[0])) return;
+      for (size_t i = 1; i < reply_count_; ++i) replies_[i - 1] = replies_[i];
+      --reply_count_;
+      continue;
+    }
+    if (line_done_pending_) {
+      digitizer_Envelope message = digitizer_Envelope_init_zero;
+      message.which_body = digitizer_Envelope_line_done_tag;
+      message.body.line_done = line_done_;
+      if (!send(message)) return;
+      line_done_pending_ = false;
+      continue;
+    }
+    if (send_points()) continue;
+    // ScanDone once every point of the scan is on the wire.
+    if (scan_.finished() && next_send_seq_ == next_seq_) {
+      digitizer_Envelope message = digitizer_Envelope_init_zero;
+      message.which_body = digitizer_Envelope_scan_done_tag;
+      digitizer_ScanDone& done = message.body.scan_done;
+      done.scan_id = scan_.scan_id();
+      done.reason = scan_.end_reason();
+      done.points = scan_.points_done();
+      done.lines = scan_.lines_done();
+      done.duration_us = scan_.duration_us();
+      if (scan_.end_reason() == digitizer_ScanEnd_SCAN_FAULTED) {
+        alarm_ = true;
+        alarm_code_ = scan_.fault();
+        fault(0, scan_.fault(), "scan stopped by a fault");
+      }
+      if (!send(message)) return;
+      scan_.acknowledge_finished();
+      continue;
+    }
+    return;
+  }
+}
+
+}  // namespace dg

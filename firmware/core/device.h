@@ -1,0 +1,97 @@
+// The device application: link I/O, the hello exchange, commands, the scan and the point ring.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+
+#include "common/link/frame.h"
+#include "common/proto/point_batch.h"
+#include "digitizer.pb.h"
+#include "firmware/core/digimatic_reader.h"
+#include "firmware/core/point_ring.h"
+#include "firmware/core/scan_engine.h"
+#include "firmware/core/step_generator.h"
+#include "firmware/hal/board.h"
+
+namespace dg {
+
+constexpr size_t kPointRingCapacity = 128;
+// A partly filled batch goes out after this long, so a slow scan still streams.
+constexpr uint64_t kBatchMaxAgeUs = 1000000;
+
+struct DeviceConfig {
+  MotionConfig motion{};
+  DigimaticTiming gauge{};
+  ScanLimits scan{};
+  const char* firmware_version = "0.1.0";
+  const char* device_id = "DG-0000";
+  const char* board = "unknown";
+  uint32_t capabilities = 0;
+  uint32_t gauge_resolution_nm = 1000;
+  int32_t gauge_min_nm = 0;
+  int32_t gauge_max_nm = 25000000;
+  uint32_t default_feed_um_s = 10000;
+};
+
+class Device : private PointSink {
+ public:
+  Device(hal::Board& board, const DeviceConfig& config);
+
+  // Attaches interrupts; call once.
+  void begin();
+  // Does all work possible now: reads the link, advances the scan, sends.
+  void poll();
+  // When poll() must next run even if no interrupt or byte arrives.
+  uint64_t next_deadline_us() const;
+  // poll() and wait() until the board shuts down.
+  void run();
+
+  digitizer_DeviceState state() const;
+  size_t ring_used() const { return ring_.size(); }
+
+ private:
+  struct Reply {
+    enum Kind : uint8_t { kHello, kStatus, kAccepted, kFault } kind;
+    uint32_t request_id;
+    digitizer_FaultCode code;
+    const char* detail;
+  };
+
+  bool accept(const PointSample& point) override;
+  void receive();
+  void handle(const digitizer_Envelope& message);
+  void handle_command(uint32_t id, const digitizer_Command& command);
+  void queue(Reply reply);
+  void fault(uint32_t id, digitizer_FaultCode code, const char* detail) {
+    queue({Reply::kFault, id, code, detail});
+  }
+  bool flush_tx();
+  bool send(const digitizer_Envelope& message);
+  void transmit();
+  bool send_reply(const Reply& reply);
+  bool send_points();
+
+  hal::Board& board_;
+  DeviceConfig config_;
+  StepGenerator motion_;
+  DigimaticReader gauge_;
+  ScanEngine scan_;
+  PointRing<kPointRingCapacity> ring_;
+  FrameDecoder decoder_;
+  uint32_t next_seq_ = 1;        // next point sequence number
+  uint32_t next_send_seq_ = 1;   // first point not yet sent
+  uint32_t line_first_seq_ = 1;  // first point of the line being sent
+  bool line_done_pending_ = false;
+  digitizer_LineDone line_done_ = digitizer_LineDone_init_zero;
+  bool alarm_ = false;
+  digitizer_FaultCode alarm_code_ = digitizer_FaultCode_FAULT_NONE;
+  bool jogging_ = false;
+  uint16_t tx_seq_ = 0;
+  uint16_t rx_last_seq_ = 0;
+  uint8_t tx_wire_[kFrameMaxWire] = {};
+  size_t tx_size_ = 0, tx_sent_ = 0;
+  Reply replies_[8] = {};
+  size_t reply_count_ = 0;
+  bool reply_overflow_ = false;
+};
+
+}  // namespace dg

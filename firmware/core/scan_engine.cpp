@@ -1,0 +1,210 @@
+// The scan state machine. Each point: move -> settle -> read (N samples, retries) -> emit.
+#include "firmware/core/scan_engine.h"
+
+namespace dg {
+
+ScanEngine::ScanEngine(hal::Board& board, StepGenerator& motion, DigimaticReader& gauge,
+                       ScanLimits limits)
+    : board_(board), motion_(motion), gauge_(gauge), limits_(limits) {}
+
+int32_t ScanEngine::to_steps(int64_t nm) const {
+  const int64_t per = motion_.config().nm_per_step;
+  // Round half away from zero so symmetric requests stay symmetric.
+  return static_cast<int32_t>(nm >= 0 ? (nm + per / 2) / per : -((-nm + per / 2) / per));
+}
+
+digitizer_FaultCode ScanEngine::start(const digitizer_ScanRequest& request, uint32_t first_seq,
+                                      uint32_t default_feed_um_s, const char** reason) {
+  if (active()) {
+    *reason = "a scan is already running";
+    return digitizer_FaultCode_FAULT_BUSY;
+  }
+  if (!request.has_x || !request.has_y || request.x.max_nm < request.x.min_nm ||
+      request.y.max_nm < request.y.min_nm) {
+    *reason = "scan extent missing or max < min";
+    return digitizer_FaultCode_FAULT_BAD_REQUEST;
+  }
+  const uint32_t resolution = motion_.config().nm_per_step;
+  if (request.step_x_nm < resolution || request.step_y_nm < resolution) {
+    *reason = "step smaller than one motor step";
+    return digitizer_FaultCode_FAULT_BAD_REQUEST;
+  }
+  if (request.probe != digitizer_ProbeType_PROBE_DIGIMATIC) {
+    *reason = "only the Digimatic probe is fitted";
+    return digitizer_FaultCode_FAULT_UNSUPPORTED;
+  }
+  if (request.samples_per_point > limits_.max_samples_per_point) {
+    *reason = "too many samples per point";
+    return digitizer_FaultCode_FAULT_BAD_REQUEST;
+  }
+  const uint64_t nx =
+      (static_cast<uint64_t>(static_cast<int64_t>(request.x.max_nm) - request.x.min_nm)) /
+          request.step_x_nm + 1;
+  const uint64_t ny =
+      (static_cast<uint64_t>(static_cast<int64_t>(request.y.max_nm) - request.y.min_nm)) /
+          request.step_y_nm + 1;
+  if (nx * ny > limits_.max_points) {
+    *reason = "more points than the device accepts in one scan";
+    return digitizer_FaultCode_FAULT_BAD_REQUEST;
+  }
+  const MotionConfig& m = motion_.config();
+  const int32_t x0 = to_steps(request.x.min_nm), x1 = to_steps(request.x.max_nm);
+  const int32_t y0 = to_steps(request.y.min_nm), y1 = to_steps(request.y.max_nm);
+  if (x0 < 0 || y0 < 0 || x1 > m.x_max_steps || y1 > m.y_max_steps) {
+    *reason = "scan extent outside the table";
+    return digitizer_FaultCode_FAULT_SOFT_LIMIT;
+  }
+  request_ = request;
+  count_x_ = static_cast<uint32_t>(nx);
+  count_y_ = static_cast<uint32_t>(ny);
+  const uint32_t feed = request.feed_um_s != 0 ? request.feed_um_s : default_feed_um_s;
+  rate_steps_s_ = static_cast<uint32_t>(static_cast<uint64_t>(feed) * 1000 / resolution);
+  if (rate_steps_s_ == 0) rate_steps_s_ = 1;
+  ix_ = iy_ = 0;
+  next_seq_ = first_seq;
+  points_done_ = lines_done_ = 0;
+  paused_ = abort_requested_ = false;
+  end_ = digitizer_ScanEnd_SCAN_COMPLETED;
+  fault_ = digitizer_FaultCode_FAULT_NONE;
+  started_us_ = board_.now_us();
+  begin_point();
+  return digitizer_FaultCode_FAULT_NONE;
+}
+
+void ScanEngine::begin_point() {
+  // Serpentine lines run backwards on odd rows to save the return move.
+  const bool reverse = request_.pattern == digitizer_ScanPattern_PATTERN_SERPENTINE && (iy_ & 1u);
+  const uint32_t column = reverse ? count_x_ - 1 - ix_ : ix_;
+  const int64_t x_nm = static_cast<int64_t>(request_.x.min_nm) +
+                       static_cast<int64_t>(column) * request_.step_x_nm;
+  const int64_t y_nm = static_cast<int64_t>(request_.y.min_nm) +
+                       static_cast<int64_t>(iy_) * request_.step_y_nm;
+  const Status moved = motion_.move_to(to_steps(x_nm), to_steps(y_nm), rate_steps_s_);
+  if (moved != Status::kOk) {
+    finish(digitizer_ScanEnd_SCAN_FAULTED, digitizer_FaultCode_FAULT_SOFT_LIMIT);
+    return;
+  }
+  samples_taken_ = 0;
+  retries_left_ = limits_.probe_retries;
+  z_sum_nm_ = 0;
+  point_flags_ = 0;
+  phase_ = Phase::kMoving;
+}
+
+void ScanEngine::finish(digitizer_ScanEnd why, digitizer_FaultCode fault) {
+  motion_.stop();
+  end_ = why;
+  fault_ = fault;
+  finished_us_ = board_.now_us();
+  phase_ = Phase::kFinished;
+}
+
+void ScanEngine::abort() {
+  if (active()) abort_requested_ = true;
+}
+
+uint64_t ScanEngine::deadline_us() const {
+  if (phase_ == Phase::kSettling) return settle_until_us_;
+  if (phase_ == Phase::kReading) return gauge_.deadline_us();
+  return UINT64_MAX;
+}
+
+void ScanEngine::poll(PointSink& sink) {
+  // Each pass may finish one phase and start the next, so loop until nothing changes.
+  for (int guard = 0; guard < 8; ++guard) {
+    const Phase before = phase_;
+    switch (phase_) {
+      case Phase::kIdle:
+      case Phase::kFinished:
+        return;
+      case Phase::kMoving:
+        if (abort_requested_) {
+          finish(digitizer_ScanEnd_SCAN_ABORTED, digitizer_FaultCode_FAULT_NONE);
+          return;
+        }
+        if (motion_.busy()) return;
+        settle_until_us_ = board_.now_us() + static_cast<uint64_t>(request_.settle_ms) * 1000;
+        phase_ = Phase::kSettling;
+        break;
+      case Phase::kSettling:
+        if (board_.now_us() < settle_until_us_) return;
+        gauge_.start();
+        phase_ = Phase::kReading;
+        break;
+      case Phase::kReading: {
+        const DigimaticReader::State state = gauge_.poll();
+        if (state == DigimaticReader::State::kReading) return;
+        if (state == DigimaticReader::State::kFailed) {
+          if (retries_left_ == 0) {
+            finish(digitizer_ScanEnd_SCAN_FAULTED, gauge_.error() == Status::kTimeout
+                                                       ? digitizer_FaultCode_FAULT_PROBE_TIMEOUT
+                                                       : digitizer_FaultCode_FAULT_PROBE_FRAME);
+            return;
+          }
+          --retries_left_;
+          point_flags_ |= digitizer_PointFlag_POINT_RETRIED;
+          gauge_.start();
+          return;
+        }
+        z_sum_nm_ += digimatic_to_nm(gauge_.reading());
+        ++samples_taken_;
+        const uint32_t wanted = request_.samples_per_point > 1 ? request_.samples_per_point : 1;
+        if (samples_taken_ < wanted) {
+          gauge_.start();
+          return;
+        }
+        pending_.seq = next_seq_;
+        pending_.line = iy_;
+        pending_.x_nm = static_cast<int32_t>(static_cast<int64_t>(motion_.x_steps()) *
+                                             motion_.config().nm_per_step);
+        pending_.y_nm = static_cast<int32_t>(static_cast<int64_t>(motion_.y_steps()) *
+                                             motion_.config().nm_per_step);
+        // Mean of the samples, rounded to the nearest nanometre.
+        const int64_t n = samples_taken_;
+        const int64_t z = z_sum_nm_ >= 0 ? (z_sum_nm_ + n / 2) / n : -((-z_sum_nm_ + n / 2) / n);
+        pending_.z_nm = static_cast<int32_t>(z);
+        pending_.t_us = board_.now_us();
+        pending_.flags = point_flags_;
+        if (ix_ == 0) pending_.flags |= digitizer_PointFlag_POINT_LINE_START;
+        if (ix_ + 1 == count_x_) pending_.flags |= digitizer_PointFlag_POINT_LINE_END;
+        last_z_nm_ = pending_.z_nm;
+        phase_ = Phase::kEmitting;
+        break;
+      }
+      case Phase::kEmitting:
+        if (!sink.accept(pending_)) return;  // ring full: wait, never drop
+        ++next_seq_;
+        ++points_done_;
+        if (++ix_ == count_x_) {
+          ix_ = 0;
+          ++lines_done_;
+          ++iy_;
+        }
+        if (iy_ == count_y_) {
+          finish(digitizer_ScanEnd_SCAN_COMPLETED, digitizer_FaultCode_FAULT_NONE);
+          return;
+        }
+        if (abort_requested_) {
+          finish(digitizer_ScanEnd_SCAN_ABORTED, digitizer_FaultCode_FAULT_NONE);
+          return;
+        }
+        if (paused_) {
+          phase_ = Phase::kPaused;  // pauses between points, never inside a reading
+          return;
+        }
+        begin_point();
+        break;
+      case Phase::kPaused:
+        if (abort_requested_) {
+          finish(digitizer_ScanEnd_SCAN_ABORTED, digitizer_FaultCode_FAULT_NONE);
+          return;
+        }
+        if (paused_) return;
+        begin_point();
+        break;
+    }
+    if (phase_ == before) return;
+  }
+}
+
+}  // namespace dg

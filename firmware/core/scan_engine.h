@@ -1,0 +1,89 @@
+// Scan engine: walks the grid of a ScanRequest (raster or serpentine), moves, settles,
+// reads the gauge and hands each point to a sink that may refuse it when full.
+#pragma once
+#include <cstdint>
+
+#include "common/proto/point_batch.h"
+#include "common/status.h"
+#include "digitizer.pb.h"
+#include "firmware/core/digimatic_reader.h"
+#include "firmware/core/step_generator.h"
+
+namespace dg {
+
+// Receives points in order; returns false when it has no room (the scan waits).
+class PointSink {
+ public:
+  virtual bool accept(const PointSample& point) = 0;
+
+ protected:
+  ~PointSink() = default;
+};
+
+struct ScanLimits {
+  uint32_t max_points = 4000000;
+  uint32_t max_samples_per_point = 16;
+  uint32_t probe_retries = 3;   // extra reads after a failed one, per sample
+};
+
+class ScanEngine {
+ public:
+  enum class Phase : uint8_t { kIdle, kMoving, kSettling, kReading, kEmitting, kPaused, kFinished };
+
+  ScanEngine(hal::Board& board, StepGenerator& motion, DigimaticReader& gauge, ScanLimits limits);
+
+  // Validates and starts a scan; points are numbered from `first_seq`. On a
+  // refusal returns the fault code and a one-line reason.
+  digitizer_FaultCode start(const digitizer_ScanRequest& request, uint32_t first_seq,
+                            uint32_t default_feed_um_s, const char** reason);
+  // Does whatever can be done now without blocking.
+  void poll(PointSink& sink);
+  uint64_t deadline_us() const;
+
+  void abort();
+  void set_paused(bool paused) { paused_ = paused; }
+  bool paused() const { return paused_; }
+
+  bool active() const { return phase_ != Phase::kIdle && phase_ != Phase::kFinished; }
+  bool finished() const { return phase_ == Phase::kFinished; }
+  void acknowledge_finished() { phase_ = Phase::kIdle; }
+  digitizer_ScanEnd end_reason() const { return end_; }
+  digitizer_FaultCode fault() const { return fault_; }
+  uint32_t scan_id() const { return request_.scan_id; }
+  uint32_t points_done() const { return points_done_; }
+  uint32_t points_total() const { return count_x_ * count_y_; }
+  uint32_t lines_done() const { return lines_done_; }
+  uint64_t duration_us() const { return finished_us_ - started_us_; }
+  int32_t last_z_nm() const { return last_z_nm_; }
+
+ private:
+  void begin_point();
+  void finish(digitizer_ScanEnd why, digitizer_FaultCode fault);
+  int32_t to_steps(int64_t nm) const;
+
+  hal::Board& board_;
+  StepGenerator& motion_;
+  DigimaticReader& gauge_;
+  ScanLimits limits_;
+  digitizer_ScanRequest request_ = digitizer_ScanRequest_init_zero;
+  Phase phase_ = Phase::kIdle;
+  bool paused_ = false;
+  bool abort_requested_ = false;
+  uint32_t count_x_ = 0, count_y_ = 0;
+  uint32_t ix_ = 0, iy_ = 0;  // grid index of the current point (ix along the line)
+  uint32_t rate_steps_s_ = 0;
+  uint32_t next_seq_ = 0;
+  uint32_t points_done_ = 0, lines_done_ = 0;
+  uint64_t settle_until_us_ = 0;
+  uint64_t started_us_ = 0, finished_us_ = 0;
+  // Samples of the current point.
+  uint32_t samples_taken_ = 0, retries_left_ = 0;
+  int64_t z_sum_nm_ = 0;
+  uint32_t point_flags_ = 0;
+  PointSample pending_{};
+  int32_t last_z_nm_ = 0;
+  digitizer_ScanEnd end_ = digitizer_ScanEnd_SCAN_COMPLETED;
+  digitizer_FaultCode fault_ = digitizer_FaultCode_FAULT_NONE;
+};
+
+}  // namespace dg

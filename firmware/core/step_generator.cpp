@@ -1,0 +1,114 @@
+// Step generation. The speed at dominant-axis step k of n is
+// min(v_max, sqrt(2 a k), sqrt(2 a (n - k + 1))): a symmetric trapezoid (or triangle).
+#include "firmware/core/step_generator.h"
+
+namespace dg {
+
+uint32_t isqrt64(uint64_t value) {
+  uint64_t result = 0;
+  uint64_t bit = uint64_t{1} << 62;
+  while (bit > value) bit >>= 2;
+  while (bit != 0) {
+    if (value >= result + bit) {
+      value -= result + bit;
+      result = (result >> 1) + bit;
+    } else {
+      result >>= 1;
+    }
+    bit >>= 2;
+  }
+  return static_cast<uint32_t>(result);
+}
+
+StepGenerator::StepGenerator(hal::Board& board, const MotionConfig& config)
+    : board_(board), config_(config) {}
+
+void StepGenerator::set_position(int32_t x_steps, int32_t y_steps) {
+  x_ = x_steps;
+  y_ = y_steps;
+}
+
+Status StepGenerator::move_to(int32_t x_steps, int32_t y_steps, uint32_t rate_steps_s) {
+  if (busy_) return Status::kBusy;
+  if (x_steps < 0 || y_steps < 0 || x_steps > config_.x_max_steps ||
+      y_steps > config_.y_max_steps) {
+    return Status::kInvalidArgument;
+  }
+  const int64_t dx = static_cast<int64_t>(x_steps) - x_;
+  const int64_t dy = static_cast<int64_t>(y_steps) - y_;
+  if (dx == 0 && dy == 0) return Status::kOk;
+  step_x_ = dx > 0 ? 1 : (dx < 0 ? -1 : 0);
+  step_y_ = dy > 0 ? 1 : (dy < 0 ? -1 : 0);
+  count_x_ = static_cast<uint32_t>(dx < 0 ? -dx : dx);
+  count_y_ = static_cast<uint32_t>(dy < 0 ? -dy : dy);
+  total_ = count_x_ > count_y_ ? count_x_ : count_y_;
+  done_ = 0;
+  error_ = total_ / 2;
+  rate_ = (rate_steps_s == 0 || rate_steps_s > config_.max_rate_steps_s)
+              ? config_.max_rate_steps_s
+              : rate_steps_s;
+  // Direction first; the first step waits at least the driver's set-up time.
+  if (step_x_ != 0) board_.write_pin(hal::Pin::kDirX, step_x_ > 0);
+  if (step_y_ != 0) board_.write_pin(hal::Pin::kDirY, step_y_ > 0);
+  busy_ = true;
+  const uint32_t first = period_ns(1);
+  board_.start_step_timer(first > config_.dir_setup_ns ? first : config_.dir_setup_ns,
+                          &StepGenerator::on_tick, this);
+  return Status::kOk;
+}
+
+void StepGenerator::stop() {
+  board_.stop_step_timer();
+  busy_ = false;
+}
+
+uint32_t StepGenerator::period_ns(uint32_t step_index) const {
+  const uint64_t two_a = 2ull * config_.accel_steps_s2;
+  const uint32_t up = isqrt64(two_a * step_index);
+  const uint32_t down = isqrt64(two_a * (total_ - step_index + 1));
+  uint32_t v = rate_;
+  if (up < v) v = up;
+  if (down < v) v = down;
+  if (v == 0) v = 1;
+  return static_cast<uint32_t>(1000000000ull / v);
+}
+
+uint32_t StepGenerator::on_tick(void* self) { return static_cast<StepGenerator*>(self)->tick(); }
+
+uint32_t StepGenerator::tick() {
+  // Bresenham along the dominant axis keeps the path straight and the counts exact.
+  bool step_x = false, step_y = false;
+  if (count_x_ >= count_y_) {
+    step_x = true;
+    error_ -= count_y_;
+    if (error_ < 0) {
+      step_y = true;
+      error_ += total_;
+    }
+  } else {
+    step_y = true;
+    error_ -= count_x_;
+    if (error_ < 0) {
+      step_x = true;
+      error_ += total_;
+    }
+  }
+  if (step_x) board_.write_pin(hal::Pin::kStepX, true);
+  if (step_y) board_.write_pin(hal::Pin::kStepY, true);
+  if (step_x) {
+    x_ = x_ + step_x_;
+    board_.write_pin(hal::Pin::kStepX, false);
+  }
+  if (step_y) {
+    y_ = y_ + step_y_;
+    board_.write_pin(hal::Pin::kStepY, false);
+  }
+  ++done_;
+  if (done_ >= total_) {
+    busy_ = false;
+    return 0;
+  }
+  return period_ns(done_ + 1);
+}
+
+}  // namespace dg

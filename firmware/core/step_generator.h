@@ -1,0 +1,57 @@
+// Two-axis step generator: straight-line moves (Bresenham) with a trapezoidal speed ramp,
+// driven by the board's step timer interrupt.
+#pragma once
+#include <cstdint>
+
+#include "common/status.h"
+#include "firmware/hal/board.h"
+
+namespace dg {
+
+struct MotionConfig {
+  uint32_t nm_per_step = 2500;         // 400 steps/mm: 1 mm lead screw, 200 steps, half stepping
+  int32_t x_max_steps = 200 * 400;     // soft limits: travel from 0 (home) to max
+  int32_t y_max_steps = 150 * 400;
+  uint32_t max_rate_steps_s = 8000;    // 20 mm/s
+  uint32_t accel_steps_s2 = 80000;     // 200 mm/s^2
+  uint32_t dir_setup_ns = 5000;        // driver needs DIR stable this long before STEP
+};
+
+class StepGenerator {
+ public:
+  StepGenerator(hal::Board& board, const MotionConfig& config);
+
+  // Starts a move to an absolute position in steps at up to `rate_steps_s`
+  // (0 = the configured maximum). kBusy while moving; kInvalidArgument (soft
+  // limit) when the target is outside the table, refused before any step.
+  Status move_to(int32_t x_steps, int32_t y_steps, uint32_t rate_steps_s);
+  bool busy() const { return busy_; }
+  int32_t x_steps() const { return x_; }
+  int32_t y_steps() const { return y_; }
+  // Sets the current position without moving (after homing).
+  void set_position(int32_t x_steps, int32_t y_steps);
+  // Stops at once (abort); the position stays exact.
+  void stop();
+  const MotionConfig& config() const { return config_; }
+
+ private:
+  static uint32_t on_tick(void* self);
+  uint32_t tick();
+  uint32_t period_ns(uint32_t step_index) const;
+
+  hal::Board& board_;
+  MotionConfig config_;
+  volatile int32_t x_ = 0;
+  volatile int32_t y_ = 0;
+  volatile bool busy_ = false;
+  // Current move.
+  int32_t step_x_ = 0, step_y_ = 0;  // +1 / -1 / 0 per axis
+  uint32_t count_x_ = 0, count_y_ = 0, total_ = 0, done_ = 0;
+  int64_t error_ = 0;
+  uint32_t rate_ = 0;
+};
+
+// Integer square root (floor) for the speed ramp: no FPU needed.
+uint32_t isqrt64(uint64_t value);
+
+}  // namespace dg

@@ -1,0 +1,56 @@
+// The hardware abstraction the firmware core runs on: pins, edges, step timer, clock, byte link.
+// A board (real or simulated) implements this once; the core never sees registers.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+
+namespace dg::hal {
+
+// Logical pins. Levels are logical (true = asserted); a board maps them to its
+// electrical polarity (the Digimatic REQ line, for example, is active low).
+enum class Pin : uint8_t {
+  kStepX,
+  kDirX,  // true = towards +x
+  kStepY,
+  kDirY,  // true = towards +y
+  kGaugeReq,
+  kGaugeClock,
+  kGaugeData,
+  kLimitXMin,
+  kLimitYMin,
+  kEstop,
+  kCount,
+};
+
+using EdgeHandler = void (*)(void* context);
+// Returns the delay to the next call in nanoseconds, or 0 to stop the timer.
+using TimerHandler = uint32_t (*)(void* context);
+
+class Board {
+ public:
+  virtual ~Board() = default;
+
+  virtual void write_pin(Pin pin, bool level) = 0;
+  virtual bool read_pin(Pin pin) = 0;
+
+  // Calls `handler` from interrupt context on each rising edge of `pin`.
+  virtual void on_rising_edge(Pin pin, EdgeHandler handler, void* context) = 0;
+
+  // One-shot-chained timer for step generation: first call after `delay_ns`,
+  // then after whatever the handler returns.
+  virtual void start_step_timer(uint32_t delay_ns, TimerHandler handler, void* context) = 0;
+  virtual void stop_step_timer() = 0;
+
+  // Monotonic device time.
+  virtual uint64_t now_us() = 0;
+
+  // Non-blocking byte link to the host: returns how many bytes were taken/read.
+  virtual size_t link_write(const uint8_t* data, size_t size) = 0;
+  virtual size_t link_read(uint8_t* data, size_t capacity) = 0;
+
+  // Sleeps until an interrupt fires, a byte arrives or `deadline_us` passes
+  // (UINT64_MAX: no deadline). Returns false when the board must shut down.
+  virtual bool wait(uint64_t deadline_us) = 0;
+};
+
+}  // namespace dg::hal

@@ -1,0 +1,206 @@
+// digitizer: the command-line front end (scan a part, export points, inspect scan files).
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cinttypes>
+#include <cstdio>
+#include <iostream>
+#include <stdexcept>
+
+#include <unistd.h>
+
+#include "host/cli/units.h"
+#include "host/device/capture.h"
+#include "host/scan/point_export.h"
+#include "host/scan/scan_file.h"
+#include "host/transport/transport.h"
+
+namespace {
+
+using namespace dg::host;
+
+// Exit codes (docs/cli.md).
+constexpr int kExitOk = 0;
+constexpr int kExitFailure = 1;  // device, transport or file error
+constexpr int kExitUsage = 2;
+
+struct ScanArgs {
+  std::string device = "sim:part=dome";
+  std::string x = "0:40", y = "0:30";
+  double step_mm = 1.0;
+  double step_y_mm = 0.0;
+  std::string pattern = "serpentine";
+  double feed_mm_s = 10.0;
+  unsigned samples = 1;
+  unsigned settle_ms = 0;
+  std::string output;
+  bool quiet = false;
+};
+
+void print_summary(const dg::host::ScanData& data, const char* prefix) {
+  if (data.points.empty()) {
+    std::printf("%s0 points\n", prefix);
+    return;
+  }
+  int32_t lo[3] = {INT32_MAX, INT32_MAX, INT32_MAX}, hi[3] = {INT32_MIN, INT32_MIN, INT32_MIN};
+  for (const auto& p : data.points) {
+    const int32_t v[3] = {p.x_nm, p.y_nm, p.z_nm};
+    for (int i = 0; i < 3; ++i) {
+      if (v[i] < lo[i]) lo[i] = v[i];
+      if (v[i] > hi[i]) hi[i] = v[i];
+    }
+  }
+  const uint32_t lines = data.points.back().line - data.points.front().line + 1;
+  std::printf("%s%zu points in %" PRIu32 " lines\n", prefix, data.points.size(), lines);
+  std::printf("%sextent x %.3f..%.3f  y %.3f..%.3f  z %.3f..%.3f mm\n", prefix, lo[0] * 1e-6,
+              hi[0] * 1e-6, lo[1] * 1e-6, hi[1] * 1e-6, lo[2] * 1e-6, hi[2] * 1e-6);
+  if (data.done) {
+    std::printf("%sdevice time %.1f s\n", prefix, data.done->duration_us * 1e-6);
+  }
+  for (const auto& w : data.warnings) std::printf("%swarning: %s\n", prefix, w.c_str());
+}
+
+int run_scan(const ScanArgs& a) {
+  if (a.output.empty()) throw CLI::ValidationError("-o", "an output scan file is required");
+  digitizer_ScanRequest request = digitizer_ScanRequest_init_zero;
+  request.scan_id = 1;
+  request.has_x = request.has_y = true;
+  const RangeNm x = parse_range_mm(a.x, "--x");
+  const RangeNm y = parse_range_mm(a.y, "--y");
+  request.x.min_nm = x.min_nm;
+  request.x.max_nm = x.max_nm;
+  request.y.min_nm = y.min_nm;
+  request.y.max_nm = y.max_nm;
+  const int32_t step = parse_mm(std::to_string(a.step_mm), "--step");
+  const int32_t step_y = a.step_y_mm > 0 ? parse_mm(std::to_string(a.step_y_mm), "--step-y") : step;
+  if (step <= 0 || step_y <= 0) throw std::invalid_argument("--step must be > 0");
+  request.step_x_nm = static_cast<uint32_t>(step);
+  request.step_y_nm = static_cast<uint32_t>(step_y);
+  request.pattern = a.pattern == "raster" ? digitizer_ScanPattern_PATTERN_RASTER
+                                          : digitizer_ScanPattern_PATTERN_SERPENTINE;
+  request.feed_um_s = static_cast<uint32_t>(a.feed_mm_s * 1000.0);
+  request.probe = digitizer_ProbeType_PROBE_DIGIMATIC;
+  request.samples_per_point = a.samples;
+  request.settle_ms = a.settle_ms;
+
+  const auto started = std::chrono::steady_clock::now();
+  auto transport = open_transport(a.device);
+  Session session(*transport);
+  const digitizer_Hello device = session.hello(5000);
+  if (!a.quiet) {
+    std::printf("device %s (%s, firmware %s), table %.0f x %.0f mm, gauge %u nm\n",
+                device.device_id, device.board, device.firmware_version,
+                device.table.x.max_nm * 1e-6, device.table.y.max_nm * 1e-6,
+                device.gauge_resolution_nm);
+  }
+  ScanFileWriter file(a.output);
+  CaptureOptions options;
+  const bool tty = !a.quiet && isatty(fileno(stdout));
+  if (tty) {
+    options.progress = [](const CaptureProgress& p) {
+      std::printf("\r%u / %u points, %u lines", p.points, p.points_total, p.lines);
+      std::fflush(stdout);
+    };
+  }
+  const CaptureResult result = capture_scan(session, device, request, file, options);
+  if (tty) std::printf("\n");
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  if (!a.quiet) {
+    const ScanData data = read_scan_file(a.output);
+    print_summary(data, "");
+    std::printf("wall time %.2f s (%.0f points/s), %.1f wire bytes per point\n", seconds,
+                result.points / (seconds > 0 ? seconds : 1e-9),
+                result.points ? static_cast<double>(session.bytes_received()) / result.points : 0.0);
+    std::printf("wrote %s\n", a.output.c_str());
+  }
+  if (result.done.reason != digitizer_ScanEnd_SCAN_COMPLETED) {
+    std::fprintf(stderr, "digitizer: scan %s after %u points%s%s; the points are in %s\n",
+                 result.done.reason == digitizer_ScanEnd_SCAN_ABORTED ? "aborted" : "stopped by a fault",
+                 result.points, result.faults ? ": " : "", result.last_fault_detail.c_str(),
+                 a.output.c_str());
+    return kExitFailure;
+  }
+  return kExitOk;
+}
+
+int run_export(const std::string& input, const std::string& output) {
+  const ScanData data = read_scan_file(input);
+  for (const auto& w : data.warnings) std::fprintf(stderr, "digitizer: warning: %s\n", w.c_str());
+  write_points(output, data.points);
+  std::printf("wrote %zu points to %s\n", data.points.size(), output.c_str());
+  return kExitOk;
+}
+
+int run_info(const std::string& input) {
+  const ScanData data = read_scan_file(input);
+  if (data.device) {
+    std::printf("device %s (%s, firmware %s)\n", data.device->device_id, data.device->board,
+                data.device->firmware_version);
+  }
+  if (data.request) {
+    const auto& r = *data.request;
+    std::printf("request x %.3f..%.3f y %.3f..%.3f mm, step %.3f x %.3f mm, %s\n",
+                r.x.min_nm * 1e-6, r.x.max_nm * 1e-6, r.y.min_nm * 1e-6, r.y.max_nm * 1e-6,
+                r.step_x_nm * 1e-6, r.step_y_nm * 1e-6,
+                r.pattern == digitizer_ScanPattern_PATTERN_RASTER ? "raster" : "serpentine");
+  }
+  print_summary(data, "");
+  if (!data.done) std::printf("the scan did not finish (no ScanDone record)\n");
+  return kExitOk;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"bench digitizer: scan parts on an XY table with a dial gauge"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", DIGITIZER_VERSION);
+
+  ScanArgs scan;
+  CLI::App* scan_cmd = app.add_subcommand("scan", "scan a grid on the device and store it");
+  scan_cmd->add_option("--device", scan.device, "device URI, e.g. sim:part=dome,seed=7")
+      ->capture_default_str();
+  scan_cmd->add_option("--x", scan.x, "x range MIN:MAX in mm")->capture_default_str();
+  scan_cmd->add_option("--y", scan.y, "y range MIN:MAX in mm")->capture_default_str();
+  scan_cmd->add_option("--step", scan.step_mm, "grid step along a line, mm")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  scan_cmd->add_option("--step-y", scan.step_y_mm, "grid step between lines, mm (default: --step)")
+      ->check(CLI::PositiveNumber);
+  scan_cmd->add_option("--pattern", scan.pattern, "raster or serpentine")
+      ->capture_default_str()->check(CLI::IsMember({"raster", "serpentine"}));
+  scan_cmd->add_option("--feed", scan.feed_mm_s, "table speed between points, mm/s")
+      ->capture_default_str()->check(CLI::Range(0.01, 200.0));
+  scan_cmd->add_option("--samples", scan.samples, "gauge readings averaged per point")
+      ->capture_default_str()->check(CLI::Range(1, 16));
+  scan_cmd->add_option("--settle-ms", scan.settle_ms, "wait after each move before reading")
+      ->capture_default_str()->check(CLI::Range(0, 10000));
+  scan_cmd->add_option("-o,--output", scan.output, "scan file to write")->required();
+  scan_cmd->add_flag("-q,--quiet", scan.quiet, "print nothing but errors");
+
+  std::string export_in, export_out;
+  CLI::App* export_cmd = app.add_subcommand("export", "write a scan's points as CSV or PLY");
+  export_cmd->add_option("input", export_in, "scan file")->required()->check(CLI::ExistingFile);
+  export_cmd->add_option("-o,--output", export_out, "output .csv or .ply")->required();
+
+  std::string info_in;
+  CLI::App* info_cmd = app.add_subcommand("info", "summarise a scan file");
+  info_cmd->add_option("input", info_in, "scan file")->required()->check(CLI::ExistingFile);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? kExitOk : kExitUsage;
+  }
+  try {
+    if (*scan_cmd) return run_scan(scan);
+    if (*export_cmd) return run_export(export_in, export_out);
+    if (*info_cmd) return run_info(info_in);
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "digitizer: %s\n", e.what());
+    return kExitUsage;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "digitizer: %s\n", e.what());
+    return kExitFailure;
+  }
+  return kExitUsage;
+}

@@ -1,0 +1,17 @@
+// Parsing millimetre values and ranges from the command line into integer nanometres.
+#pragma once
+#include <cstdint>
+#include <string>
+
+namespace dg::host {
+
+// "12.5" -> 12500000. Throws std::invalid_argument naming `what` for bad input.
+int32_t parse_mm(const std::string& text, const std::string& what);
+// "0:40" -> {0, 40000000}; min must not exceed max.
+struct RangeNm {
+  int32_t min_nm = 0;
+  int32_t max_nm = 0;
+};
+RangeNm parse_range_mm(const std::string& text, const std::string& what);
+
+}  // namespace dg::host

@@ -1,0 +1,95 @@
+// Capture loop: store first, then acknowledge, so the device frees only what is on disk.
+#include "host/device/capture.h"
+
+namespace dg::host {
+
+uint64_t grid_points(const digitizer_ScanRequest& r) {
+  if (r.step_x_nm == 0 || r.step_y_nm == 0 || r.x.max_nm < r.x.min_nm || r.y.max_nm < r.y.min_nm) {
+    return 0;
+  }
+  const uint64_t nx = static_cast<uint64_t>(static_cast<int64_t>(r.x.max_nm) - r.x.min_nm) / r.step_x_nm + 1;
+  const uint64_t ny = static_cast<uint64_t>(static_cast<int64_t>(r.y.max_nm) - r.y.min_nm) / r.step_y_nm + 1;
+  return nx * ny;
+}
+
+CaptureResult capture_scan(Session& session, const digitizer_Hello& device,
+                           digitizer_ScanRequest request, ScanFileWriter& file,
+                           const CaptureOptions& options) {
+  digitizer_Envelope message = digitizer_Envelope_init_zero;
+  message.which_body = digitizer_Envelope_hello_tag;
+  message.body.hello = device;
+  file.append(message);
+
+  digitizer_Envelope start = digitizer_Envelope_init_zero;
+  start.which_body = digitizer_Envelope_scan_request_tag;
+  start.body.scan_request = request;
+  const uint32_t id = session.send(start);
+  file.append(start);
+  file.sync();
+
+  CaptureResult result;
+  CaptureProgress progress;
+  progress.points_total = static_cast<uint32_t>(grid_points(request));
+  bool accepted = false;
+  uint32_t expected_seq = 0;  // 0: take the first batch's numbering
+  for (;;) {
+    if (!session.receive(&message, options.silence_timeout_ms)) {
+      throw DeviceError(session.device_name() + ": device silent for " +
+                        std::to_string(options.silence_timeout_ms) + " ms after " +
+                        std::to_string(result.points) + " points; they are in " + file.path());
+    }
+    switch (message.which_body) {
+      case digitizer_Envelope_accepted_tag:
+        if (message.body.accepted.request_id == id) accepted = true;
+        break;
+      case digitizer_Envelope_fault_tag: {
+        const digitizer_Fault& f = message.body.fault;
+        if (f.request_id == id && !accepted) {
+          throw DeviceError(session.device_name() + ": scan refused (" + fault_name(f.code) +
+                            "): " + f.detail);
+        }
+        file.append(message);
+        ++result.faults;
+        result.last_fault = f.code;
+        result.last_fault_detail = f.detail;
+        break;
+      }
+      case digitizer_Envelope_points_tag: {
+        const digitizer_PointBatch& batch = message.body.points;
+        const uint32_t count = batch.dx_nm_count;
+        if (expected_seq == 0) expected_seq = batch.first_seq;
+        if (batch.first_seq + count <= expected_seq) break;  // a duplicate: already stored
+        if (batch.first_seq != expected_seq) {
+          throw DeviceError(session.device_name() + ": points " + std::to_string(expected_seq) +
+                            " to " + std::to_string(batch.first_seq - 1) +
+                            " never arrived; the rest is in " + file.path());
+        }
+        file.append(message);
+        expected_seq += count;
+        result.points += count;
+        digitizer_Envelope ack = digitizer_Envelope_init_zero;
+        ack.which_body = digitizer_Envelope_point_ack_tag;
+        ack.body.point_ack.seq = expected_seq - 1;
+        session.send(ack);
+        progress.points = result.points;
+        if (options.progress) options.progress(progress);
+        break;
+      }
+      case digitizer_Envelope_line_done_tag:
+        file.append(message);
+        file.sync();
+        ++result.lines;
+        progress.lines = result.lines;
+        break;
+      case digitizer_Envelope_scan_done_tag:
+        file.append(message);
+        file.sync();
+        result.done = message.body.scan_done;
+        return result;
+      default:
+        break;
+    }
+  }
+}
+
+}  // namespace dg::host

@@ -1,0 +1,92 @@
+// Point cloud writers. Integer nanometres print as exact millimetre decimals.
+#include "host/scan/point_export.h"
+
+#include <cerrno>
+#include <cinttypes>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+#include <stdexcept>
+
+namespace dg::host {
+namespace {
+
+struct FileCloser {
+  void operator()(std::FILE* f) const { std::fclose(f); }
+};
+using File = std::unique_ptr<std::FILE, FileCloser>;
+
+File open_for_writing(const std::string& path, const char* mode) {
+  File file(std::fopen(path.c_str(), mode));
+  if (!file) throw std::runtime_error(path + ": cannot create: " + std::strerror(errno));
+  return file;
+}
+
+void finish(File file, const std::string& path) {
+  std::FILE* raw = file.release();
+  if (std::ferror(raw) != 0 || std::fclose(raw) != 0) {
+    throw std::runtime_error(path + ": write failed: " + std::strerror(errno));
+  }
+}
+
+// "-12.345678" from -12345678 nm, without going through floating point.
+void print_mm(std::FILE* f, int32_t nm) {
+  const int64_t v = nm;
+  const int64_t magnitude = v < 0 ? -v : v;
+  std::fprintf(f, "%s%" PRId64 ".%06" PRId64, v < 0 ? "-" : "", magnitude / 1000000,
+               magnitude % 1000000);
+}
+
+bool ends_with(const std::string& s, const char* suffix) {
+  const size_t n = std::strlen(suffix);
+  if (s.size() < n) return false;
+  for (size_t i = 0; i < n; ++i) {
+    char c = s[s.size() - n + i];
+    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+    if (c != suffix[i]) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+void write_points_csv(const std::string& path, const std::vector<PointSample>& points) {
+  File f = open_for_writing(path, "w");
+  std::fprintf(f.get(), "x,y,z,line\n");
+  for (const PointSample& p : points) {
+    print_mm(f.get(), p.x_nm);
+    std::fputc(',', f.get());
+    print_mm(f.get(), p.y_nm);
+    std::fputc(',', f.get());
+    print_mm(f.get(), p.z_nm);
+    std::fprintf(f.get(), ",%" PRIu32 "\n", p.line);
+  }
+  finish(std::move(f), path);
+}
+
+void write_points_ply(const std::string& path, const std::vector<PointSample>& points) {
+  File f = open_for_writing(path, "wb");
+  std::fprintf(f.get(),
+               "ply\nformat binary_little_endian 1.0\ncomment bench digitizer scan, millimetres\n"
+               "element vertex %zu\nproperty double x\nproperty double y\nproperty double z\n"
+               "property int line\nend_header\n",
+               points.size());
+  for (const PointSample& p : points) {
+    unsigned char record[28];
+    const double xyz[3] = {p.x_nm * 1e-6, p.y_nm * 1e-6, p.z_nm * 1e-6};
+    const int32_t line = static_cast<int32_t>(p.line);
+    // x86 and ARM hosts are little endian, as the header says; memcpy keeps it exact.
+    std::memcpy(record, xyz, sizeof(xyz));
+    std::memcpy(record + 24, &line, sizeof(line));
+    std::fwrite(record, sizeof(record), 1, f.get());
+  }
+  finish(std::move(f), path);
+}
+
+void write_points(const std::string& path, const std::vector<PointSample>& points) {
+  if (ends_with(path, ".csv")) return write_points_csv(path, points);
+  if (ends_with(path, ".ply")) return write_points_ply(path, points);
+  throw std::invalid_argument(path + ": unknown point format (use .csv or .ply)");
+}
+
+}  // namespace dg::host

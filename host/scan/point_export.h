@@ -1,0 +1,17 @@
+// Writing measured points as CSV (x,y,z,line in mm) and binary PLY.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "common/proto/point_batch.h"
+
+namespace dg::host {
+
+// Millimetres with six decimals: exact to the nanometre the device measured.
+void write_points_csv(const std::string& path, const std::vector<PointSample>& points);
+// Binary little-endian PLY: double x, y, z (mm) and int line, one vertex per point.
+void write_points_ply(const std::string& path, const std::vector<PointSample>& points);
+// Picks the format from the extension (.csv, .ply); throws std::invalid_argument otherwise.
+void write_points(const std::string& path, const std::vector<PointSample>& points);
+
+}  // namespace dg::host

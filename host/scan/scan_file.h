@@ -1,0 +1,58 @@
+// Scan files: an append-only sequence of ScanRecord messages (see docs/scan-file.md).
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "common/proto/point_batch.h"
+#include "digitizer.pb.h"
+
+namespace dg::host {
+
+// A scan file could not be written or read; the message names the file and where.
+class ScanFileError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class ScanFileWriter {
+ public:
+  // Creates (or truncates) the file.
+  explicit ScanFileWriter(const std::string& path);
+  ~ScanFileWriter();
+  ScanFileWriter(const ScanFileWriter&) = delete;
+  ScanFileWriter& operator=(const ScanFileWriter&) = delete;
+
+  // Appends one record with a single write(2): a crash leaves whole records and at
+  // most one cut-off record at the end, which readers detect and skip.
+  void append(const digitizer_Envelope& message);
+  // Forces everything appended so far to the disk (at each line's end).
+  void sync();
+  const std::string& path() const { return path_; }
+  uint64_t bytes_written() const { return bytes_; }
+
+ private:
+  std::string path_;
+  int fd_ = -1;
+  uint64_t bytes_ = 0;
+};
+
+// Everything a scan file says, with points expanded.
+struct ScanData {
+  std::optional<digitizer_Hello> device;
+  std::optional<digitizer_ScanRequest> request;
+  std::vector<PointSample> points;
+  std::vector<digitizer_LineDone> lines;
+  std::optional<digitizer_ScanDone> done;
+  std::vector<digitizer_Fault> faults;
+  std::vector<std::string> warnings;  // e.g. a cut-off last record
+  uint64_t records = 0;
+};
+
+// Reads a whole scan file. A damaged record in the middle is an error naming the
+// byte offset; a cut-off final record (a crash while writing) is a warning.
+ScanData read_scan_file(const std::string& path);
+
+}  // namespace dg::host

@@ -1,0 +1,116 @@
+// Spawns the simulated device; the socket pair gives it a byte stream like a USB pipe.
+#include "host/transport/sim_transport.h"
+
+#include <poll.h>
+#include <signal.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <climits>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+
+namespace dg::host {
+
+std::string find_simulator() {
+  if (const char* env = std::getenv("DIGITIZER_SIM"); env != nullptr && *env != '\0') return env;
+  char self[PATH_MAX] = {};
+  const ssize_t n = readlink("/proc/self/exe", self, sizeof(self) - 1);
+  if (n > 0) {
+    std::string dir(self, static_cast<size_t>(n));
+    dir = dir.substr(0, dir.rfind('/'));
+    const std::string candidate = dir + "/digitizer-sim";
+    if (access(candidate.c_str(), X_OK) == 0) return candidate;
+  }
+  return "digitizer-sim";  // fall back to PATH
+}
+
+SimTransport::SimTransport(const std::string& uri, const std::vector<std::string>& options)
+    : uri_(uri) {
+  // A device that dies must be an error message, not a SIGPIPE.
+  signal(SIGPIPE, SIG_IGN);
+  int sv[2];
+  if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, sv) != 0) {
+    throw TransportError(uri + ": cannot create socket pair: " + std::strerror(errno));
+  }
+  const std::string program = find_simulator();
+  std::vector<std::string> args = {program, "--fd", "3"};
+  args.insert(args.end(), options.begin(), options.end());
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  child_ = fork();
+  if (child_ < 0) {
+    close(sv[0]);
+    close(sv[1]);
+    throw TransportError(uri + ": cannot start the simulator: " + std::strerror(errno));
+  }
+  if (child_ == 0) {
+    dup2(sv[1], 3);  // dup2 clears close-on-exec on the copy
+    execvp(argv[0], argv.data());
+    std::fprintf(stderr, "digitizer: cannot run %s: %s\n", argv[0], std::strerror(errno));
+    _exit(127);
+  }
+  close(sv[1]);
+  fd_ = sv[0];
+}
+
+SimTransport::~SimTransport() {
+  if (fd_ >= 0) close(fd_);  // the simulator exits when its link closes
+  if (child_ > 0) {
+    int status = 0;
+    for (int i = 0; i < 200; ++i) {
+      if (waitpid(child_, &status, WNOHANG) == child_) return;
+      usleep(5000);
+    }
+    kill(child_, SIGKILL);
+    waitpid(child_, &status, 0);
+  }
+}
+
+std::string SimTransport::child_exit_reason() {
+  int status = 0;
+  if (child_ > 0 && waitpid(child_, &status, WNOHANG) == child_) {
+    child_ = -1;
+    if (WIFEXITED(status)) return "simulator exited with status " + std::to_string(WEXITSTATUS(status));
+    if (WIFSIGNALED(status)) return "simulator killed by signal " + std::to_string(WTERMSIG(status));
+  }
+  return "device closed the link";
+}
+
+void SimTransport::write(const uint8_t* data, size_t size) {
+  size_t done = 0;
+  while (done < size) {
+    const ssize_t n = send(fd_, data + done, size - done, MSG_NOSIGNAL);
+    if (n > 0) {
+      done += static_cast<size_t>(n);
+      continue;
+    }
+    if (n < 0 && errno == EINTR) continue;
+    throw TransportError(uri_ + ": write failed: " +
+                         (errno == EPIPE ? child_exit_reason() : std::strerror(errno)));
+  }
+}
+
+size_t SimTransport::read(uint8_t* data, size_t capacity, int timeout_ms) {
+  for (;;) {
+    pollfd p{fd_, POLLIN, 0};
+    const int r = poll(&p, 1, timeout_ms);
+    if (r < 0 && errno == EINTR) continue;
+    if (r < 0) throw TransportError(uri_ + ": poll failed: " + std::strerror(errno));
+    if (r == 0) return 0;
+    const ssize_t n = recv(fd_, data, capacity, 0);
+    if (n > 0) return static_cast<size_t>(n);
+    if (n < 0 && errno == EINTR) continue;
+    if (n == 0) {
+      usleep(10000);  // give the child a moment to be reaped for a better message
+      throw TransportError(uri_ + ": " + child_exit_reason());
+    }
+    throw TransportError(uri_ + ": read failed: " + std::strerror(errno));
+  }
+}
+
+}  // namespace dg::host

@@ -1,0 +1,65 @@
+// The parts: a spherical dome, a bilinear saddle, and a concave canister face (seed 000
+// section 4 digitizes a perfume canister with a concave surface at 1 mm increments).
+#include "hw/sim/parts.h"
+
+#include <cmath>
+#include <cstring>
+
+namespace dg::sim {
+
+double Part::height_mm(double x_mm, double y_mm) const {
+  switch (kind) {
+    case PartKind::kDome: {
+      // Spherical cap, radius 30 mm, 8 mm high, centred at (20, 15), on a 2 mm base plate.
+      const double r = 30.0, h = 8.0, cx = 20.0, cy = 15.0, base = 2.0;
+      const double d2 = (x_mm - cx) * (x_mm - cx) + (y_mm - cy) * (y_mm - cy);
+      const double cap = r * r > d2 ? std::sqrt(r * r - d2) - (r - h) : 0.0;
+      return base + (cap > 0.0 ? cap : 0.0);
+    }
+    case PartKind::kSaddle: {
+      const SaddleCoefficients k;
+      return k.a + k.b * x_mm + k.c * y_mm + k.d * x_mm * y_mm;
+    }
+    case PartKind::kCanister: {
+      // A 12 mm high face with a smooth elliptical dish 4 mm deep in its middle and
+      // gently rounded long edges, like the side of a perfume bottle.
+      const double cx = 20.0, cy = 15.0, ax = 14.0, ay = 10.0;
+      const double u = (x_mm - cx) / ax, v = (y_mm - cy) / ay;
+      const double dish = 4.0 * std::exp(-(u * u + v * v));
+      const double edge = 0.02 * (y_mm - cy) * (y_mm - cy);
+      return 12.0 - dish - edge;
+    }
+    case PartKind::kFlat:
+      return 5.0;
+  }
+  return 0.0;
+}
+
+bool parse_part(const char* name, PartKind* kind) {
+  static const struct {
+    const char* name;
+    PartKind kind;
+  } kParts[] = {{"dome", PartKind::kDome},
+                {"saddle", PartKind::kSaddle},
+                {"canister", PartKind::kCanister},
+                {"flat", PartKind::kFlat}};
+  for (const auto& p : kParts) {
+    if (std::strcmp(p.name, name) == 0) {
+      *kind = p.kind;
+      return true;
+    }
+  }
+  return false;
+}
+
+const char* part_name(PartKind kind) {
+  switch (kind) {
+    case PartKind::kDome: return "dome";
+    case PartKind::kSaddle: return "saddle";
+    case PartKind::kCanister: return "canister";
+    case PartKind::kFlat: return "flat";
+  }
+  return "?";
+}
+
+}  // namespace dg::sim

@@ -1,0 +1,23 @@
+// Virtual parts for the simulated table: analytic height fields z(x, y) in millimetres.
+#pragma once
+
+namespace dg::sim {
+
+enum class PartKind { kDome, kSaddle, kCanister, kFlat };
+
+struct Part {
+  PartKind kind = PartKind::kDome;
+  // Height of the part's top surface above the table at table position (x, y), mm.
+  double height_mm(double x_mm, double y_mm) const;
+};
+
+// Parses "dome", "saddle", "canister", "flat"; false if unknown.
+bool parse_part(const char* name, PartKind* kind);
+const char* part_name(PartKind kind);
+
+// The saddle's coefficients (z = a + b x + c y + d x y), exposed for tests.
+struct SaddleCoefficients {
+  double a = 5.0, b = 0.05, c = -0.04, d = 0.004;
+};
+
+}  // namespace dg::sim

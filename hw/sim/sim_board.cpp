@@ -1,0 +1,118 @@
+// Virtual time advances only in wait(): to the next step tick, gauge clock edge or
+// deadline. Step ticks are handled in a batch; the firmware wakes when a move ends,
+// on every gauge edge, at its deadline, or when the host has sent bytes.
+#include "hw/sim/sim_board.h"
+
+namespace dg::sim {
+
+namespace {
+int index(hal::Pin pin) { return static_cast<int>(pin); }
+}  // namespace
+
+SimBoard::SimBoard(const SimConfig& config, LinkPort* link)
+    : config_(config),
+      link_(link),
+      gauge_(config.gauge, config.seed),
+      x_steps_(config.start_x_steps),
+      y_steps_(config.start_y_steps) {}
+
+void SimBoard::step_axis(int axis) {
+  const bool positive = pins_[index(axis == 0 ? hal::Pin::kDirX : hal::Pin::kDirY)];
+  int64_t& position = axis == 0 ? x_steps_ : y_steps_;
+  position += positive ? 1 : -1;
+  ++steps_;
+  if (last_step_ns_[axis] != kNever) {
+    const uint64_t interval = now_ns_ - last_step_ns_[axis];
+    if (interval < min_step_interval_ns_) min_step_interval_ns_ = interval;
+  }
+  last_step_ns_[axis] = now_ns_;
+}
+
+void SimBoard::write_pin(hal::Pin pin, bool level) {
+  const bool was = pins_[index(pin)];
+  pins_[index(pin)] = level;
+  if (level && !was) {
+    if (pin == hal::Pin::kStepX) step_axis(0);
+    if (pin == hal::Pin::kStepY) step_axis(1);
+  }
+  if (pin == hal::Pin::kGaugeReq && level != was) {
+    gauge_.set_request(level, now_ns_, height_under_probe_mm());
+  }
+}
+
+bool SimBoard::read_pin(hal::Pin pin) {
+  switch (pin) {
+    case hal::Pin::kGaugeClock: return gauge_.clock();
+    case hal::Pin::kGaugeData: return gauge_.data();
+    case hal::Pin::kLimitXMin: return x_steps_ < 0;
+    case hal::Pin::kLimitYMin: return y_steps_ < 0;
+    case hal::Pin::kEstop: return false;
+    default: return pins_[index(pin)];
+  }
+}
+
+void SimBoard::on_rising_edge(hal::Pin pin, hal::EdgeHandler handler, void* context) {
+  if (pin == hal::Pin::kGaugeClock) {
+    clock_handler_ = handler;
+    clock_context_ = context;
+  }
+}
+
+void SimBoard::start_step_timer(uint32_t delay_ns, hal::TimerHandler handler, void* context) {
+  timer_handler_ = handler;
+  timer_context_ = context;
+  timer_next_ns_ = now_ns_ + (delay_ns == 0 ? 1 : delay_ns);
+}
+
+void SimBoard::stop_step_timer() { timer_next_ns_ = kNever; }
+
+size_t SimBoard::link_write(const uint8_t* data, size_t size) {
+  if (link_ == nullptr) return size;
+  return link_->write(data, size);
+}
+
+size_t SimBoard::link_read(uint8_t* data, size_t capacity) {
+  if (link_ == nullptr) return 0;
+  if (!link_hint_ && now_ns_ - last_link_poll_ns_ < kLinkPollNs) return 0;
+  last_link_poll_ns_ = now_ns_;
+  const size_t got = link_->read(data, capacity);
+  link_hint_ = got > 0;
+  return got;
+}
+
+bool SimBoard::wait(uint64_t deadline_us) {
+  const uint64_t deadline_ns = deadline_us == kNever ? kNever : deadline_us * 1000;
+  for (;;) {
+    if (link_ != nullptr && link_->closed()) return false;
+    if (deadline_ns <= now_ns_) return true;
+    const uint64_t gauge_ns = gauge_.next_event_ns();
+    uint64_t next = timer_next_ns_ < gauge_ns ? timer_next_ns_ : gauge_ns;
+    if (deadline_ns < next) next = deadline_ns;
+    if (link_ != nullptr && now_ns_ - last_link_poll_ns_ >= kLinkPollNs) {
+      return true;  // the firmware's poll looks at the link
+    }
+    if (next == kNever) {
+      // Nothing will happen until the host speaks.
+      if (link_ == nullptr || !link_->wait_readable()) return false;
+      link_hint_ = true;
+      return true;
+    }
+    now_ns_ = next;
+    if (next == deadline_ns) return true;
+    if (next == gauge_ns) {
+      if (gauge_.advance() && clock_handler_ != nullptr) {
+        clock_handler_(clock_context_);
+        return true;
+      }
+      continue;
+    }
+    const uint32_t delay = timer_handler_(timer_context_);
+    if (delay == 0) {
+      timer_next_ns_ = kNever;
+      return true;  // the move ended: the firmware has work
+    }
+    timer_next_ns_ = now_ns_ + delay;
+  }
+}
+
+}  // namespace dg::sim

@@ -1,0 +1,85 @@
+// The simulated board: a virtual-time machine with two stepper axes, a Digimatic gauge
+// over a virtual part, and a byte link to the host. Implements the firmware HAL.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+
+#include "firmware/hal/board.h"
+#include "hw/sim/digimatic_gauge.h"
+#include "hw/sim/parts.h"
+
+namespace dg::sim {
+
+// Where the device's link bytes go: a socket to the host, or memory in tests.
+class LinkPort {
+ public:
+  virtual ~LinkPort() = default;
+  virtual size_t write(const uint8_t* data, size_t size) = 0;  // takes all unless closed
+  virtual size_t read(uint8_t* data, size_t capacity) = 0;      // non-blocking
+  // Blocks until bytes can be read; false when the peer is gone.
+  virtual bool wait_readable() = 0;
+  virtual bool closed() const = 0;
+};
+
+struct SimConfig {
+  Part part{};
+  GaugeConfig gauge{};
+  uint64_t seed = 1;
+  uint32_t nm_per_step = 2500;
+  // The table starts here (steps); the part sits with its corner at table (0, 0).
+  int32_t start_x_steps = 0;
+  int32_t start_y_steps = 0;
+};
+
+class SimBoard final : public hal::Board {
+ public:
+  SimBoard(const SimConfig& config, LinkPort* link);
+
+  void write_pin(hal::Pin pin, bool level) override;
+  bool read_pin(hal::Pin pin) override;
+  void on_rising_edge(hal::Pin pin, hal::EdgeHandler handler, void* context) override;
+  void start_step_timer(uint32_t delay_ns, hal::TimerHandler handler, void* context) override;
+  void stop_step_timer() override;
+  uint64_t now_us() override { return now_ns_ / 1000; }
+  size_t link_write(const uint8_t* data, size_t size) override;
+  size_t link_read(uint8_t* data, size_t capacity) override;
+  bool wait(uint64_t deadline_us) override;
+
+  // Inspection for tests and the simulator's report.
+  uint64_t now_ns() const { return now_ns_; }
+  int64_t table_x_steps() const { return x_steps_; }
+  int64_t table_y_steps() const { return y_steps_; }
+  double table_x_mm() const { return static_cast<double>(x_steps_) * (config_.nm_per_step * 1e-6); }
+  double table_y_mm() const { return static_cast<double>(y_steps_) * (config_.nm_per_step * 1e-6); }
+  double height_under_probe_mm() const { return config_.part.height_mm(table_x_mm(), table_y_mm()); }
+  const DigimaticGauge& gauge() const { return gauge_; }
+  uint64_t step_count() const { return steps_; }
+  // Shortest time between two steps on one axis seen so far, in ns.
+  uint64_t min_step_interval_ns() const { return min_step_interval_ns_; }
+
+ private:
+  static constexpr uint64_t kNever = UINT64_MAX;
+  // The link is looked at once per USB full-speed frame of virtual time.
+  static constexpr uint64_t kLinkPollNs = 1000000;
+
+  void step_axis(int axis);
+
+  SimConfig config_;
+  LinkPort* link_;
+  DigimaticGauge gauge_;
+  uint64_t now_ns_ = 0;
+  bool pins_[static_cast<int>(hal::Pin::kCount)] = {};
+  hal::EdgeHandler clock_handler_ = nullptr;
+  void* clock_context_ = nullptr;
+  hal::TimerHandler timer_handler_ = nullptr;
+  void* timer_context_ = nullptr;
+  uint64_t timer_next_ns_ = kNever;
+  int64_t x_steps_ = 0, y_steps_ = 0;
+  uint64_t last_step_ns_[2] = {kNever, kNever};
+  uint64_t min_step_interval_ns_ = kNever;
+  uint64_t steps_ = 0;
+  uint64_t last_link_poll_ns_ = 0;
+  bool link_hint_ = true;
+};
+
+}  // namespace dg::sim

@@ -1,0 +1,74 @@
+// Parsing of simulator options with a clear message for each bad value.
+#include "hw/sim/sim_options.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+
+namespace dg::sim {
+namespace {
+
+bool parse_double(const std::string& text, double* out) {
+  if (text.empty()) return false;
+  char* end = nullptr;
+  errno = 0;
+  const double v = std::strtod(text.c_str(), &end);
+  if (errno != 0 || end != text.c_str() + text.size() || !std::isfinite(v)) return false;
+  *out = v;
+  return true;
+}
+
+bool parse_u64(const std::string& text, uint64_t* out) {
+  if (text.empty() || text[0] == '-') return false;
+  char* end = nullptr;
+  errno = 0;
+  const unsigned long long v = std::strtoull(text.c_str(), &end, 10);
+  if (errno != 0 || end != text.c_str() + text.size()) return false;
+  *out = v;
+  return true;
+}
+
+}  // namespace
+
+std::string apply_sim_option(const std::string& pair, SimOptions* options) {
+  const size_t eq = pair.find('=');
+  if (eq == std::string::npos) return "expected key=value, got '" + pair + "'";
+  const std::string key = pair.substr(0, eq);
+  const std::string value = pair.substr(eq + 1);
+  SimConfig& c = options->config;
+  double d = 0;
+  uint64_t u = 0;
+  if (key == "part") {
+    if (!parse_part(value.c_str(), &c.part.kind)) {
+      return "unknown part '" + value + "' (dome, saddle, canister, flat)";
+    }
+  } else if (key == "seed") {
+    if (!parse_u64(value, &u)) return "seed must be a whole number, got '" + value + "'";
+    c.seed = u;
+  } else if (key == "noise_um") {
+    if (!parse_double(value, &d) || d < 0) return "noise_um must be >= 0, got '" + value + "'";
+    c.gauge.noise_sigma_mm = d * 1e-3;
+  } else if (key == "outliers") {
+    if (!parse_double(value, &d) || d < 0 || d > 1) {
+      return "outliers is a rate in [0, 1], got '" + value + "'";
+    }
+    c.gauge.outlier_rate = d;
+  } else if (key == "outlier_mm") {
+    if (!parse_double(value, &d) || d <= 0) return "outlier_mm must be > 0, got '" + value + "'";
+    c.gauge.outlier_mm = d;
+  } else if (key == "inch") {
+    if (value != "0" && value != "1") return "inch is 0 or 1, got '" + value + "'";
+    c.gauge.inch = value == "1";
+  } else if (key == "gauge_delay_us") {
+    if (!parse_u64(value, &u) || u > 1000000) return "gauge_delay_us must be 0..1000000";
+    c.gauge.request_to_clock_us = static_cast<uint32_t>(u);
+  } else if (key == "id") {
+    if (value.empty() || value.size() > 23) return "id must be 1 to 23 characters";
+    options->device_id = value;
+  } else {
+    return "unknown simulator option '" + key + "'";
+  }
+  return "";
+}
+
+}  // namespace dg::sim
