@@ -34,12 +34,13 @@ Status frame_encode(const FrameHeader& header, const uint8_t* payload, size_t pa
   const size_t body = kFrameHeaderSize + payload_size;
   put_u32(raw + body, crc32(raw, body));
   const size_t raw_size = body + kFrameCrcSize;
-  if (out_capacity < cobs_max_encoded_size(raw_size) + 1) return Status::kOverflow;
+  if (out_capacity < cobs_max_encoded_size(raw_size) + 2) return Status::kOverflow;
   size_t stuffed = 0;
-  const Status status = cobs_encode(raw, raw_size, out, out_capacity - 1, &stuffed);
+  out[0] = 0;
+  const Status status = cobs_encode(raw, raw_size, out + 1, out_capacity - 2, &stuffed);
   if (status != Status::kOk) return status;
-  out[stuffed] = 0;
-  *out_size = stuffed + 1;
+  out[1 + stuffed] = 0;
+  *out_size = stuffed + 2;
   return Status::kOk;
 }
 

@@ -1,4 +1,4 @@
-// Link frames: header + payload + CRC-32, COBS-stuffed and ended by a 0x00 delimiter.
+// Link frames: header + payload + CRC-32, COBS-stuffed between two 0x00 delimiters.
 //
 // Before stuffing a frame is
 //   [0]    version (high nibble, kFrameVersion) | kind (low nibble, FrameKind)
@@ -7,8 +7,8 @@
 //   [5..]  payload (one encoded Envelope)
 //   [n-4..n-1] CRC-32 of bytes [0, n-4), little endian
 // seq and ack let the reliable link (retransmission, duplicates, windows) live
-// on this same frame; the 0x00 delimiter lets a reader resynchronise after
-// garbage by discarding up to the next delimiter.
+// on this same frame. A frame starts and ends with 0x00, so garbage before it is
+// cut off at its first byte and a reader resynchronises on the very next frame.
 #pragma once
 #include <cstddef>
 #include <cstdint>
@@ -23,8 +23,8 @@ constexpr size_t kFrameHeaderSize = 5;
 constexpr size_t kFrameCrcSize = 4;
 constexpr size_t kFrameMaxPayload = 544;  // >= digitizer_Envelope_size (checked in messages.cpp)
 constexpr size_t kFrameMaxRaw = kFrameHeaderSize + kFrameMaxPayload + kFrameCrcSize;
-// Stuffed bytes plus the delimiter.
-constexpr size_t kFrameMaxWire = cobs_max_encoded_size(kFrameMaxRaw) + 1;
+// Stuffed bytes plus the two delimiters.
+constexpr size_t kFrameMaxWire = cobs_max_encoded_size(kFrameMaxRaw) + 2;
 
 enum class FrameKind : uint8_t {
   kData = 0,     // carries a payload
@@ -37,7 +37,7 @@ struct FrameHeader {
   uint16_t ack = 0;
 };
 
-// Builds a complete wire frame (stuffed, with delimiter) into `out`.
+// Builds a complete wire frame (delimiter, stuffed bytes, delimiter) into `out`.
 Status frame_encode(const FrameHeader& header, const uint8_t* payload, size_t payload_size,
                     uint8_t* out, size_t out_capacity, size_t* out_size);
 

@@ -109,8 +109,8 @@ int run_scan(const ScanArgs& a) {
     const ScanData data = read_scan_file(a.output);
     print_summary(data, "");
     std::printf("wall time %.2f s (%.0f points/s), %.1f wire bytes per point\n", seconds,
-                result.points / (seconds > 0 ? seconds : 1e-9),
-                result.points ? static_cast<double>(session.bytes_received()) / result.points : 0.0);
+                static_cast<double>(result.points) / (seconds > 0 ? seconds : 1e-9),
+                result.points ? static_cast<double>(session.bytes_received()) / static_cast<double>(result.points) : 0.0);
     std::printf("wrote %s\n", a.output.c_str());
   }
   if (result.done.reason != digitizer_ScanEnd_SCAN_COMPLETED) {

@@ -91,7 +91,8 @@ void SimTransport::write(const uint8_t* data, size_t size) {
     }
     if (n < 0 && errno == EINTR) continue;
     throw TransportError(uri_ + ": write failed: " +
-                         (errno == EPIPE ? child_exit_reason() : std::strerror(errno)));
+                         (errno == EPIPE || errno == ECONNRESET ? child_exit_reason()
+                                                                : std::strerror(errno)));
   }
 }
 
@@ -105,8 +106,8 @@ size_t SimTransport::read(uint8_t* data, size_t capacity, int timeout_ms) {
     const ssize_t n = recv(fd_, data, capacity, 0);
     if (n > 0) return static_cast<size_t>(n);
     if (n < 0 && errno == EINTR) continue;
-    if (n == 0) {
-      usleep(10000);  // give the child a moment to be reaped for a better message
+    if (n == 0 || (n < 0 && errno == ECONNRESET)) {
+      usleep(20000);  // give the child a moment to be reaped for a better message
       throw TransportError(uri_ + ": " + child_exit_reason());
     }
     throw TransportError(uri_ + ": read failed: " + std::strerror(errno));

@@ -15,7 +15,7 @@ void usage() {
                "usage: digitizer-sim [--fd N] [key=value ...]\n"
                "  --fd N      talk to the host over file descriptor N (default: stdin/stdout)\n"
                "  part=dome|saddle|canister|flat  seed=N  noise_um=X  outliers=RATE\n"
-               "  outlier_mm=X  inch=0|1  gauge_delay_us=N  id=NAME\n");
+               "  outlier_mm=X  inch=0|1  gauge_delay_us=N  mute=0|1  drop_edge=BIT  id=NAME\n");
 }
 
 }  // namespace

@@ -8,6 +8,10 @@
 namespace dg::sim {
 
 double Part::height_mm(double x_mm, double y_mm) const {
+  return offset_mm + shape_height_mm(kind, x_mm, y_mm);
+}
+
+double shape_height_mm(PartKind kind, double x_mm, double y_mm) {
   switch (kind) {
     case PartKind::kDome: {
       // Spherical cap, radius 30 mm, 8 mm high, centred at (20, 15), on a 2 mm base plate.

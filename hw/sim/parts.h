@@ -7,9 +7,13 @@ enum class PartKind { kDome, kSaddle, kCanister, kFlat };
 
 struct Part {
   PartKind kind = PartKind::kDome;
+  double offset_mm = 0.0;  // raises or lowers the whole part (gauge zero elsewhere)
   // Height of the part's top surface above the table at table position (x, y), mm.
   double height_mm(double x_mm, double y_mm) const;
 };
+
+// The shape alone, without offset.
+double shape_height_mm(PartKind kind, double x_mm, double y_mm);
 
 // Parses "dome", "saddle", "canister", "flat"; false if unknown.
 bool parse_part(const char* name, PartKind* kind);

@@ -62,6 +62,12 @@ std::string apply_sim_option(const std::string& pair, SimOptions* options) {
   } else if (key == "gauge_delay_us") {
     if (!parse_u64(value, &u) || u > 1000000) return "gauge_delay_us must be 0..1000000";
     c.gauge.request_to_clock_us = static_cast<uint32_t>(u);
+  } else if (key == "mute") {
+    if (value != "0" && value != "1") return "mute is 0 or 1, got '" + value + "'";
+    c.gauge.mute = value == "1";
+  } else if (key == "drop_edge") {
+    if (!parse_u64(value, &u) || u >= 52) return "drop_edge is a bit index 0..51";
+    c.gauge.drop_rising_edge = static_cast<int>(u);
   } else if (key == "id") {
     if (value.empty() || value.size() > 23) return "id must be 1 to 23 characters";
     options->device_id = value;

@@ -13,7 +13,8 @@ struct SimOptions {
 };
 
 // Applies one "key=value" pair: part, seed, noise_um, outliers, outlier_mm, inch,
-// gauge_delay_us, id. Returns an error message, or empty on success.
+// gauge_delay_us, mute (gauge never answers), drop_edge (a CK pulse missing from
+// every frame), id. Returns an error message, or empty on success.
 std::string apply_sim_option(const std::string& pair, SimOptions* options);
 
 }  // namespace dg::sim

@@ -1,0 +1,77 @@
+// Envelopes through nanopb: every field survives, garbage is refused.
+#include "common/proto/messages.h"
+
+#include <CppUTest/TestHarness.h>
+
+#include <cstring>
+
+TEST_GROUP(Messages){};
+
+TEST(Messages, HelloRoundTrips) {
+  digitizer_Envelope out = digitizer_Envelope_init_zero;
+  out.id = 42;
+  out.which_body = digitizer_Envelope_hello_tag;
+  digitizer_Hello& h = out.body.hello;
+  h.protocol_version = 1;
+  h.min_protocol_version = 1;
+  dg::set_string(h.firmware_version, "1.2.3");
+  dg::set_string(h.device_id, "DG-1234");
+  dg::set_string(h.board, "stm32f411");
+  h.capabilities = digitizer_Capability_CAP_DIGIMATIC | digitizer_Capability_CAP_TOUCH_PROBE;
+  h.has_table = true;
+  h.table.has_x = h.table.has_z = true;
+  h.table.x.max_nm = 200000000;
+  h.table.z.min_nm = -12500000;
+  h.gauge_resolution_nm = 1000;
+  uint8_t buffer[digitizer_Envelope_size];
+  size_t size = 0;
+  CHECK(dg::encode_envelope(out, buffer, sizeof(buffer), &size) == dg::Status::kOk);
+  digitizer_Envelope in;
+  CHECK(dg::decode_envelope(buffer, size, &in) == dg::Status::kOk);
+  LONGS_EQUAL(42, in.id);
+  LONGS_EQUAL(digitizer_Envelope_hello_tag, in.which_body);
+  STRCMP_EQUAL("DG-1234", in.body.hello.device_id);
+  STRCMP_EQUAL("stm32f411", in.body.hello.board);
+  LONGS_EQUAL(200000000, in.body.hello.table.x.max_nm);
+  LONGS_EQUAL(-12500000, in.body.hello.table.z.min_nm);
+  LONGS_EQUAL(h.capabilities, in.body.hello.capabilities);
+}
+
+TEST(Messages, ScanRequestRoundTrips) {
+  digitizer_Envelope out = digitizer_Envelope_init_zero;
+  out.which_body = digitizer_Envelope_scan_request_tag;
+  digitizer_ScanRequest& r = out.body.scan_request;
+  r.has_x = r.has_y = true;
+  r.x.min_nm = -5000000;
+  r.x.max_nm = 40000000;
+  r.y.max_nm = 30000000;
+  r.step_x_nm = r.step_y_nm = 1000000;
+  r.pattern = digitizer_ScanPattern_PATTERN_SERPENTINE;
+  r.samples_per_point = 3;
+  uint8_t buffer[digitizer_Envelope_size];
+  size_t size = 0;
+  CHECK(dg::encode_envelope(out, buffer, sizeof(buffer), &size) == dg::Status::kOk);
+  digitizer_Envelope in;
+  CHECK(dg::decode_envelope(buffer, size, &in) == dg::Status::kOk);
+  CHECK(std::memcmp(&in.body.scan_request, &r, sizeof(r)) == 0);
+}
+
+TEST(Messages, LongStringsAreTruncatedNotOverflowed) {
+  char field[8];
+  dg::set_string(field, "a string longer than the field");
+  STRCMP_EQUAL("a strin", field);
+}
+
+TEST(Messages, RejectsGarbage) {
+  const uint8_t garbage[] = {0x2A, 0xFF, 0xFF, 0xFF, 0xFF, 0x0F, 0x01};
+  digitizer_Envelope in;
+  CHECK(dg::decode_envelope(garbage, sizeof(garbage), &in) == dg::Status::kBadEncoding);
+}
+
+TEST(Messages, RejectsAStringLongerThanItsLimit) {
+  // Field 5 (points) -> no; use Fault.detail (max 64) with 100 bytes.
+  uint8_t bytes[128] = {0x4A, 102, 0x12, 100};
+  for (int i = 4; i < 104; ++i) bytes[i] = 'x';
+  digitizer_Envelope in;
+  CHECK(dg::decode_envelope(bytes, 104, &in) == dg::Status::kBadEncoding);
+}

@@ -1,0 +1,153 @@
+// The whole system in simulation: host capture code -> sim: transport -> firmware on the
+// simulated board -> pin-level gauge over a virtual part, and back into a scan file.
+#include <CppUTest/TestHarness.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "host/device/capture.h"
+#include "host/device/session.h"
+#include "host/scan/scan_file.h"
+#include "host/transport/transport.h"
+#include "hw/sim/parts.h"
+
+namespace {
+
+std::string temp_path(const std::string& name) {
+  return std::string(P_tmpdir) + "/dg_system_" + std::to_string(getpid()) + "_" + name;
+}
+
+digitizer_ScanRequest grid_41_by_31(digitizer_ScanPattern pattern) {
+  digitizer_ScanRequest r = digitizer_ScanRequest_init_zero;
+  r.scan_id = 7;
+  r.has_x = r.has_y = true;
+  r.x.max_nm = 40000000;
+  r.y.max_nm = 30000000;
+  r.step_x_nm = r.step_y_nm = 1000000;
+  r.pattern = pattern;
+  r.feed_um_s = 20000;
+  r.probe = digitizer_ProbeType_PROBE_DIGIMATIC;
+  return r;
+}
+
+dg::host::ScanData scan(const std::string& uri, const digitizer_ScanRequest& request,
+                        const std::string& path) {
+  auto transport = dg::host::open_transport(uri);
+  dg::host::Session session(*transport);
+  const digitizer_Hello hello = session.hello(5000);
+  dg::host::ScanFileWriter file(path);
+  const dg::host::CaptureResult result =
+      dg::host::capture_scan(session, hello, request, file, dg::host::CaptureOptions{});
+  LONGS_EQUAL(digitizer_ScanEnd_SCAN_COMPLETED, result.done.reason);
+  return dg::host::read_scan_file(path);
+}
+
+void check_grid_scan(const char* part_name, digitizer_ScanPattern pattern) {
+  const std::string path = temp_path(std::string(part_name) + ".scan");
+  const dg::host::ScanData data =
+      scan(std::string("sim:seed=3,part=") + part_name, grid_41_by_31(pattern), path);
+  std::remove(path.c_str());
+  dg::sim::PartKind kind;
+  CHECK(dg::sim::parse_part(part_name, &kind));
+  dg::sim::Part part;
+  part.kind = kind;
+
+  LONGS_EQUAL(41 * 31, data.points.size());
+  LONGS_EQUAL(0, data.warnings.size());
+  CHECK(data.done.has_value());
+  LONGS_EQUAL(31, data.lines.size());
+  for (size_t i = 0; i < data.points.size(); ++i) {
+    const dg::PointSample& p = data.points[i];
+    // Every point once, in order, on its grid node, in the pattern's order.
+    LONGS_EQUAL(data.points[0].seq + i, p.seq);
+    const uint32_t line = static_cast<uint32_t>(i / 41);
+    const uint32_t along = static_cast<uint32_t>(i % 41);
+    const bool reverse = pattern == digitizer_ScanPattern_PATTERN_SERPENTINE && (line & 1u);
+    LONGS_EQUAL(line, p.line);
+    LONGS_EQUAL(static_cast<int32_t>((reverse ? 40 - along : along) * 1000000), p.x_nm);
+    LONGS_EQUAL(static_cast<int32_t>(line * 1000000), p.y_nm);
+    // z is the part's height within the gauge's resolution (1 um, rounded: 0.5 um).
+    const double expected_nm = part.height_mm(p.x_nm * 1e-6, p.y_nm * 1e-6) * 1e6;
+    CHECK_TEXT(std::fabs(p.z_nm - expected_nm) <= 500.0 + 1e-6, part_name);
+  }
+}
+
+}  // namespace
+
+TEST_GROUP(SimScan){};
+
+TEST(SimScan, DomeArrivesCompleteAndExact) {
+  check_grid_scan("dome", digitizer_ScanPattern_PATTERN_SERPENTINE);
+}
+
+TEST(SimScan, SaddleArrivesCompleteAndExact) {
+  check_grid_scan("saddle", digitizer_ScanPattern_PATTERN_RASTER);
+}
+
+TEST(SimScan, CanisterArrivesCompleteAndExact) {
+  check_grid_scan("canister", digitizer_ScanPattern_PATTERN_SERPENTINE);
+}
+
+TEST(SimScan, SameSeedGivesTheSameScan) {
+  const std::string a = temp_path("a.scan"), b = temp_path("b.scan");
+  digitizer_ScanRequest r = grid_41_by_31(digitizer_ScanPattern_PATTERN_SERPENTINE);
+  r.x.max_nm = 10000000;
+  r.y.max_nm = 5000000;
+  const dg::host::ScanData first = scan("sim:part=dome,seed=11,noise_um=3,outliers=0.05", r, a);
+  const dg::host::ScanData second = scan("sim:part=dome,seed=11,noise_um=3,outliers=0.05", r, b);
+  const dg::host::ScanData other = scan("sim:part=dome,seed=12,noise_um=3,outliers=0.05", r, b);
+  std::remove(a.c_str());
+  std::remove(b.c_str());
+  LONGS_EQUAL(first.points.size(), second.points.size());
+  bool differs_from_other = false;
+  for (size_t i = 0; i < first.points.size(); ++i) {
+    LONGS_EQUAL(first.points[i].z_nm, second.points[i].z_nm);
+    CHECK(first.points[i].t_us == second.points[i].t_us);
+    if (first.points[i].z_nm != other.points[i].z_nm) differs_from_other = true;
+  }
+  CHECK(differs_from_other);
+}
+
+TEST(SimScan, RefusesAScanOutsideTheTable) {
+  const std::string path = temp_path("refused.scan");
+  digitizer_ScanRequest r = grid_41_by_31(digitizer_ScanPattern_PATTERN_RASTER);
+  r.x.max_nm = 900000000;
+  try {
+    scan("sim:part=flat", r, path);
+    FAIL("scan outside the table was accepted");
+  } catch (const dg::host::DeviceError& e) {
+    CHECK(std::string(e.what()).find("soft limit") != std::string::npos);
+  }
+  std::remove(path.c_str());
+}
+
+TEST(SimScan, ABadSimulatorOptionIsAClearError) {
+  try {
+    auto transport = dg::host::open_transport("sim:part=teapot");
+    dg::host::Session session(*transport);
+    session.hello(3000);
+    FAIL("unknown part accepted");
+  } catch (const dg::host::TransportError& e) {
+    CHECK(std::string(e.what()).find("status 2") != std::string::npos);
+  }
+}
+
+TEST(SimScan, AFaultyGaugeStopsTheScanWithAFaultAndKeepsThePoints) {
+  // A gauge that never answers: every read and retry times out.
+  const std::string path = temp_path("fault.scan");
+  auto transport = dg::host::open_transport("sim:part=flat,mute=1");
+  dg::host::Session session(*transport);
+  const digitizer_Hello hello = session.hello(5000);
+  dg::host::ScanFileWriter file(path);
+  digitizer_ScanRequest r = grid_41_by_31(digitizer_ScanPattern_PATTERN_RASTER);
+  r.x.max_nm = 3000000;
+  r.y.max_nm = 0;
+  const dg::host::CaptureResult result =
+      dg::host::capture_scan(session, hello, r, file, dg::host::CaptureOptions{});
+  std::remove(path.c_str());
+  LONGS_EQUAL(digitizer_ScanEnd_SCAN_FAULTED, result.done.reason);
+  LONGS_EQUAL(0, result.points);
+}

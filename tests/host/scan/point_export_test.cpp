@@ -1,0 +1,71 @@
+// Point export: exact millimetre text, a PLY whose header matches its body.
+#include "host/scan/point_export.h"
+
+#include <CppUTest/TestHarness.h>
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <stdexcept>
+
+namespace {
+
+std::string temp_path(const char* name) {
+  return std::string(P_tmpdir) + "/dg_test_" + std::to_string(getpid()) + "_" + name;
+}
+
+std::vector<dg::PointSample> sample_points() {
+  std::vector<dg::PointSample> points(3);
+  points[0].x_nm = 1500000;
+  points[0].y_nm = -1;
+  points[0].z_nm = -12345678;
+  points[1].x_nm = 0;
+  points[1].line = 1;
+  points[2].x_nm = 2147483647;
+  points[2].line = 2;
+  return points;
+}
+
+}  // namespace
+
+TEST_GROUP(PointExport){};
+
+TEST(PointExport, CsvIsExactToTheNanometre) {
+  const std::string path = temp_path("p.csv");
+  dg::host::write_points(path, sample_points());
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  STRCMP_EQUAL(
+      "x,y,z,line\n1.500000,-0.000001,-12.345678,0\n0.000000,0.000000,0.000000,1\n"
+      "2147.483647,0.000000,0.000000,2\n",
+      text.str().c_str());
+  std::remove(path.c_str());
+}
+
+TEST(PointExport, PlyHeaderMatchesBody) {
+  const std::string path = temp_path("p.ply");
+  dg::host::write_points(path, sample_points());
+  std::ifstream in(path, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const size_t end = bytes.find("end_header\n");
+  CHECK(end != std::string::npos);
+  CHECK(bytes.find("element vertex 3") != std::string::npos);
+  LONGS_EQUAL(3 * 28, bytes.size() - (end + 11));
+  double x = 0;
+  std::memcpy(&x, bytes.data() + end + 11, sizeof(x));
+  DOUBLES_EQUAL(1.5, x, 1e-12);
+  std::remove(path.c_str());
+}
+
+TEST(PointExport, RefusesAnUnknownExtension) {
+  CHECK_THROWS(std::invalid_argument, dg::host::write_points(temp_path("p.txt"), sample_points()));
+}
+
+TEST(PointExport, ReportsAnUnwritablePath) {
+  CHECK_THROWS(std::runtime_error, dg::host::write_points("/nonexistent-dir/p.csv", sample_points()));
+}

@@ -1,0 +1,125 @@
+// Scan files: round trip, a cut-off tail loses only itself, damage is named by offset.
+#include "host/scan/scan_file.h"
+
+#include "common/proto/messages.h"
+
+#include <CppUTest/TestHarness.h>
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+namespace {
+
+std::string temp_path(const char* name) {
+  return std::string(P_tmpdir) + "/dg_test_" + std::to_string(getpid()) + "_" + name;
+}
+
+digitizer_Envelope batch_message(uint32_t first_seq, uint32_t count, uint32_t line) {
+  digitizer_Envelope m = digitizer_Envelope_init_zero;
+  m.which_body = digitizer_Envelope_points_tag;
+  dg::point_batch_begin(&m.body.points, first_seq, line);
+  for (uint32_t i = 0; i < count; ++i) {
+    dg::PointSample p;
+    p.seq = first_seq + i;
+    p.line = line;
+    p.x_nm = static_cast<int32_t>(i * 1000000);
+    p.y_nm = static_cast<int32_t>(line * 1000000);
+    p.z_nm = static_cast<int32_t>(2000000 + i * 7);
+    p.t_us = 1000 * (first_seq + i);
+    CHECK(dg::point_batch_append(&m.body.points, p) == dg::Status::kOk);
+  }
+  return m;
+}
+
+std::vector<char> read_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::vector<char>((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+void write_bytes(const std::string& path, const std::vector<char>& bytes) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+}
+
+}  // namespace
+
+TEST_GROUP(ScanFile) {
+  std::string path;
+  void setup() override { path = temp_path("scan.scan"); }
+  void teardown() override { std::remove(path.c_str()); }
+  void write_three_batches() {
+    dg::host::ScanFileWriter writer(path);
+    digitizer_Envelope hello = digitizer_Envelope_init_zero;
+    hello.which_body = digitizer_Envelope_hello_tag;
+    dg::set_string(hello.body.hello.device_id, "DG-7");
+    writer.append(hello);
+    writer.append(batch_message(1, 16, 0));
+    writer.append(batch_message(17, 5, 0));
+    writer.append(batch_message(22, 16, 1));
+  }
+};
+
+TEST(ScanFile, RoundTripsEveryPoint) {
+  write_three_batches();
+  const dg::host::ScanData data = dg::host::read_scan_file(path);
+  CHECK(data.device.has_value());
+  STRCMP_EQUAL("DG-7", data.device->device_id);
+  LONGS_EQUAL(37, data.points.size());
+  for (size_t i = 0; i < data.points.size(); ++i) LONGS_EQUAL(i + 1, data.points[i].seq);
+  LONGS_EQUAL(0, data.warnings.size());
+  LONGS_EQUAL(4, data.records);
+}
+
+TEST(ScanFile, ACutOffLastRecordLosesOnlyItself) {
+  write_three_batches();
+  std::vector<char> bytes = read_bytes(path);
+  // Every possible cut inside the last record keeps the first 21 points.
+  const dg::host::ScanData full = dg::host::read_scan_file(path);
+  for (size_t cut = 1; cut < 20; ++cut) {
+    write_bytes(path, std::vector<char>(bytes.begin(), bytes.end() - static_cast<long>(cut)));
+    const dg::host::ScanData data = dg::host::read_scan_file(path);
+    LONGS_EQUAL(21, data.points.size());
+    LONGS_EQUAL(1, data.warnings.size());
+  }
+  LONGS_EQUAL(37, full.points.size());
+}
+
+TEST(ScanFile, DamageInTheMiddleIsAnErrorNamingTheOffset) {
+  write_three_batches();
+  std::vector<char> bytes = read_bytes(path);
+  bytes[bytes.size() / 2] = static_cast<char>(bytes[bytes.size() / 2] ^ 0x5A);
+  write_bytes(path, bytes);
+  try {
+    dg::host::read_scan_file(path);
+    FAIL("damage not detected");
+  } catch (const dg::host::ScanFileError& e) {
+    const std::string message = e.what();
+    CHECK(message.find(path) != std::string::npos);
+    CHECK(message.find("at byte") != std::string::npos);
+  }
+}
+
+TEST(ScanFile, RefusesAFileThatIsNotAScan) {
+  write_bytes(path, {'x', ',', 'y', ',', 'z', '\n', '1', ',', '2'});
+  CHECK_THROWS(dg::host::ScanFileError, dg::host::read_scan_file(path));
+}
+
+TEST(ScanFile, RefusesAMissingFile) {
+  CHECK_THROWS(dg::host::ScanFileError, dg::host::read_scan_file(path + ".missing"));
+}
+
+TEST(ScanFile, KeepsDuplicatedPointsOnce) {
+  {
+    dg::host::ScanFileWriter writer(path);
+    writer.append(batch_message(1, 4, 0));
+    writer.append(batch_message(3, 4, 0));  // overlaps 3..4
+  }
+  const dg::host::ScanData data = dg::host::read_scan_file(path);
+  LONGS_EQUAL(6, data.points.size());
+  LONGS_EQUAL(6, data.points.back().seq);
+}
