@@ -118,6 +118,16 @@ ScanData read_scan_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw ScanFileError(path + ": cannot open: " + std::strerror(errno));
   const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return parse_scan_bytes(bytes.data(), bytes.size(), path);
+}
+
+ScanData parse_scan_bytes(const uint8_t* data_bytes, size_t data_size, const std::string& path) {
+  struct View {
+    const uint8_t* ptr;
+    size_t n;
+    const uint8_t* data() const { return ptr; }
+    size_t size() const { return n; }
+  } bytes{data_bytes, data_size};
   ScanData data;
   size_t offset = 0;
   while (offset < bytes.size()) {

@@ -54,5 +54,7 @@ struct ScanData {
 // Reads a whole scan file. A damaged record in the middle is an error naming the
 // byte offset; a cut-off final record (a crash while writing) is a warning.
 ScanData read_scan_file(const std::string& path);
+// The same on bytes already in memory; `name` is used in messages.
+ScanData parse_scan_bytes(const uint8_t* bytes, size_t size, const std::string& name);
 
 }  // namespace dg::host
