@@ -11,6 +11,8 @@
 #include "host/cli/units.h"
 #include "host/device/capture.h"
 #include "host/scan/point_export.h"
+#include "host/scan/point_reader.h"
+#include "host/scan/segment.h"
 #include "host/scan/scan_file.h"
 #include "host/transport/transport.h"
 
@@ -54,7 +56,7 @@ void print_summary(const dg::host::ScanData& data, const char* prefix) {
   std::printf("%sextent x %.3f..%.3f  y %.3f..%.3f  z %.3f..%.3f mm\n", prefix, lo[0] * 1e-6,
               hi[0] * 1e-6, lo[1] * 1e-6, hi[1] * 1e-6, lo[2] * 1e-6, hi[2] * 1e-6);
   if (data.done) {
-    std::printf("%sdevice time %.1f s\n", prefix, data.done->duration_us * 1e-6);
+    std::printf("%sdevice time %.1f s\n", prefix, static_cast<double>(data.done->duration_us) * 1e-6);
   }
   for (const auto& w : data.warnings) std::printf("%swarning: %s\n", prefix, w.c_str());
 }
@@ -131,6 +133,18 @@ int run_export(const std::string& input, const std::string& output) {
   return kExitOk;
 }
 
+int run_segment(const std::string& input, const std::string& output, double ratio, double turn_deg) {
+  const PointCloud cloud = read_points(input);
+  SegmentOptions options;
+  options.length_ratio = ratio;
+  options.max_turn_deg = turn_deg;
+  const std::vector<uint32_t> lines = segment_lines(cloud.points, options);
+  write_lines_csv(output, cloud.points, lines);
+  std::printf("%zu points in %u lines -> %s\n", cloud.points.size(),
+              lines.empty() ? 0u : lines.back() + 1, output.c_str());
+  return kExitOk;
+}
+
 int run_info(const std::string& input) {
   const ScanData data = read_scan_file(input);
   if (data.device) {
@@ -182,6 +196,18 @@ int main(int argc, char** argv) {
   export_cmd->add_option("input", export_in, "scan file")->required()->check(CLI::ExistingFile);
   export_cmd->add_option("-o,--output", export_out, "output .csv or .ply")->required();
 
+  std::string segment_in, segment_out;
+  double segment_ratio = 2.0, segment_turn = 60.0;
+  CLI::App* segment_cmd =
+      app.add_subcommand("segment", "split a probe stream into scan lines (step-length ratio and turns)");
+  segment_cmd->add_option("input", segment_in, ".csv, .xyz or .scan points in mm")
+      ->required()->check(CLI::ExistingFile);
+  segment_cmd->add_option("-o,--output", segment_out, "output CSV with a 0-based line column")->required();
+  segment_cmd->add_option("--ratio", segment_ratio, "a step this many times the line's typical step starts a line")
+      ->capture_default_str()->check(CLI::Range(1.1, 1000.0));
+  segment_cmd->add_option("--turn", segment_turn, "a turn of more than this (degrees) starts a line")
+      ->capture_default_str()->check(CLI::Range(1.0, 180.0));
+
   std::string info_in;
   CLI::App* info_cmd = app.add_subcommand("info", "summarise a scan file");
   info_cmd->add_option("input", info_in, "scan file")->required()->check(CLI::ExistingFile);
@@ -195,6 +221,7 @@ int main(int argc, char** argv) {
     if (*scan_cmd) return run_scan(scan);
     if (*export_cmd) return run_export(export_in, export_out);
     if (*info_cmd) return run_info(info_in);
+    if (*segment_cmd) return run_segment(segment_in, segment_out, segment_ratio, segment_turn);
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "digitizer: %s\n", e.what());
     return kExitUsage;

@@ -83,6 +83,17 @@ void write_points_ply(const std::string& path, const std::vector<PointSample>& p
   finish(std::move(f), path);
 }
 
+void write_lines_csv(const std::string& path, const std::vector<Point3>& points,
+                     const std::vector<uint32_t>& lines) {
+  if (lines.size() != points.size()) throw std::invalid_argument(path + ": one line index per point");
+  File f = open_for_writing(path, "w");
+  std::fprintf(f.get(), "x,y,z,line\n");
+  for (size_t i = 0; i < points.size(); ++i) {
+    std::fprintf(f.get(), "%.7f,%.7f,%.7f,%" PRIu32 "\n", points[i].x, points[i].y, points[i].z, lines[i]);
+  }
+  finish(std::move(f), path);
+}
+
 void write_points(const std::string& path, const std::vector<PointSample>& points) {
   if (ends_with(path, ".csv")) return write_points_csv(path, points);
   if (ends_with(path, ".ply")) return write_points_ply(path, points);

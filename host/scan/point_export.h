@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "common/proto/point_batch.h"
+#include "host/scan/segment.h"
 
 namespace dg::host {
 
@@ -11,6 +12,9 @@ namespace dg::host {
 void write_points_csv(const std::string& path, const std::vector<PointSample>& points);
 // Binary little-endian PLY: double x, y, z (mm) and int line, one vertex per point.
 void write_points_ply(const std::string& path, const std::vector<PointSample>& points);
+// Writes points in mm with their line index as CSV (x,y,z,line), to 0.1 nm.
+void write_lines_csv(const std::string& path, const std::vector<Point3>& points,
+                     const std::vector<uint32_t>& lines);
 // Picks the format from the extension (.csv, .ply); throws std::invalid_argument otherwise.
 void write_points(const std::string& path, const std::vector<PointSample>& points);
 

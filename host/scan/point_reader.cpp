@@ -1,0 +1,187 @@
+// Strict point readers: every value must be a finite number, every row complete, so a
+// fit never silently runs on damaged data.
+#include "host/scan/point_reader.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <tuple>
+
+#include "host/scan/scan_file.h"
+
+namespace dg::host {
+namespace {
+
+std::string where(const std::string& name, size_t line) { return name + ":" + std::to_string(line); }
+
+double parse_number(const std::string& field, const std::string& name, size_t line, const std::string& column) {
+  const char* begin = field.c_str();
+  while (*begin == ' ' || *begin == '\t') ++begin;
+  char* end = nullptr;
+  errno = 0;
+  const double v = std::strtod(begin, &end);
+  while (end != nullptr && (*end == ' ' || *end == '\t' || *end == '\r')) ++end;
+  if (end == begin || *end != '\0' || errno == ERANGE) {
+    throw PointFileError(where(name, line) + ": column '" + column + "' is not a number: '" + field + "'");
+  }
+  if (!std::isfinite(v)) {
+    throw PointFileError(where(name, line) + ": column '" + column + "' is " + field + " (not finite)");
+  }
+  return v;
+}
+
+std::vector<std::string> split(const std::string& row, char separator) {
+  std::vector<std::string> fields;
+  std::string field;
+  std::istringstream in(row);
+  while (std::getline(in, field, separator)) fields.push_back(field);
+  if (!row.empty() && row.back() == separator) fields.emplace_back();
+  return fields;
+}
+
+std::string trim(std::string s) {
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\r' || s.back() == '\t')) s.pop_back();
+  size_t start = 0;
+  while (start < s.size() && (s[start] == ' ' || s[start] == '\t')) ++start;
+  return s.substr(start);
+}
+
+void check_duplicates(const PointCloud& cloud, const std::vector<size_t>& source_lines, const std::string& name) {
+  std::map<std::tuple<double, double, double>, size_t> seen;
+  for (size_t i = 0; i < cloud.points.size(); ++i) {
+    const Point3& p = cloud.points[i];
+    const auto [it, inserted] = seen.emplace(std::make_tuple(p.x, p.y, p.z), source_lines[i]);
+    if (!inserted) {
+      throw PointFileError(where(name, source_lines[i]) + ": the same point as line " +
+                           std::to_string(it->second));
+    }
+  }
+}
+
+}  // namespace
+
+PointCloud parse_csv_points(const std::string& text, const std::string& name) {
+  std::istringstream in(text);
+  std::string row;
+  size_t line_no = 0;
+  std::vector<std::string> columns;
+  while (std::getline(in, row)) {
+    ++line_no;
+    if (!trim(row).empty()) break;
+  }
+  if (trim(row).empty()) throw PointFileError(name + ": empty file");
+  for (auto& c : split(row, ',')) columns.push_back(trim(c));
+  static const char* kKnown[] = {"x", "y", "z", "line", "nx", "ny", "nz", "sigma"};
+  std::map<std::string, size_t> index;
+  for (size_t i = 0; i < columns.size(); ++i) {
+    bool known = false;
+    for (const char* k : kKnown) known = known || columns[i] == k;
+    if (!known) {
+      throw PointFileError(where(name, line_no) + ": unknown column '" + columns[i] +
+                           "' (known: x,y,z,line,nx,ny,nz,sigma)");
+    }
+    if (!index.emplace(columns[i], i).second) {
+      throw PointFileError(where(name, line_no) + ": column '" + columns[i] + "' appears twice");
+    }
+  }
+  for (const char* required : {"x", "y", "z"}) {
+    if (index.count(required) == 0) {
+      throw PointFileError(where(name, line_no) + ": header has no '" + required + "' column");
+    }
+  }
+  const bool has_normals = index.count("nx") + index.count("ny") + index.count("nz") > 0;
+  if (has_normals && index.count("nx") + index.count("ny") + index.count("nz") != 3) {
+    throw PointFileError(where(name, line_no) + ": normals need all of nx, ny, nz");
+  }
+  PointCloud cloud;
+  if (index.count("line")) cloud.line.emplace();
+  if (has_normals) cloud.normal.emplace();
+  if (index.count("sigma")) cloud.sigma.emplace();
+  std::vector<size_t> source_lines;
+  while (std::getline(in, row)) {
+    ++line_no;
+    if (trim(row).empty()) continue;
+    const std::vector<std::string> fields = split(row, ',');
+    if (fields.size() != columns.size()) {
+      throw PointFileError(where(name, line_no) + ": " + std::to_string(fields.size()) +
+                           " values, the header has " + std::to_string(columns.size()));
+    }
+    auto value = [&](const char* column) {
+      return parse_number(fields[index.at(column)], name, line_no, column);
+    };
+    cloud.points.push_back({value("x"), value("y"), value("z")});
+    if (cloud.line) {
+      const double l = value("line");
+      if (l < 0 || l != std::floor(l) || l > 4294967295.0) {
+        throw PointFileError(where(name, line_no) + ": line must be a whole number >= 0");
+      }
+      cloud.line->push_back(static_cast<uint32_t>(l));
+    }
+    if (cloud.normal) cloud.normal->push_back({value("nx"), value("ny"), value("nz")});
+    if (cloud.sigma) {
+      const double s = value("sigma");
+      if (s <= 0) throw PointFileError(where(name, line_no) + ": sigma must be > 0");
+      cloud.sigma->push_back(s);
+    }
+    source_lines.push_back(line_no);
+  }
+  check_duplicates(cloud, source_lines, name);
+  return cloud;
+}
+
+PointCloud parse_xyz_points(const std::string& text, const std::string& name) {
+  std::istringstream in(text);
+  std::string row;
+  size_t line_no = 0;
+  PointCloud cloud;
+  std::vector<size_t> source_lines;
+  while (std::getline(in, row)) {
+    ++line_no;
+    const std::string t = trim(row);
+    if (t.empty() || t[0] == '#') continue;
+    std::istringstream fields(t);
+    std::vector<std::string> values;
+    std::string v;
+    while (fields >> v) values.push_back(v);
+    if (values.size() != 3) {
+      throw PointFileError(where(name, line_no) + ": expected 3 values (x y z), found " +
+                           std::to_string(values.size()));
+    }
+    cloud.points.push_back({parse_number(values[0], name, line_no, "x"),
+                            parse_number(values[1], name, line_no, "y"),
+                            parse_number(values[2], name, line_no, "z")});
+    source_lines.push_back(line_no);
+  }
+  check_duplicates(cloud, source_lines, name);
+  return cloud;
+}
+
+PointCloud read_points(const std::string& path) {
+  auto ends_with = [&](const char* suffix) {
+    const size_t n = std::strlen(suffix);
+    return path.size() >= n && path.compare(path.size() - n, n, suffix) == 0;
+  };
+  if (ends_with(".scan")) {
+    const ScanData data = read_scan_file(path);
+    PointCloud cloud;
+    cloud.line.emplace();
+    for (const auto& p : data.points) {
+      cloud.points.push_back({p.x_nm * 1e-6, p.y_nm * 1e-6, p.z_nm * 1e-6});
+      cloud.line->push_back(p.line);
+    }
+    return cloud;
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw PointFileError(path + ": cannot open: " + std::strerror(errno));
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  if (ends_with(".csv")) return parse_csv_points(buffer.str(), path);
+  if (ends_with(".xyz") || ends_with(".txt")) return parse_xyz_points(buffer.str(), path);
+  throw PointFileError(path + ": unknown point format (.csv, .xyz, .txt or .scan)");
+}
+
+}  // namespace dg::host

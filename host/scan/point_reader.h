@@ -1,0 +1,31 @@
+// Reading point clouds in millimetres: CSV with a header, whitespace XYZ, and scan files.
+#pragma once
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "host/scan/segment.h"
+
+namespace dg::host {
+
+// Bad input: the message names the file and the line.
+class PointFileError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct PointCloud {
+  std::vector<Point3> points;                 // mm
+  std::optional<std::vector<uint32_t>> line;  // from a `line` column or a scan file
+  std::optional<std::vector<Point3>> normal;  // from nx,ny,nz
+  std::optional<std::vector<double>> sigma;   // per-point uncertainty, mm
+};
+
+// Picks the reader by extension: .csv, .xyz/.txt, .scan. Throws PointFileError for
+// NaN, infinity, short or long rows, unknown or repeated columns, repeated points.
+PointCloud read_points(const std::string& path);
+PointCloud parse_csv_points(const std::string& text, const std::string& name);
+PointCloud parse_xyz_points(const std::string& text, const std::string& name);
+
+}  // namespace dg::host

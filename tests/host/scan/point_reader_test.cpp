@@ -1,0 +1,59 @@
+// Point readers: the columns we know, and an error naming file and line for bad input.
+#include "host/scan/point_reader.h"
+
+#include <CppUTest/TestHarness.h>
+
+#include <string>
+
+namespace {
+
+std::string error_of(const std::string& csv) {
+  try {
+    dg::host::parse_csv_points(csv, "in.csv");
+  } catch (const dg::host::PointFileError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST_GROUP(PointReader){};
+
+TEST(PointReader, ReadsCsvWithOptionalColumnsInAnyOrder) {
+  const dg::host::PointCloud c = dg::host::parse_csv_points(
+      "z,x,y,line,sigma\n1.5,2,3,0,0.002\n\n-4e-3,5,6,1,0.001\r\n", "in.csv");
+  LONGS_EQUAL(2, c.points.size());
+  DOUBLES_EQUAL(2.0, c.points[0].x, 0);
+  DOUBLES_EQUAL(1.5, c.points[0].z, 0);
+  DOUBLES_EQUAL(-0.004, c.points[1].z, 0);
+  CHECK(c.line.has_value());
+  LONGS_EQUAL(1, (*c.line)[1]);
+  CHECK(c.sigma.has_value());
+  CHECK_FALSE(c.normal.has_value());
+}
+
+TEST(PointReader, NamesTheLineOfEveryBadRow) {
+  STRCMP_CONTAINS("in.csv:3: column 'z' is nan", error_of("x,y,z\n1,2,3\n1,2,nan\n").c_str());
+  STRCMP_CONTAINS("in.csv:2: column 'y' is inf", error_of("x,y,z\n1,inf,3\n").c_str());
+  STRCMP_CONTAINS("in.csv:3: 2 values, the header has 3", error_of("x,y,z\n1,2,3\n4,5\n").c_str());
+  STRCMP_CONTAINS("in.csv:1: unknown column 'w'", error_of("x,y,z,w\n1,2,3,4\n").c_str());
+  STRCMP_CONTAINS("in.csv:1: column 'x' appears twice", error_of("x,y,z,x\n").c_str());
+  STRCMP_CONTAINS("in.csv:1: header has no 'z'", error_of("x,y\n1,2\n").c_str());
+  STRCMP_CONTAINS("in.csv:3: the same point as line 2", error_of("x,y,z\n1,2,3\n1,2,3\n").c_str());
+  STRCMP_CONTAINS("in.csv:2: column 'x' is not a number: '1.2.3'", error_of("x,y,z\n1.2.3,2,3\n").c_str());
+  STRCMP_CONTAINS("normals need all of nx, ny, nz", error_of("x,y,z,nx\n").c_str());
+  STRCMP_CONTAINS("empty file", error_of("").c_str());
+}
+
+TEST(PointReader, ReadsWhitespaceXyzAndRefusesShortRows) {
+  const dg::host::PointCloud c = dg::host::parse_xyz_points("# comment\n1 2 3\n\t4  5 6\n", "in.xyz");
+  LONGS_EQUAL(2, c.points.size());
+  DOUBLES_EQUAL(6.0, c.points[1].z, 0);
+  try {
+    dg::host::parse_xyz_points("1 2 3\n4 5\n", "in.xyz");
+    FAIL("short row accepted");
+  } catch (const dg::host::PointFileError& e) {
+    STRCMP_CONTAINS("in.xyz:2: expected 3 values", e.what());
+  }
+}
