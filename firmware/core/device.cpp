@@ -34,11 +34,16 @@ digitizer_DeviceState Device::state() const {
   return digitizer_DeviceState_STATE_IDLE;
 }
 
+size_t Device::first_unsent_offset() const {
+  // The ring holds seqs [oldest, oldest + size); everything from next_send_seq_ is unsent.
+  return ring_.empty() ? 0 : next_send_seq_ - ring_.at(0).seq;
+}
+
 uint64_t Device::next_deadline_us() const {
   uint64_t deadline = scan_.deadline_us();
   // An unsent partial batch must go out when it is old enough.
-  if (!ring_.empty() && static_cast<int32_t>(next_send_seq_ - (ring_.at(0).seq + ring_.size())) < 0) {
-    const size_t offset = next_send_seq_ - ring_.at(0).seq;
+  const size_t offset = first_unsent_offset();
+  if (offset < ring_.size()) {
     const uint64_t due = ring_.at(offset).t_us + kBatchMaxAgeUs;
     if (due < deadline) deadline = due;
   }
@@ -163,10 +168,8 @@ void Device::handle_command(uint32_t id, const digitizer_Command& command) {
 }
 
 void Device::queue(Reply reply) {
-  if (reply_count_ == sizeof(replies_) / sizeof(replies_[0])) {
-    reply_overflow_ = true;  // a host flooding requests loses replies, never points
-    return;
-  }
+  // A host flooding requests loses replies, never points.
+  if (reply_count_ == sizeof(replies_) / sizeof(replies_[0])) return;
   replies_[reply_count_++] = reply;
 }
 
@@ -253,10 +256,8 @@ bool Device::send_reply(const Reply& reply) {
 }
 
 bool Device::send_points() {
-  if (ring_.empty()) return false;
-  const uint32_t oldest = ring_.at(0).seq;
   const size_t held = ring_.size();
-  size_t offset = next_send_seq_ - oldest;
+  size_t offset = first_unsent_offset();
   if (offset >= held) return false;
   digitizer_Envelope message = digitizer_Envelope_init_zero;
   message.which_body = digitizer_Envelope_points_tag;

@@ -69,6 +69,8 @@ class Device : private PointSink {
   void transmit();
   bool send_reply(const Reply& reply);
   bool send_points();
+  // Ring index of the first point not yet sent (== ring size when all are sent).
+  size_t first_unsent_offset() const;
 
   hal::Board& board_;
   DeviceConfig config_;
@@ -91,7 +93,6 @@ class Device : private PointSink {
   size_t tx_size_ = 0, tx_sent_ = 0;
   Reply replies_[8] = {};
   size_t reply_count_ = 0;
-  bool reply_overflow_ = false;
 };
 
 }  // namespace dg

@@ -1,6 +1,8 @@
 // The scan state machine. Each point: move -> settle -> read (N samples, retries) -> emit.
 #include "firmware/core/scan_engine.h"
 
+#include "common/proto/scan_grid.h"
+
 namespace dg {
 
 ScanEngine::ScanEngine(hal::Board& board, StepGenerator& motion, DigimaticReader& gauge,
@@ -37,13 +39,9 @@ digitizer_FaultCode ScanEngine::start(const digitizer_ScanRequest& request, uint
     *reason = "too many samples per point";
     return digitizer_FaultCode_FAULT_BAD_REQUEST;
   }
-  const uint64_t nx =
-      (static_cast<uint64_t>(static_cast<int64_t>(request.x.max_nm) - request.x.min_nm)) /
-          request.step_x_nm + 1;
-  const uint64_t ny =
-      (static_cast<uint64_t>(static_cast<int64_t>(request.y.max_nm) - request.y.min_nm)) /
-          request.step_y_nm + 1;
-  if (nx * ny > limits_.max_points) {
+  ScanGrid grid;
+  scan_grid(request, &grid);  // extent and steps were checked above
+  if (grid.points() > limits_.max_points) {
     *reason = "more points than the device accepts in one scan";
     return digitizer_FaultCode_FAULT_BAD_REQUEST;
   }
@@ -55,8 +53,8 @@ digitizer_FaultCode ScanEngine::start(const digitizer_ScanRequest& request, uint
     return digitizer_FaultCode_FAULT_SOFT_LIMIT;
   }
   request_ = request;
-  count_x_ = static_cast<uint32_t>(nx);
-  count_y_ = static_cast<uint32_t>(ny);
+  count_x_ = static_cast<uint32_t>(grid.points_per_line);
+  count_y_ = static_cast<uint32_t>(grid.lines);
   const uint32_t feed = request.feed_um_s != 0 ? request.feed_um_s : default_feed_um_s;
   rate_steps_s_ = static_cast<uint32_t>(static_cast<uint64_t>(feed) * 1000 / resolution);
   if (rate_steps_s_ == 0) rate_steps_s_ = 1;

@@ -72,8 +72,8 @@ int run_scan(const ScanArgs& a) {
   request.x.max_nm = x.max_nm;
   request.y.min_nm = y.min_nm;
   request.y.max_nm = y.max_nm;
-  const int32_t step = parse_mm(std::to_string(a.step_mm), "--step");
-  const int32_t step_y = a.step_y_mm > 0 ? parse_mm(std::to_string(a.step_y_mm), "--step-y") : step;
+  const int32_t step = mm_to_nm(a.step_mm, "--step");
+  const int32_t step_y = a.step_y_mm > 0 ? mm_to_nm(a.step_y_mm, "--step-y") : step;
   if (step <= 0 || step_y <= 0) throw std::invalid_argument("--step must be > 0");
   request.step_x_nm = static_cast<uint32_t>(step);
   request.step_y_nm = static_cast<uint32_t>(step_y);

@@ -8,6 +8,14 @@
 
 namespace dg::host {
 
+int32_t mm_to_nm(double mm, const std::string& what) {
+  const double nm = std::round(mm * 1e6);
+  if (!std::isfinite(nm) || nm > 2147483647.0 || nm < -2147483648.0) {
+    throw std::invalid_argument(what + ": " + std::to_string(mm) + " mm is beyond +-2147 mm");
+  }
+  return static_cast<int32_t>(nm);
+}
+
 int32_t parse_mm(const std::string& text, const std::string& what) {
   char* end = nullptr;
   errno = 0;
@@ -15,11 +23,7 @@ int32_t parse_mm(const std::string& text, const std::string& what) {
   if (text.empty() || end != text.c_str() + text.size() || errno != 0 || !std::isfinite(mm)) {
     throw std::invalid_argument(what + ": '" + text + "' is not a number of millimetres");
   }
-  const double nm = std::round(mm * 1e6);
-  if (nm > 2147483647.0 || nm < -2147483648.0) {
-    throw std::invalid_argument(what + ": " + text + " mm is beyond +-2147 mm");
-  }
-  return static_cast<int32_t>(nm);
+  return mm_to_nm(mm, what);
 }
 
 RangeNm parse_range_mm(const std::string& text, const std::string& what) {

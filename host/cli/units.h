@@ -5,6 +5,9 @@
 
 namespace dg::host {
 
+// 12.5 -> 12500000, rounded to the nearest nanometre. Throws std::invalid_argument
+// naming `what` for a value that is not finite or beyond +-2147 mm.
+int32_t mm_to_nm(double mm, const std::string& what);
 // "12.5" -> 12500000. Throws std::invalid_argument naming `what` for bad input.
 int32_t parse_mm(const std::string& text, const std::string& what);
 // "0:40" -> {0, 40000000}; min must not exceed max.

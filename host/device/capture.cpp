@@ -1,16 +1,9 @@
 // Capture loop: store first, then acknowledge, so the device frees only what is on disk.
 #include "host/device/capture.h"
 
-namespace dg::host {
+#include "common/proto/scan_grid.h"
 
-uint64_t grid_points(const digitizer_ScanRequest& r) {
-  if (r.step_x_nm == 0 || r.step_y_nm == 0 || r.x.max_nm < r.x.min_nm || r.y.max_nm < r.y.min_nm) {
-    return 0;
-  }
-  const uint64_t nx = static_cast<uint64_t>(static_cast<int64_t>(r.x.max_nm) - r.x.min_nm) / r.step_x_nm + 1;
-  const uint64_t ny = static_cast<uint64_t>(static_cast<int64_t>(r.y.max_nm) - r.y.min_nm) / r.step_y_nm + 1;
-  return nx * ny;
-}
+namespace dg::host {
 
 CaptureResult capture_scan(Session& session, const digitizer_Hello& device,
                            digitizer_ScanRequest request, ScanFileWriter& file,
@@ -29,7 +22,8 @@ CaptureResult capture_scan(Session& session, const digitizer_Hello& device,
 
   CaptureResult result;
   CaptureProgress progress;
-  progress.points_total = static_cast<uint32_t>(grid_points(request));
+  ScanGrid grid;
+  if (scan_grid(request, &grid)) progress.points_total = static_cast<uint32_t>(grid.points());
   bool accepted = false;
   uint32_t expected_seq = 0;  // 0: take the first batch's numbering
   for (;;) {

@@ -36,7 +36,4 @@ CaptureResult capture_scan(Session& session, const digitizer_Hello& device,
                            digitizer_ScanRequest request, ScanFileWriter& file,
                            const CaptureOptions& options);
 
-// Number of grid points a request asks for (what the device will compute).
-uint64_t grid_points(const digitizer_ScanRequest& request);
-
 }  // namespace dg::host

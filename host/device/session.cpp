@@ -59,8 +59,10 @@ bool Session::receive(digitizer_Envelope* message, int timeout_ms) {
       if (status != Status::kOk) continue;  // kNeedMore or a damaged frame (counted)
       rx_seq_ = decoder_.header().seq;
       if (decoder_.header().kind != FrameKind::kData) continue;
+      // A frame with a good CRC whose message does not decode came from a sender
+      // with another message set; it is skipped like a damaged frame.
       if (decode_envelope(decoder_.payload(), decoder_.payload_size(), message) != Status::kOk) {
-        continue;  // counted below as a frame whose message did not decode
+        continue;
       }
       return true;
     }

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "host/scan/segment.h"
+#include "host/scan/point3.h"
 
 namespace dg::host {
 

@@ -121,19 +121,13 @@ ScanData read_scan_file(const std::string& path) {
   return parse_scan_bytes(bytes.data(), bytes.size(), path);
 }
 
-ScanData parse_scan_bytes(const uint8_t* data_bytes, size_t data_size, const std::string& path) {
-  struct View {
-    const uint8_t* ptr;
-    size_t n;
-    const uint8_t* data() const { return ptr; }
-    size_t size() const { return n; }
-  } bytes{data_bytes, data_size};
+ScanData parse_scan_bytes(const uint8_t* bytes, size_t size, const std::string& path) {
   ScanData data;
   size_t offset = 0;
-  while (offset < bytes.size()) {
+  while (offset < size) {
     const std::string where = path + ": record " + std::to_string(data.records + 1) +
                               " at byte " + std::to_string(offset);
-    pb_istream_t stream = pb_istream_from_buffer(bytes.data() + offset, bytes.size() - offset);
+    pb_istream_t stream = pb_istream_from_buffer(bytes + offset, size - offset);
     pb_wire_type_t wire_type;
     uint32_t tag = 0;
     bool eof = false;
@@ -145,14 +139,14 @@ ScanData parse_scan_bytes(const uint8_t* data_bytes, size_t data_size, const std
     if (tag != kScanFileRecordTag || wire_type != PB_WT_STRING) {
       throw ScanFileError(where + ": not a scan-file record (is this a scan file?)");
     }
-    const size_t header = (bytes.size() - offset) - stream.bytes_left;
+    const size_t header = (size - offset) - stream.bytes_left;
     if (length > stream.bytes_left) {
       data.warnings.push_back(where + ": last record is cut off (" + std::to_string(stream.bytes_left) +
                               " of " + std::to_string(length) + " bytes); it is ignored");
       break;
     }
     // Inside the record: field 1 = Envelope bytes, field 2 = CRC-32 of those bytes.
-    const uint8_t* record = bytes.data() + offset + header;
+    const uint8_t* record = bytes + offset + header;
     pb_istream_t inner = pb_istream_from_buffer(record, static_cast<size_t>(length));
     const uint8_t* envelope_bytes = nullptr;
     uint64_t envelope_size = 0;

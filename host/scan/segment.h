@@ -4,11 +4,9 @@
 #include <cstdint>
 #include <vector>
 
-namespace dg::host {
+#include "host/scan/point3.h"
 
-struct Point3 {
-  double x = 0, y = 0, z = 0;  // mm
-};
+namespace dg::host {
 
 struct SegmentOptions {
   // A step longer than this many times the line's typical step starts a new line.

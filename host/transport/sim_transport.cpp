@@ -1,6 +1,7 @@
 // Spawns the simulated device; the socket pair gives it a byte stream like a USB pipe.
 #include "host/transport/sim_transport.h"
 
+#include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
 #include <sys/socket.h>
@@ -49,7 +50,13 @@ SimTransport::SimTransport(const std::string& uri, const std::vector<std::string
     throw TransportError(uri + ": cannot start the simulator: " + std::strerror(errno));
   }
   if (child_ == 0) {
-    dup2(sv[1], 3);  // dup2 clears close-on-exec on the copy
+    // dup2 clears close-on-exec on the copy, but does nothing if the socket already
+    // is fd 3 (when the parent runs with stdin closed), so clear it by hand then.
+    if (sv[1] == 3) {
+      fcntl(3, F_SETFD, 0);
+    } else {
+      dup2(sv[1], 3);
+    }
     execvp(argv[0], argv.data());
     std::fprintf(stderr, "digitizer: cannot run %s: %s\n", argv[0], std::strerror(errno));
     _exit(127);
@@ -58,23 +65,31 @@ SimTransport::SimTransport(const std::string& uri, const std::vector<std::string
   fd_ = sv[0];
 }
 
+bool SimTransport::reap_child(int timeout_ms, int* status) {
+  for (int waited_ms = 0; child_ > 0; waited_ms += 5) {
+    if (waitpid(child_, status, WNOHANG) == child_) {
+      child_ = -1;
+      return true;
+    }
+    if (waited_ms >= timeout_ms) return false;
+    usleep(5000);
+  }
+  return false;
+}
+
 SimTransport::~SimTransport() {
   if (fd_ >= 0) close(fd_);  // the simulator exits when its link closes
-  if (child_ > 0) {
-    int status = 0;
-    for (int i = 0; i < 200; ++i) {
-      if (waitpid(child_, &status, WNOHANG) == child_) return;
-      usleep(5000);
-    }
+  int status = 0;
+  if (child_ > 0 && !reap_child(1000, &status)) {
     kill(child_, SIGKILL);
     waitpid(child_, &status, 0);
   }
 }
 
 std::string SimTransport::child_exit_reason() {
+  // The link closed because the simulator is exiting: wait for it to say how.
   int status = 0;
-  if (child_ > 0 && waitpid(child_, &status, WNOHANG) == child_) {
-    child_ = -1;
+  if (reap_child(1000, &status)) {
     if (WIFEXITED(status)) return "simulator exited with status " + std::to_string(WEXITSTATUS(status));
     if (WIFSIGNALED(status)) return "simulator killed by signal " + std::to_string(WTERMSIG(status));
   }
@@ -107,7 +122,6 @@ size_t SimTransport::read(uint8_t* data, size_t capacity, int timeout_ms) {
     if (n > 0) return static_cast<size_t>(n);
     if (n < 0 && errno == EINTR) continue;
     if (n == 0 || (n < 0 && errno == ECONNRESET)) {
-      usleep(20000);  // give the child a moment to be reaped for a better message
       throw TransportError(uri_ + ": " + child_exit_reason());
     }
     throw TransportError(uri_ + ": read failed: " + std::strerror(errno));

@@ -23,6 +23,8 @@ class SimTransport final : public Transport {
 
  private:
   std::string child_exit_reason();
+  // Waits up to timeout_ms for the simulator to exit; true (and its status) if it did.
+  bool reap_child(int timeout_ms, int* status);
 
   std::string uri_;
   int fd_ = -1;

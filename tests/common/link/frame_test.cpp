@@ -1,6 +1,8 @@
 // Frames: round trip, every corruption detected, resynchronisation after garbage.
 #include "common/link/frame.h"
 
+#include "common/link/crc32.h"
+
 #include <CppUTest/TestHarness.h>
 
 #include <vector>
@@ -133,11 +135,19 @@ TEST(FrameDecoder, RefusesOversizedPayload) {
 }
 
 TEST(FrameDecoder, RejectsAnotherFrameVersion) {
-  // A frame from a future link version must not be read as ours.
-  std::vector<uint8_t> wire = make_frame(1, 0, kPayload);
-  // Rebuild by hand is not possible without the CRC, so flip the version nibble
-  // and expect a rejection (CRC or version): never a payload.
-  wire[2] ^= 0x30;
+  // A well-formed frame of link version 2 (good CRC, good stuffing) must not be read
+  // as ours: only the version nibble can reject it.
+  std::vector<uint8_t> raw = {static_cast<uint8_t>(((dg::kFrameVersion + 1) << 4) | 0), 1, 0, 0, 0};
+  raw.insert(raw.end(), kPayload.begin(), kPayload.end());
+  const uint32_t crc = dg::crc32(raw.data(), raw.size());
+  for (int i = 0; i < 4; ++i) raw.push_back(static_cast<uint8_t>(crc >> (8 * i)));
+  std::vector<uint8_t> wire(dg::cobs_max_encoded_size(raw.size()) + 2);
+  size_t stuffed = 0;
+  CHECK(dg::cobs_encode(raw.data(), raw.size(), wire.data() + 1, wire.size() - 2, &stuffed) ==
+        dg::Status::kOk);
+  wire[0] = 0;
+  wire[1 + stuffed] = 0;
+  wire.resize(stuffed + 2);
   dg::FrameDecoder decoder;
   LONGS_EQUAL(0, feed_all(decoder, wire).payloads.size());
 }

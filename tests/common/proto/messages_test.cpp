@@ -69,7 +69,7 @@ TEST(Messages, RejectsGarbage) {
 }
 
 TEST(Messages, RejectsAStringLongerThanItsLimit) {
-  // Field 5 (points) -> no; use Fault.detail (max 64) with 100 bytes.
+  // Envelope.fault (field 9) holding a Fault.detail (field 2, at most 64 bytes) of 100 bytes.
   uint8_t bytes[128] = {0x4A, 102, 0x12, 100};
   for (int i = 4; i < 104; ++i) bytes[i] = 'x';
   digitizer_Envelope in;

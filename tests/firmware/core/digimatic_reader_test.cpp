@@ -90,12 +90,12 @@ TEST(DigimaticReader, ReleasesRequestAfterTheFirstClock) {
   LONGS_EQUAL(1, bench.board.gauge().frames_sent());
 }
 
-TEST(DigimaticReader, ReadsAgainAfterAFailure) {
+TEST(DigimaticReader, ARetryOnAGaugeThatKeepsDroppingAnEdgeFailsAgain) {
+  // drop_rising_edge damages every frame: the reader starts again after a failure,
+  // and the retry fails the same way instead of yielding a number.
   dg::sim::SimConfig config = flat(1.0);
   config.gauge.drop_rising_edge = 10;
   Bench bench(config);
   CHECK(bench.read() == dg::DigimaticReader::State::kFailed);
-  // The same gauge, now healthy on the next frame? No: drop_rising_edge applies to
-  // every frame, so a retry fails the same way and never yields a number.
   CHECK(bench.read() == dg::DigimaticReader::State::kFailed);
 }
