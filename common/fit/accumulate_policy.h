@@ -1,0 +1,126 @@
+// How each scalar type multiplies and accumulates in the streaming normal equations.
+#pragma once
+#include <math.h>
+#include <stdint.h>
+
+#include "common/fixed/q.h"
+
+namespace dg::fit {
+
+// Maps an offset along an axis, 0..range (integer nm), to a parameter in [0, 1]. Fixed point uses a
+// precomputed reciprocal so that a point costs a multiply and a shift, not a 64-bit division.
+struct UnitScale {
+  int64_t range = 1;
+  int64_t multiplier = 0;  // floor(2^(30 + shift) / range), < 2^31
+  int shift = 0;
+  static UnitScale for_range(int64_t range) {
+    UnitScale scale;
+    scale.range = range > 0 ? range : 1;
+    while (scale.shift < 32 && (int64_t{1} << (30 + scale.shift + 1)) / scale.range < (int64_t{1} << 31)) {
+      ++scale.shift;
+    }
+    scale.multiplier = (int64_t{1} << (30 + scale.shift)) / scale.range;
+    return scale;
+  }
+};
+
+// Floating point: basis, value and sums in one type; the solver runs in the same type.
+template <typename T>
+struct FloatingPolicy {
+  using Unit = T;  // a parameter in [0, 1] and the one-dimensional basis values
+  using Basis = T;
+  using Value = T;  // a coordinate in mm
+  using Accum = T;
+  using Solve = T;
+  static Accum product(Basis a, Basis b) { return a * b; }
+  static Accum product_value(Basis a, Value v) { return a * v; }
+  // Entries are scaled by powers of two (see NormalEquations::solve), which is exact in any type.
+  static int diagonal_exponent(Accum sum, uint32_t count) {
+    int e = 0;
+    frexp(static_cast<double>(sum / static_cast<T>(count)), &e);
+    return (2 - e) / 2;  // mean * 4^k in [0.25, 1)
+  }
+  static Solve matrix_entry(Accum sum, uint32_t count, int exponent) {
+    return static_cast<T>(ldexp(static_cast<double>(sum / static_cast<T>(count)), exponent));
+  }
+  static Solve rhs_entry(Accum sum, uint32_t count, int exponent) { return matrix_entry(sum, count, exponent); }
+  static Value to_value(Solve x, int exponent) { return static_cast<T>(ldexp(static_cast<double>(x), exponent)); }
+  static Value value_from_nm(int32_t nm) { return static_cast<T>(nm) * static_cast<T>(1e-6); }
+  static Unit unit(int64_t offset, const UnitScale& scale) {
+    return static_cast<T>(static_cast<double>(offset) / static_cast<double>(scale.range));
+  }
+  static Basis tensor(Unit a, Unit b) { return a * b; }
+  // s = u * spans split into the span index (clamped to the last span) and the local t in [0, 1].
+  static void split(Unit u, int spans, int& span, Unit& t) {
+    const T s = u * static_cast<T>(spans);
+    span = static_cast<int>(s);
+    if (span > spans - 1) span = spans - 1;
+    if (span < 0) span = 0;
+    t = s - static_cast<T>(span);
+  }
+};
+
+// Fixed point for a device without an FPU: basis values in Q1.F (32-bit), coordinates as integer
+// nanometres, sums in 64 bits. One product is one 32x32->64 multiply-accumulate (SMLAL on a
+// Cortex-M3/M4). With F = 15 a matrix sum grows by at most 2^30 per point and a right-hand-side sum by
+// at most 2^15 * |value_nm|, so 2^31 points, or 2^20 points of |z| < 2^27 nm (134 mm), fit in 63 bits;
+// `kMaxValueNm` and `kMaxPoints` state that limit and the accumulator refuses beyond it.
+template <int F>
+struct FixedPolicy {
+  using Unit = fx::Q<30>;  // parameters and one-dimensional basis values, in [0, 1]
+  using Basis = fx::Q<F>;
+  using Value = int32_t;  // nm
+  using Accum = int64_t;
+  using Solve = fx::Q32x32;  // mm
+  static constexpr int32_t kMaxValueNm = (int32_t{1} << 27) - 1;
+  static constexpr uint32_t kMaxPoints = uint32_t{1} << (62 - F - 27);
+  static Accum product(Basis a, Basis b) { return int64_t{a.raw} * b.raw; }
+  static Accum product_value(Basis a, Value v) { return int64_t{a.raw} * v; }
+  // The k that brings the mean diagonal product into [1/4, 1) when multiplied by 4^k.
+  static int diagonal_exponent(Accum sum, uint32_t count) {
+    const int64_t mean = sum / static_cast<int64_t>(count);  // Q(2F), at most 1
+    int k = 0;
+    while (k < 15 && mean > 0 && (mean << (2 * k)) < (int64_t{1} << (2 * F - 2))) ++k;
+    return k;
+  }
+  // 2^exponent * sum / count as Q32.32. With the diagonal scaled into [1/4, 1), every scaled entry is
+  // at most 1 in magnitude (Cauchy-Schwarz), so the shifted sum stays below count * 2^32.
+  static Solve matrix_entry(Accum sum, uint32_t count, int exponent) {
+    return Solve::from_raw(sum * (int64_t{1} << (32 - 2 * F + exponent)) / count);
+  }
+  // 2^exponent times the mean in nm (F fraction bits), converted to mm in Q32.32. The scaled mean is
+  // bounded by the largest |value| (Cauchy-Schwarz again), so the shifts cannot overflow.
+  static Solve rhs_entry(Accum sum, uint32_t count, int exponent) {
+    const int64_t mean_nm_qf = sum / static_cast<int64_t>(count) * (int64_t{1} << exponent);
+    return Solve::from_raw(mean_nm_qf * (int64_t{1} << (32 - F)) / 1000000);
+  }
+  // 2^exponent * x mm in Q32.32 to nm: raw * 10^6 / 2^32 = raw * 15625 / 2^26; saturates at the
+  // int32 limits.
+  static Value to_value(Solve x_mm, int exponent) {
+    const int64_t limit = int64_t{1} << (43 - exponent);
+    if (x_mm.raw >= limit) return INT32_MAX;
+    if (x_mm.raw <= -limit) return -INT32_MAX;
+    const int64_t nm = fx::round_shift(x_mm.raw * 15625, 26 - exponent);
+    return nm > INT32_MAX ? INT32_MAX : nm < -INT32_MAX ? -INT32_MAX : static_cast<Value>(nm);
+  }
+  static Value value_from_nm(int32_t nm) { return nm; }
+  // offset / range in Q1.30 for 0 <= offset <= range < 2^31 nm; the reciprocal's relative error is
+  // below 2^-30, so the parameter is within one unit in the last place.
+  static Unit unit(int64_t offset, const UnitScale& scale) {
+    const int64_t u = (offset * scale.multiplier + (int64_t{1} << (scale.shift - 1))) >> scale.shift;
+    return Unit::from_raw(static_cast<int32_t>(u > (int64_t{1} << 30) ? (int64_t{1} << 30) : u));
+  }
+  // The product of two values in [0, 1], Q1.30 x Q1.30 -> Q1.F, rounded.
+  static Basis tensor(Unit a, Unit b) {
+    return Basis::from_raw(static_cast<int32_t>(fx::round_shift(int64_t{a.raw} * b.raw, 60 - F)));
+  }
+  static void split(Unit u, int spans, int& span, Unit& t) {
+    const int64_t s = int64_t{u.raw} * spans;
+    span = static_cast<int>(s >> 30);
+    if (span > spans - 1) span = spans - 1;
+    if (span < 0) span = 0;
+    t = Unit::from_raw(static_cast<int32_t>(s - (int64_t{span} << 30)));
+  }
+};
+
+}  // namespace dg::fit
