@@ -8,6 +8,7 @@
 
 #include <unistd.h>
 
+#include "host/cli/fit_command.h"
 #include "host/cli/units.h"
 #include "host/device/capture.h"
 #include "host/scan/point_export.h"
@@ -212,6 +213,9 @@ int main(int argc, char** argv) {
   CLI::App* info_cmd = app.add_subcommand("info", "summarise a scan file");
   info_cmd->add_option("input", info_in, "scan file")->required()->check(CLI::ExistingFile);
 
+  FitArgs fit;
+  CLI::App* fit_cmd = add_fit_command(app, fit);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -222,6 +226,7 @@ int main(int argc, char** argv) {
     if (*export_cmd) return run_export(export_in, export_out);
     if (*info_cmd) return run_info(info_in);
     if (*segment_cmd) return run_segment(segment_in, segment_out, segment_ratio, segment_turn);
+    if (*fit_cmd) return run_fit(fit);
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "digitizer: %s\n", e.what());
     return kExitUsage;

@@ -1,0 +1,137 @@
+// The fit subcommand: read points, parameterize, fit, measure orthogonal distances, write SURF.json.
+#include "host/cli/fit_command.h"
+
+#include <cstdio>
+#include <stdexcept>
+
+#include "host/scan/point_reader.h"
+#include "host/surface/closest_point.h"
+#include "host/surface/fit_error.h"
+#include "host/surface/surface_json.h"
+#include "host/surface/tolerance_fit.h"
+
+namespace dg::host {
+
+namespace {
+
+void parse_ctrl(const std::string& text, int& nu, int& nv) {
+  const size_t x = text.find_first_of("xX");
+  try {
+    size_t used = 0;
+    if (x == std::string::npos) {
+      nu = nv = std::stoi(text, &used);
+      if (used != text.size()) throw std::invalid_argument("");
+    } else {
+      nu = std::stoi(text.substr(0, x), &used);
+      if (used != x) throw std::invalid_argument("");
+      nv = std::stoi(text.substr(x + 1), &used);
+      if (used != text.size() - x - 1) throw std::invalid_argument("");
+    }
+  } catch (const std::exception&) {
+    throw std::invalid_argument("--ctrl: expected N or NxM control points, got '" + text + "'");
+  }
+  if (nu < 2 || nv < 2 || nu > 4096 || nv > 4096) throw std::invalid_argument("--ctrl: control points must be 2..4096");
+}
+
+void print_stats(const SurfaceFile& f) {
+  const auto& d = f.distance;
+  std::printf("%s %s, degree %d x %d, %d x %d control points, %s parameters\n", f.model.c_str(), f.method.c_str(),
+              f.surface.degree_u, f.surface.degree_v, f.surface.count_u, f.surface.count_v, f.parameterization.c_str());
+  std::printf("orthogonal distance over %zu points: mean %.4f median %.4f std %.4f rms %.4f max %.4f min %.4f mm\n",
+              d.count, d.mean, d.median, d.stddev, d.rms, d.max, d.min);
+  if (f.noise_sigma_mm > 0) std::printf("estimated noise sigma %.4f mm\n", f.noise_sigma_mm);
+}
+
+}  // namespace
+
+CLI::App* add_fit_command(CLI::App& app, FitArgs& a) {
+  CLI::App* cmd = app.add_subcommand("fit", "fit a B-spline or Bezier surface to points (mm) and write SURF.json");
+  cmd->add_option("input", a.input, ".csv, .xyz, .ply or .scan points in mm")->required()->check(CLI::ExistingFile);
+  cmd->add_option("-o,--output", a.output, "surface file (.json)")->required();
+  cmd->add_option("--model", a.model, "bspline or bezier")->capture_default_str()->check(CLI::IsMember({"bspline", "bezier"}));
+  cmd->add_option("--method", a.method, "lsq (least squares) or ips (seed 000's inverse progressive search, bezier)")
+      ->capture_default_str()->check(CLI::IsMember({"lsq", "ips"}));
+  cmd->add_option("--degree", a.degree, "B-spline degree in both directions")->capture_default_str()->check(CLI::Range(1, 7));
+  cmd->add_option("--ctrl", a.ctrl, "control points NxM (or N); with --tolerance, the starting net");
+  cmd->add_option("--param", a.param, "xy (table coordinates, a height field), uniform, chord or centripetal")
+      ->capture_default_str()->check(CLI::IsMember({"xy", "uniform", "chord", "centripetal"}));
+  cmd->add_option("--tolerance", a.tolerance_mm, "refine until every orthogonal distance is within this, mm")
+      ->check(CLI::PositiveNumber);
+  cmd->add_flag("--ignore-sigma", a.ignore_sigma, "do not weight points by 1/sigma^2 from a sigma column");
+  cmd->add_flag("-q,--quiet", a.quiet, "print nothing but errors");
+  return cmd;
+}
+
+int run_fit(const FitArgs& a) {
+  const PointCloud cloud = read_points(a.input);
+  const Parameters params = parameterize(cloud, parse_parameterization(a.param));
+  std::vector<double> weights;
+  if (cloud.sigma && !a.ignore_sigma) {
+    for (double s : *cloud.sigma) {
+      if (!(s > 0)) throw FitError(a.input + ": sigma must be positive to weight points");
+      weights.push_back(1.0 / (s * s));
+    }
+  }
+  const std::vector<double>* w = weights.empty() ? nullptr : &weights;
+
+  SurfaceFile out;
+  out.model = a.model;
+  out.method = a.method;
+  out.parameterization = a.param;
+  out.height_field = params.kind == Parameterization::kTableXy;
+  out.has_fit = true;
+  out.source = a.input;
+  int nu = a.degree + 1, nv = a.degree + 1;
+  if (!a.ctrl.empty()) parse_ctrl(a.ctrl, nu, nv);
+  if (a.model == "bezier") {
+    if (a.method == "ips") throw std::invalid_argument("--method ips is not available in this build");
+    if (!a.ctrl.empty() && (nu != 4 || nv != 4)) throw std::invalid_argument("a bicubic Bezier patch has 4x4 control points");
+    if (a.tolerance_mm > 0) throw std::invalid_argument("--tolerance refines B-splines; a single Bezier patch has a fixed net");
+    nu = nv = 4;
+  } else if (a.method != "lsq") {
+    throw std::invalid_argument("--method ips applies to --model bezier");
+  }
+  const int degree = a.model == "bezier" ? 3 : a.degree;
+  int exit_code = 0;
+  std::vector<double> distances;
+  if (a.tolerance_mm > 0) {
+    ToleranceOptions options;
+    options.tolerance_mm = a.tolerance_mm;
+    options.degree_u = options.degree_v = degree;
+    if (!a.ctrl.empty()) {
+      options.start_count_u = nu;
+      options.start_count_v = nv;
+    }
+    ToleranceResult r = fit_to_tolerance(cloud, params, w, options);
+    out.surface = std::move(r.surface);
+    out.tolerance_mm = a.tolerance_mm;
+    out.tolerance_kept = r.kept;
+    out.noise_sigma_mm = r.noise_sigma_mm;
+    out.iterations = r.iterations;
+    distances = std::move(r.distances);
+    if (!r.kept) {
+      std::fprintf(stderr, "digitizer: tolerance refused: %s\n", r.reason.c_str());
+      exit_code = kExitToleranceRefused;
+    }
+  } else {
+    if (nu <= degree || nv <= degree) throw std::invalid_argument("--ctrl: a degree " + std::to_string(degree) + " net needs at least " + std::to_string(degree + 1) + " control points per direction");
+    LsqSpec spec;
+    spec.degree_u = spec.degree_v = degree;
+    spec.knots_u = clamped_uniform_knots(nu, degree);
+    spec.knots_v = clamped_uniform_knots(nv, degree);
+    out.surface = fit_least_squares(cloud.points, params, w, spec);
+    distances = orthogonal_distances(out.surface, cloud.points, params);
+  }
+  out.distance = distance_stats(distances);
+  write_surface_json(a.output, out);
+  if (!a.quiet) {
+    print_stats(out);
+    if (a.tolerance_mm > 0) {
+      std::printf("tolerance %.4f mm %s after %d fits\n", a.tolerance_mm, out.tolerance_kept ? "kept" : "NOT kept", out.iterations);
+    }
+    std::printf("wrote %s\n", a.output.c_str());
+  }
+  return exit_code;
+}
+
+}  // namespace dg::host

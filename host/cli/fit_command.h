@@ -1,0 +1,27 @@
+// `digitizer fit`: least-squares B-spline and Bezier surfaces, optionally to a tolerance.
+#pragma once
+#include <CLI/CLI.hpp>
+#include <string>
+
+namespace dg::host {
+
+struct FitArgs {
+  std::string input, output;
+  std::string model = "bspline";  // bspline | bezier
+  std::string method = "lsq";     // lsq | ips
+  int degree = 3;
+  std::string ctrl;               // NxM control points; empty: automatic
+  std::string param = "xy";
+  double tolerance_mm = 0;        // 0: fit the given net once
+  bool ignore_sigma = false;
+  bool quiet = false;
+};
+
+CLI::App* add_fit_command(CLI::App& app, FitArgs& args);
+// Returns the exit code: 0 fitted (and the tolerance kept), 3 tolerance refused (the best surface is
+// written, marked as not kept). Throws FitError, PointFileError and std::invalid_argument.
+int run_fit(const FitArgs& args);
+
+constexpr int kExitToleranceRefused = 3;
+
+}  // namespace dg::host

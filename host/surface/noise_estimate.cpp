@@ -1,0 +1,102 @@
+// Noise estimates from third differences along scan lines, or local quadratics for scattered points.
+#include "host/surface/noise_estimate.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <unordered_map>
+
+#include "common/fit/dense_ldlt.h"
+#include "host/surface/vec3.h"
+
+namespace dg::host {
+
+namespace {
+
+double median_of(std::vector<double>& values) {
+  if (values.empty()) return 0.0;
+  const size_t mid = values.size() / 2;
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(mid), values.end());
+  return values[mid];
+}
+
+double from_lines(const PointCloud& cloud) {
+  std::map<uint32_t, std::vector<size_t>> lines;
+  for (size_t i = 0; i < cloud.points.size(); ++i) lines[(*cloud.line)[i]].push_back(i);
+  std::vector<double> d3;
+  for (const auto& [id, m] : lines) {
+    for (size_t k = 3; k < m.size(); ++k) {
+      const Point3 &a = cloud.points[m[k - 3]], &b = cloud.points[m[k - 2]], &c = cloud.points[m[k - 1]],
+                   &d = cloud.points[m[k]];
+      // Even spacing in the table plane, within 10 %, or the difference is not a noise measure.
+      const double s1 = std::hypot(b.x - a.x, b.y - a.y), s2 = std::hypot(c.x - b.x, c.y - b.y),
+                   s3 = std::hypot(d.x - c.x, d.y - c.y);
+      const double lo = std::min({s1, s2, s3}), hi = std::max({s1, s2, s3});
+      if (!(lo > 0) || hi > 1.1 * lo) continue;
+      d3.push_back(std::fabs(d.z - 3 * c.z + 3 * b.z - a.z));
+    }
+  }
+  if (d3.size() < 8) return 0.0;
+  return median_of(d3) / 0.6745 / std::sqrt(20.0);
+}
+
+double from_cells(const PointCloud& cloud, const Parameters& params) {
+  // Cells of about 24 points, each fitted with a quadratic z(x, y) (6 coefficients) so that the
+  // part's curvature does not pass for noise; the residual deviation uses n - 6 degrees of freedom.
+  const double n = static_cast<double>(cloud.points.size());
+  const int side = std::max(1, static_cast<int>(std::sqrt(n / 24.0)));
+  std::unordered_map<long, std::vector<size_t>> cells;
+  for (size_t i = 0; i < cloud.points.size(); ++i) {
+    const int cu = std::min(side - 1, static_cast<int>(params.uv[i].u * side));
+    const int cv = std::min(side - 1, static_cast<int>(params.uv[i].v * side));
+    cells[static_cast<long>(cu) * side + cv].push_back(i);
+  }
+  std::vector<double> sigmas;
+  for (const auto& [key, m] : cells) {
+    if (m.size() < 12) continue;
+    double mx = 0, my = 0, sx = 0, sy = 0;
+    for (size_t i : m) mx += cloud.points[i].x, my += cloud.points[i].y;
+    const double k = static_cast<double>(m.size());
+    mx /= k, my /= k;
+    for (size_t i : m) sx = std::max(sx, std::fabs(cloud.points[i].x - mx)), sy = std::max(sy, std::fabs(cloud.points[i].y - my));
+    if (!(sx > 0) || !(sy > 0)) continue;
+    double a[fit::packed_size(6)] = {}, b[6] = {}, inverse_d[6];
+    auto terms = [&](size_t i, double* t) {
+      const double x = (cloud.points[i].x - mx) / sx, y = (cloud.points[i].y - my) / sy;
+      t[0] = 1, t[1] = x, t[2] = y, t[3] = x * x, t[4] = x * y, t[5] = y * y;
+    };
+    for (size_t i : m) {
+      double t[6];
+      terms(i, t);
+      for (int r = 0; r < 6; ++r) {
+        for (int c = 0; c <= r; ++c) a[fit::packed_index(r, c)] += t[r] * t[c];
+        b[r] += t[r] * cloud.points[i].z;
+      }
+    }
+    if (fit::ldlt_factor(a, 6, inverse_d, 1e-10) != Status::kOk) continue;
+    fit::ldlt_solve(a, inverse_d, 6, b);
+    double ss = 0;
+    for (size_t i : m) {
+      double t[6];
+      terms(i, t);
+      double r = cloud.points[i].z;
+      for (int c = 0; c < 6; ++c) r -= b[c] * t[c];
+      ss += r * r;
+    }
+    sigmas.push_back(std::sqrt(ss / (k - 6)));
+  }
+  if (sigmas.size() < 4) return 0.0;
+  return median_of(sigmas);
+}
+
+}  // namespace
+
+double estimate_noise(const PointCloud& cloud, const Parameters& params) {
+  if (cloud.line) {
+    const double sigma = from_lines(cloud);
+    if (sigma > 0) return sigma;
+  }
+  return from_cells(cloud, params);
+}
+
+}  // namespace dg::host

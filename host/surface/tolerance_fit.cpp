@@ -1,0 +1,149 @@
+// The tolerance loop: fit, measure orthogonal distances, insert knots where they exceed the tolerance.
+#include "host/surface/tolerance_fit.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <set>
+
+#include "common/fit/bspline_basis.h"
+#include "host/surface/closest_point.h"
+#include "host/surface/fit_error.h"
+#include "host/surface/noise_estimate.h"
+
+namespace dg::host {
+
+namespace {
+
+std::string mm_text(double mm) {
+  char text[48];
+  std::snprintf(text, sizeof text, "%.4f mm", mm);
+  return text;
+}
+
+// Knots of a clamped vector with `count` control points, plus the extra (crease) knots.
+std::vector<double> start_knots(int count, int degree, const std::vector<double>& extra) {
+  std::vector<double> knots = clamped_uniform_knots(count, degree);
+  for (double k : extra) knots.push_back(k);
+  std::sort(knots.begin(), knots.end());
+  return knots;
+}
+
+// Inserts the midpoints of the flagged spans; returns how many were inserted. A span narrower than
+// `min_width` (about one point spacing) is not split: the points cannot support it.
+int insert_midpoints(std::vector<double>& knots, const std::set<int>& spans, double min_width) {
+  std::vector<double> added;
+  for (int span : spans) {
+    const double lo = knots[span], hi = knots[span + 1];
+    if (hi - lo >= 2 * min_width) added.push_back(0.5 * (lo + hi));
+  }
+  for (double k : added) knots.push_back(k);
+  std::sort(knots.begin(), knots.end());
+  return static_cast<int>(added.size());
+}
+
+// A typical distance between neighbouring parameters along one direction: the spacing of a grid of
+// the same number of points.
+double typical_spacing(size_t points) { return 1.0 / std::max(1.0, std::sqrt(static_cast<double>(points))); }
+
+}  // namespace
+
+ToleranceResult fit_to_tolerance(const PointCloud& cloud, const Parameters& params, const std::vector<double>* weights,
+                                 const ToleranceOptions& options) {
+  if (!(options.tolerance_mm > 0)) throw FitError("the tolerance must be a positive number of mm");
+  ToleranceResult best;
+  best.max_distance_mm = HUGE_VAL;
+  const double noise = estimate_noise(cloud, params);
+  best.noise_sigma_mm = noise;
+  const std::vector<Point3>& points = cloud.points;
+  LsqSpec spec;
+  spec.degree_u = options.degree_u;
+  spec.degree_v = options.degree_v;
+  spec.knots_u = start_knots(options.start_count_u > 0 ? options.start_count_u : options.degree_u + 1, options.degree_u,
+                             options.extra_knots_u);
+  spec.knots_v = start_knots(options.start_count_v > 0 ? options.start_count_v : options.degree_v + 1, options.degree_v,
+                             options.extra_knots_v);
+  const double min_width = typical_spacing(points.size());
+  double previous_rms = HUGE_VAL;
+  std::string refusal;
+  for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
+    BSplineSurface surface;
+    try {
+      surface = fit_least_squares(points, params, weights, spec);
+    } catch (const FitError& e) {
+      refusal = std::string("not enough points to refine further: ") + e.what();
+      break;
+    }
+    // Upper bounds first; project only the points they do not clear.
+    const std::vector<double> bound = parameter_distances(surface, points, params);
+    std::set<int> spans_u, spans_v;
+    double worst = 0, sum_sq = 0;
+    std::vector<double> distances(points.size());
+    for (size_t k = 0; k < points.size(); ++k) {
+      sum_sq += bound[k] * bound[k];
+      double d = bound[k];
+      if (bound[k] > options.tolerance_mm) {
+        const Closest c = closest_point(surface, points[k], params.uv[k].u, params.uv[k].v);
+        d = std::fabs(c.distance);
+        if (d > options.tolerance_mm) {
+          spans_u.insert(fit::find_span(surface.count_u, surface.degree_u, params.uv[k].u, surface.knots_u.data()));
+          spans_v.insert(fit::find_span(surface.count_v, surface.degree_v, params.uv[k].v, surface.knots_v.data()));
+        }
+      }
+      worst = std::max(worst, d);
+    }
+    const double rms = std::sqrt(sum_sq / static_cast<double>(points.size()));
+    if (spans_u.empty() || worst < best.max_distance_mm) {
+      best.surface = surface;
+      best.max_distance_mm = worst;  // exact where above the tolerance, an upper bound below it
+      best.iterations = iteration;
+    }
+    if (spans_u.empty()) {
+      best.kept = true;
+      break;
+    }
+    // The noise floor: the residual is the noise, so what is left above the tolerance is noise.
+    if (noise > 0 && rms <= 1.15 * noise) {
+      refusal = "the scan's noise (sigma " + mm_text(noise) + ", RMS residual " + mm_text(rms) +
+                ") is above what the tolerance allows: " + std::to_string(points.size()) +
+                " points of that noise reach about " + mm_text(noise * std::sqrt(2 * std::log(static_cast<double>(points.size())))) +
+                "; filter the scan or give a larger tolerance";
+      break;
+    }
+    if (iteration >= 3 && rms > 0.97 * previous_rms) {
+      refusal = "refinement stopped improving at RMS residual " + mm_text(rms) + " (noise or outliers; try digitizer filter)";
+      break;
+    }
+    previous_rms = rms;
+    const int added = insert_midpoints(spec.knots_u, spans_u, min_width) + insert_midpoints(spec.knots_v, spans_v, min_width);
+    if (added == 0) {
+      refusal = "not enough points to refine further: the spans that exceed the tolerance are already one point spacing wide";
+      break;
+    }
+    if (iteration == options.max_iterations) refusal = "no convergence in " + std::to_string(options.max_iterations) + " refinements";
+  }
+  if (best.surface.control.empty()) throw FitError(refusal.empty() ? "no fit" : refusal);
+  best.distances = orthogonal_distances(best.surface, points, params);
+  best.max_distance_mm = 0;
+  for (double d : best.distances) best.max_distance_mm = std::max(best.max_distance_mm, std::fabs(d));
+  // The contract: success only with every distance within the tolerance.
+  if (best.kept && best.max_distance_mm > options.tolerance_mm) {
+    best.kept = false;
+    refusal = "largest orthogonal distance " + mm_text(best.max_distance_mm) + " exceeds the tolerance";
+  }
+  if (!best.kept) {
+    size_t worst_index = 0;
+    for (size_t k = 1; k < best.distances.size(); ++k) {
+      if (std::fabs(best.distances[k]) > std::fabs(best.distances[worst_index])) worst_index = k;
+    }
+    const Point3& w = points[worst_index];
+    char where[96];
+    std::snprintf(where, sizeof where, " at point %zu (%.3f, %.3f, %.3f)", worst_index + 1, w.x, w.y, w.z);
+    best.reason = refusal + "; best fit: " + std::to_string(best.surface.count_u) + " x " + std::to_string(best.surface.count_v) +
+                  " control points, largest distance " + mm_text(best.max_distance_mm) + where + " > tolerance " +
+                  mm_text(options.tolerance_mm);
+  }
+  return best;
+}
+
+}  // namespace dg::host
