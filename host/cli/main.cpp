@@ -11,6 +11,7 @@
 #include "host/cli/fit_command.h"
 #include "host/cli/units.h"
 #include "host/device/capture.h"
+#include "host/scan/lts_filter.h"
 #include "host/scan/point_export.h"
 #include "host/scan/point_reader.h"
 #include "host/scan/segment.h"
@@ -146,6 +147,39 @@ int run_segment(const std::string& input, const std::string& output, double rati
   return kExitOk;
 }
 
+struct FilterArgs {
+  std::string input, output, outliers;
+  bool lts = false;
+  LtsOptions options;
+};
+
+int run_filter(const FilterArgs& a) {
+  if (!a.lts) throw std::invalid_argument("choose a filter: --lts");
+  PointCloud cloud = read_points(a.input);
+  const LtsResult r = lts_filter(cloud.points, a.options);
+  std::vector<Point3> raw = cloud.points;
+  for (size_t i = 0; i < cloud.points.size(); ++i) cloud.points[i].z = r.z[i];
+  write_cloud_csv(a.output, cloud.points, cloud.line ? &*cloud.line : nullptr);
+  std::printf("LTS %dx%d (%s neighbourhoods), %d iterations%s, residual sigma %.4f mm\n", a.options.window,
+              a.options.window, r.gridded ? "grid" : "nearest-point", r.iterations, r.converged ? "" : " (not converged)",
+              r.sigma_mm);
+  std::printf("%zu outliers (|z - filtered| > %.1f sigma)\n", r.outliers.size(), a.options.outlier_sigmas);
+  for (size_t k = 0; k < r.outliers.size() && k < 10; ++k) {
+    const auto& o = r.outliers[k];
+    std::printf("  point %zu at (%.3f, %.3f): z %.4f -> %.4f mm (%+.4f)\n", o.index + 1, raw[o.index].x, raw[o.index].y,
+                raw[o.index].z, r.z[o.index], o.residual_mm);
+  }
+  if (r.outliers.size() > 10) std::printf("  ... %s\n", a.outliers.empty() ? "list them all with --outliers FILE.csv" : "all in the outliers file");
+  if (!a.outliers.empty()) {
+    std::vector<Point3> bad;
+    for (const auto& o : r.outliers) bad.push_back(raw[o.index]);
+    write_cloud_csv(a.outliers, bad, nullptr);
+    std::printf("wrote outliers (measured values) to %s\n", a.outliers.c_str());
+  }
+  std::printf("wrote %zu filtered points to %s\n", cloud.points.size(), a.output.c_str());
+  return kExitOk;
+}
+
 int run_info(const std::string& input) {
   const ScanData data = read_scan_file(input);
   if (data.device) {
@@ -213,6 +247,20 @@ int main(int argc, char** argv) {
   CLI::App* info_cmd = app.add_subcommand("info", "summarise a scan file");
   info_cmd->add_option("input", info_in, "scan file")->required()->check(CLI::ExistingFile);
 
+  FilterArgs filter;
+  CLI::App* filter_cmd = app.add_subcommand("filter", "robust noise filter (seed 004 LTS); reports outliers");
+  filter_cmd->add_option("input", filter.input, ".csv, .xyz, .ply or .scan points in mm")->required()->check(CLI::ExistingFile);
+  filter_cmd->add_option("-o,--output", filter.output, "filtered points (.csv)")->required();
+  filter_cmd->add_flag("--lts", filter.lts, "Least-Trimmed-Squares filter")->required();
+  filter_cmd->add_option("--window", filter.options.window, "neighbourhood side (odd)")->capture_default_str()->check(CLI::Range(3, 15));
+  filter_cmd->add_option("--order", filter.options.order, "local model: 0 constant (seed 004 exactly), 1 plane, 2 quadratic")
+      ->capture_default_str()->check(CLI::Range(0, 2));
+  filter_cmd->add_flag("--smooth", filter.options.replace_all, "replace every point by the estimate, not only outliers");
+  filter_cmd->add_option("--h", filter.options.h, "residuals kept (default [n/2]+[(p+1)/2]: 13 of 25 for order 0)")->check(CLI::Range(1, 225));
+  filter_cmd->add_option("--outlier-sigmas", filter.options.outlier_sigmas, "report points this many robust sigmas off")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  filter_cmd->add_option("--outliers", filter.outliers, "write the outliers' measured points to this CSV");
+
   FitArgs fit;
   CLI::App* fit_cmd = add_fit_command(app, fit);
 
@@ -227,6 +275,7 @@ int main(int argc, char** argv) {
     if (*info_cmd) return run_info(info_in);
     if (*segment_cmd) return run_segment(segment_in, segment_out, segment_ratio, segment_turn);
     if (*fit_cmd) return run_fit(fit);
+    if (*filter_cmd) return run_filter(filter);
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "digitizer: %s\n", e.what());
     return kExitUsage;

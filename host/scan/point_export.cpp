@@ -85,11 +85,19 @@ void write_points_ply(const std::string& path, const std::vector<PointSample>& p
 
 void write_lines_csv(const std::string& path, const std::vector<Point3>& points,
                      const std::vector<uint32_t>& lines) {
-  if (lines.size() != points.size()) throw std::invalid_argument(path + ": one line index per point");
+  write_cloud_csv(path, points, &lines);
+}
+
+void write_cloud_csv(const std::string& path, const std::vector<Point3>& points, const std::vector<uint32_t>* lines) {
+  if (lines && lines->size() != points.size()) throw std::invalid_argument(path + ": one line index per point");
   File f = open_for_writing(path, "w");
-  std::fprintf(f.get(), "x,y,z,line\n");
+  std::fprintf(f.get(), lines ? "x,y,z,line\n" : "x,y,z\n");
   for (size_t i = 0; i < points.size(); ++i) {
-    std::fprintf(f.get(), "%.7f,%.7f,%.7f,%" PRIu32 "\n", points[i].x, points[i].y, points[i].z, lines[i]);
+    if (lines) {
+      std::fprintf(f.get(), "%.7f,%.7f,%.7f,%" PRIu32 "\n", points[i].x, points[i].y, points[i].z, (*lines)[i]);
+    } else {
+      std::fprintf(f.get(), "%.7f,%.7f,%.7f\n", points[i].x, points[i].y, points[i].z);
+    }
   }
   finish(std::move(f), path);
 }

@@ -15,6 +15,8 @@ void write_points_ply(const std::string& path, const std::vector<PointSample>& p
 // Writes points in mm with their line index as CSV (x,y,z,line), to 0.1 nm.
 void write_lines_csv(const std::string& path, const std::vector<Point3>& points,
                      const std::vector<uint32_t>& lines);
+// The same with the line column only when `lines` is given.
+void write_cloud_csv(const std::string& path, const std::vector<Point3>& points, const std::vector<uint32_t>* lines);
 // Picks the format from the extension (.csv, .ply); throws std::invalid_argument otherwise.
 void write_points(const std::string& path, const std::vector<PointSample>& points);
 

@@ -1,0 +1,236 @@
+// LTS filtering: neighbourhoods (grid window or nearest points), trimmed means about a reference.
+#include "host/scan/lts_filter.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+#include <unordered_map>
+
+#include "common/fit/dense_ldlt.h"
+
+namespace dg::host {
+
+namespace {
+
+// The grid step along one axis if every value is (close to) a multiple of a common step from the
+// smallest one; 0 otherwise.
+double grid_step(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  values.erase(std::unique(values.begin(), values.end(), [](double a, double b) { return std::fabs(a - b) < 1e-6; }),
+               values.end());
+  if (values.size() < 2) return 0;
+  double step = HUGE_VAL;
+  for (size_t i = 1; i < values.size(); ++i) step = std::min(step, values[i] - values[i - 1]);
+  for (double v : values) {
+    const double k = (v - values[0]) / step;
+    if (std::fabs(k - std::round(k)) > 1e-3) return 0;
+  }
+  return step;
+}
+
+bool grid_neighbourhoods(const std::vector<Point3>& points, int window, std::vector<std::vector<size_t>>& out) {
+  std::vector<double> xs, ys;
+  for (const auto& p : points) xs.push_back(p.x), ys.push_back(p.y);
+  const double sx = grid_step(xs), sy = grid_step(ys);
+  if (!(sx > 0) || !(sy > 0)) return false;
+  const double x0 = *std::min_element(xs.begin(), xs.end()), y0 = *std::min_element(ys.begin(), ys.end());
+  std::map<std::pair<long, long>, size_t> cell;
+  std::vector<std::pair<long, long>> at(points.size());
+  for (size_t i = 0; i < points.size(); ++i) {
+    at[i] = {std::lround((points[i].x - x0) / sx), std::lround((points[i].y - y0) / sy)};
+    if (!cell.emplace(at[i], i).second) return false;  // two points in one grid cell: not a grid
+  }
+  const long r = window / 2;
+  out.assign(points.size(), {});
+  for (size_t i = 0; i < points.size(); ++i) {
+    for (long dy = -r; dy <= r; ++dy)
+      for (long dx = -r; dx <= r; ++dx) {
+        const auto it = cell.find({at[i].first + dx, at[i].second + dy});
+        if (it != cell.end()) out[i].push_back(it->second);
+      }
+  }
+  return true;
+}
+
+// The k nearest points in XY (the point itself included), through a bucket grid.
+void nearest_neighbourhoods(const std::vector<Point3>& points, size_t k, std::vector<std::vector<size_t>>& out) {
+  double x0 = HUGE_VAL, x1 = -HUGE_VAL, y0 = HUGE_VAL, y1 = -HUGE_VAL;
+  for (const auto& p : points) x0 = std::min(x0, p.x), x1 = std::max(x1, p.x), y0 = std::min(y0, p.y), y1 = std::max(y1, p.y);
+  const double area = std::max((x1 - x0) * (y1 - y0), 1e-12);
+  const double cell = std::max(std::sqrt(area * 4.0 / static_cast<double>(points.size())), 1e-9);  // ~4 points a cell
+  std::unordered_map<long long, std::vector<size_t>> buckets;
+  auto key = [](long cx, long cy) { return (static_cast<long long>(cx) << 32) ^ static_cast<long long>(cy & 0xffffffff); };
+  for (size_t i = 0; i < points.size(); ++i) {
+    buckets[key(std::lround(std::floor((points[i].x - x0) / cell)), std::lround(std::floor((points[i].y - y0) / cell)))].push_back(i);
+  }
+  k = std::min(k, points.size());
+  out.assign(points.size(), {});
+  std::vector<std::pair<double, size_t>> candidates;
+  for (size_t i = 0; i < points.size(); ++i) {
+    const long cx = std::lround(std::floor((points[i].x - x0) / cell)), cy = std::lround(std::floor((points[i].y - y0) / cell));
+    // Grow the ring until it holds k candidates and one more ring (points in it may be nearer).
+    for (long ring = 1;; ++ring) {
+      candidates.clear();
+      for (long dy = -ring; dy <= ring; ++dy)
+        for (long dx = -ring; dx <= ring; ++dx) {
+          const auto it = buckets.find(key(cx + dx, cy + dy));
+          if (it == buckets.end()) continue;
+          for (size_t j : it->second) {
+            const double ddx = points[j].x - points[i].x, ddy = points[j].y - points[i].y;
+            candidates.push_back({ddx * ddx + ddy * ddy, j});
+          }
+        }
+      // Every point within `ring * cell` of i has been seen; enough of them means done.
+      const double reach = static_cast<double>(ring) * cell;
+      const size_t within = static_cast<size_t>(std::count_if(candidates.begin(), candidates.end(),
+                                                              [&](const auto& c) { return c.first <= reach * reach; }));
+      if (within >= k || candidates.size() == points.size()) break;
+    }
+    std::partial_sort(candidates.begin(), candidates.begin() + static_cast<std::ptrdiff_t>(k), candidates.end());
+    for (size_t m = 0; m < k; ++m) out[i].push_back(candidates[m].second);
+  }
+}
+
+// Polynomial terms in (dx, dy) for a model of `order` 1 (plane, 3 terms) or 2 (quadratic, 6 terms).
+int model_terms(int order, double dx, double dy, double* t) {
+  t[0] = 1, t[1] = dx, t[2] = dy;
+  if (order == 1) return 3;
+  t[3] = dx * dx, t[4] = dx * dy, t[5] = dy * dy;
+  return 6;
+}
+
+// Least-squares polynomial through the chosen points, centred on `centre` so that its value there is
+// the first coefficient; false when the points do not determine it (collinear in XY).
+bool fit_model(const std::vector<Point3>& points, const std::vector<size_t>& chosen, const Point3& centre, int order,
+               double* coefficients) {
+  double a[fit::packed_size(6)] = {}, inverse_d[6];
+  int n = 3;
+  for (int k = 0; k < 6; ++k) coefficients[k] = 0;
+  for (size_t j : chosen) {
+    double t[6];
+    n = model_terms(order, points[j].x - centre.x, points[j].y - centre.y, t);
+    for (int r = 0; r < n; ++r) {
+      for (int c = 0; c <= r; ++c) a[fit::packed_index(r, c)] += t[r] * t[c];
+      coefficients[r] += t[r] * points[j].z;
+    }
+  }
+  if (fit::ldlt_factor(a, n, inverse_d, 1e-9) != Status::kOk) return false;
+  fit::ldlt_solve(a, inverse_d, n, coefficients);
+  return true;
+}
+
+double model_at(int order, const double* c, double dx, double dy) {
+  double t[6];
+  const int n = model_terms(order, dx, dy, t);
+  double z = 0;
+  for (int k = 0; k < n; ++k) z += c[k] * t[k];
+  return z;
+}
+
+double median_of(std::vector<double> v) {
+  const size_t mid = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid), v.end());
+  return v[mid];
+}
+
+}  // namespace
+
+LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& options) {
+  if (options.window < 3 || options.window % 2 == 0) throw std::invalid_argument("--window must be odd and at least 3");
+  const int n_max = options.window * options.window;
+  if (options.order < 0 || options.order > 2) throw std::invalid_argument("--order must be 0, 1 or 2");
+  if (options.h < 0 || options.h > n_max) throw std::invalid_argument("h must be 1.." + std::to_string(n_max));
+  LtsResult result;
+  result.z.resize(points.size());
+  for (size_t i = 0; i < points.size(); ++i) result.z[i] = points[i].z;
+  if (points.size() < 3) return result;
+
+  std::vector<std::vector<size_t>> hood;
+  result.gridded = grid_neighbourhoods(points, options.window, hood);
+  if (!result.gridded) nearest_neighbourhoods(points, static_cast<size_t>(n_max), hood);
+
+  std::vector<double> reference(points.size());
+  std::vector<double> values;
+  std::vector<std::pair<double, double>> by_distance;  // (|residual|, neighbour index)
+  std::vector<size_t> chosen;
+  std::vector<double> local_sigma(points.size(), 0.0);  // the trimmed residual scale at each point
+  for (size_t i = 0; i < points.size(); ++i) {
+    values.clear();
+    for (size_t j : hood[i]) values.push_back(points[j].z);
+    reference[i] = median_of(values);
+  }
+  for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
+    double largest_change = 0;
+    std::vector<double> next(points.size());
+    for (size_t i = 0; i < points.size(); ++i) {
+      const int n = static_cast<int>(hood[i].size());
+      // A truncated window (an edge or a corner of the scan) cannot carry a quadratic robustly: with
+      // 9 points a 6-term model fits its own noise. Use a plane below 4/5 of a full window and a
+      // constant below 9 points.
+      const int order = n >= (4 * n_max) / 5 ? options.order : n >= 9 ? std::min(options.order, 1) : 0;
+      // Maximal breakdown: h = [n/2] + [(p+1)/2], p = 1 (constant), 3 (plane) or 6 (quadratic).
+      const int p = order == 0 ? 1 : order == 1 ? 3 : 6;
+      const int h = options.h > 0 ? std::min(options.h, n) : std::min(n, n / 2 + (p + 1) / 2);
+      by_distance.clear();
+      // The reference signal at this point: the window's median in the first pass, this point's
+      // previous output after that (seed 004: "the output from previous iteration is used as a
+      // reference signal for the next iteration").
+      for (size_t j : hood[i]) by_distance.push_back({std::fabs(points[j].z - reference[i]), static_cast<double>(j)});
+      std::nth_element(by_distance.begin(), by_distance.begin() + (h - 1), by_distance.end());
+      double mean = 0;
+      for (int m = 0; m < h; ++m) mean += points[static_cast<size_t>(by_distance[m].second)].z;
+      mean /= h;
+      next[i] = mean;
+      if (order > 0) {
+        chosen.clear();
+        for (int m = 0; m < h; ++m) chosen.push_back(static_cast<size_t>(by_distance[m].second));
+        double c[6];
+        // Concentration steps: keep the h smallest residuals to the model and refit; never increases
+        // the trimmed sum of squares, and two or three steps settle it. A subset that does not
+        // determine the model keeps the trimmed mean.
+        for (int step = 0; step < 4 && fit_model(points, chosen, points[i], order, c); ++step) {
+          next[i] = c[0];
+          by_distance.clear();
+          for (size_t j : hood[i]) {
+            const double r = points[j].z - model_at(order, c, points[j].x - points[i].x, points[j].y - points[i].y);
+            by_distance.push_back({std::fabs(r), static_cast<double>(j)});
+          }
+          std::nth_element(by_distance.begin(), by_distance.begin() + (h - 1), by_distance.end());
+          chosen.clear();
+          double trimmed = 0;
+          for (int m = 0; m < h; ++m) {
+            chosen.push_back(static_cast<size_t>(by_distance[m].second));
+            trimmed += by_distance[m].first * by_distance[m].first;
+          }
+          local_sigma[i] = std::sqrt(trimmed / std::max(1, h - p));
+        }
+      }
+      largest_change = std::max(largest_change, std::fabs(next[i] - reference[i]));
+    }
+    reference.swap(next);
+    result.iterations = iteration;
+    if (iteration > 1 && largest_change <= options.converged_mm) {
+      result.converged = true;
+      break;
+    }
+  }
+  // Outliers: residuals beyond outlier_sigmas robust standard deviations (1.4826 * MAD).
+  std::vector<double> abs_residual(points.size());
+  for (size_t i = 0; i < points.size(); ++i) abs_residual[i] = std::fabs(points[i].z - reference[i]);
+  result.sigma_mm = 1.4826 * median_of(abs_residual);
+  const double limit = std::max(options.outlier_sigmas * result.sigma_mm, 1e-9);
+  for (size_t i = 0; i < points.size(); ++i) {
+    // Where the local model does not describe the window (a crease, a step, a one-sided window on a
+    // steep flank) its residual is no evidence against the point: it must also stand out against
+    // the model's own trimmed scale there.
+    const bool outlier = abs_residual[i] > limit && abs_residual[i] > options.outlier_sigmas * 3.0 * local_sigma[i];
+    if (outlier) result.outliers.push_back({i, points[i].z - reference[i]});
+    // Inliers keep their measured height unless smoothing is asked for: the least-squares fit that
+    // follows averages Gaussian noise without the window's curvature bias.
+    result.z[i] = options.replace_all || outlier ? reference[i] : points[i].z;
+  }
+  return result;
+}
+
+}  // namespace dg::host

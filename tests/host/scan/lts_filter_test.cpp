@@ -1,0 +1,87 @@
+// The LTS filter: spikes found and replaced, inliers kept, grid and scattered neighbourhoods.
+#include "host/scan/lts_filter.h"
+
+#include <CppUTest/TestHarness.h>
+
+#include <cmath>
+#include <random>
+#include <set>
+#include <stdexcept>
+
+using namespace dg::host;
+
+namespace {
+
+double bowl(double x, double y) { return 2.0 + 0.003 * ((x - 20) * (x - 20) + (y - 15) * (y - 15)); }
+
+std::vector<Point3> grid_with_spikes(std::set<size_t>& spikes, bool jitter) {
+  std::mt19937 rng(9);
+  std::normal_distribution<double> noise(0.0, 0.002);
+  std::uniform_real_distribution<double> shift(-0.3, 0.3);
+  std::vector<Point3> p;
+  for (int j = 0; j <= 30; ++j)
+    for (int i = 0; i <= 40; ++i) {
+      const double x = i + (jitter ? shift(rng) : 0.0), y = j + (jitter ? shift(rng) : 0.0);
+      p.push_back({x, y, bowl(x, y) + noise(rng)});
+    }
+  for (size_t k : {100u, 377u, 512u, 800u, 1100u}) {
+    p[k].z += (k % 2 ? 0.5 : -0.4);
+    spikes.insert(k);
+  }
+  return p;
+}
+
+}  // namespace
+
+TEST_GROUP(LtsFilter){};
+
+TEST(LtsFilter, FindsAndReplacesSpikesOnAGridAndKeepsEveryOtherPoint) {
+  std::set<size_t> spikes;
+  const std::vector<Point3> p = grid_with_spikes(spikes, false);
+  const LtsResult r = lts_filter(p, LtsOptions{});
+  CHECK(r.gridded);
+  std::set<size_t> found;
+  for (const auto& o : r.outliers) found.insert(o.index);
+  for (size_t k : spikes) {
+    CHECK(found.count(k) == 1);
+    DOUBLES_EQUAL(bowl(p[k].x, p[k].y), r.z[k], 0.01);
+  }
+  LONGS_EQUAL(r.z.size(), p.size());
+  size_t changed = 0;
+  for (size_t i = 0; i < p.size(); ++i) changed += r.z[i] != p[i].z;
+  LONGS_EQUAL(found.size(), changed);
+  // 3 sigma flags about 0.3 % of Gaussian points (4 of 1271): a few, never many.
+  CHECK_TEXT(found.size() <= spikes.size() + 12, StringFrom(static_cast<long>(found.size())).asCharString());
+}
+
+TEST(LtsFilter, ScatteredPointsUseTheNearestNeighbours) {
+  std::set<size_t> spikes;
+  const std::vector<Point3> p = grid_with_spikes(spikes, true);
+  const LtsResult r = lts_filter(p, LtsOptions{});
+  CHECK(!r.gridded);
+  std::set<size_t> found;
+  for (const auto& o : r.outliers) found.insert(o.index);
+  for (size_t k : spikes) CHECK(found.count(k) == 1);
+}
+
+TEST(LtsFilter, TheConstantModelIsThePapersTrimmedMeanOf13) {
+  // A flat grid with one spike: every 5x5 window's 13 nearest-to-median heights are the flat ones.
+  std::vector<Point3> p;
+  for (int j = 0; j < 9; ++j)
+    for (int i = 0; i < 9; ++i) p.push_back({1.0 * i, 1.0 * j, 1.0});
+  p[40].z = 9.0;
+  LtsOptions o;
+  o.order = 0;
+  o.replace_all = true;
+  const LtsResult r = lts_filter(p, o);
+  for (double z : r.z) DOUBLES_EQUAL(1.0, z, 1e-12);
+  CHECK(r.converged);
+  LONGS_EQUAL(1, static_cast<long>(r.outliers.size()));
+}
+
+TEST(LtsFilter, RejectsAnEvenWindow) {
+  LtsOptions o;
+  o.window = 4;
+  const std::vector<Point3> p = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  CHECK_THROWS(std::invalid_argument, lts_filter(p, o));
+}
