@@ -33,10 +33,12 @@ Closest closest_point(const BSplineSurface& surface, const Point3& p, double u0,
       dv = (a * gv - b * gu) / det;
     }
     const double nu = std::clamp(u + du, u_lo, u_hi), nv = std::clamp(v + dv, v_lo, v_hi);
+    // The proposed move on the surface, to first order, in mm: below 1e-7 mm the distance is settled.
+    if (norm((nu - u) * su + (nv - v) * sv) < 1e-7) break;
     Point3 ns, nsu, nsv;
     surface.evaluate(nu, nv, ns, nsu, nsv);
     // Accept only steps that do not move away (Gauss-Newton can overshoot on a curved surface).
-    if (dot(p - ns, p - ns) > dot(r, r)) {
+    if (dot(p - ns, p - ns) > dot(r, r) * (1.0 + 1e-12) + 1e-24) {
       double t = 0.5;
       bool improved = false;
       for (int halving = 0; halving < 20 && !improved; ++halving, t *= 0.5) {
@@ -54,13 +56,14 @@ Closest closest_point(const BSplineSurface& surface, const Point3& p, double u0,
       if (!improved) break;
       continue;
     }
-    const double step = std::fabs(nu - u) + std::fabs(nv - v);
+    // The move on the surface, to first order, in mm: below 1e-7 mm the distance is settled.
+    const double step = norm((nu - u) * su + (nv - v) * sv);
     u = nu;
     v = nv;
     s = ns;
     su = nsu;
     sv = nsv;
-    if (step < 1e-13) break;
+    if (step < 1e-7) break;
   }
   Closest result;
   result.u = u;

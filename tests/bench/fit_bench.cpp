@@ -1,0 +1,78 @@
+// Fitting benchmarks: least-squares B-spline (32 x 32 bicubic) on scattered points, a 1000 x 1000
+// grid, and the tolerance mode; one core, wall time with steady_clock.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <random>
+
+#include "host/surface/bspline_fit.h"
+#include "host/surface/closest_point.h"
+#include "host/surface/tolerance_fit.h"
+
+using namespace dg::host;
+
+namespace {
+
+double part(double x, double y) {
+  return 3.0 + 0.002 * ((x - 50) * (x - 50) + (y - 50) * (y - 50)) + 0.3 * std::sin(x / 9.0) * std::sin(y / 11.0);
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+PointCloud make(size_t n, bool grid) {
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> along(0.0, 100.0);
+  std::normal_distribution<double> noise(0.0, 0.002);
+  PointCloud c;
+  c.points.reserve(n);
+  const size_t side = static_cast<size_t>(std::llround(std::sqrt(static_cast<double>(n))));
+  for (size_t k = 0; k < n; ++k) {
+    const double x = grid ? 100.0 * static_cast<double>(k % side) / static_cast<double>(side - 1) : along(rng);
+    const double y = grid ? 100.0 * static_cast<double>(k / side) / static_cast<double>(side - 1) : along(rng);
+    c.points.push_back({x, y, part(x, y) + noise(rng)});
+  }
+  return c;
+}
+
+void lsq(const char* label, const PointCloud& c) {
+  const Parameters p = parameterize(c, Parameterization::kTableXy);
+  LsqSpec spec;
+  spec.knots_u = clamped_uniform_knots(32, 3);
+  spec.knots_v = clamped_uniform_knots(32, 3);
+  auto t0 = std::chrono::steady_clock::now();
+  const BSplineSurface s = fit_least_squares(c.points, p, nullptr, spec);
+  const double fit_s = seconds_since(t0);
+  t0 = std::chrono::steady_clock::now();
+  const std::vector<double> d = orthogonal_distances(s, c.points, p);
+  const double dist_s = seconds_since(t0);
+  double worst = 0;
+  for (double v : d) worst = std::fmax(worst, std::fabs(v));
+  std::printf("%-34s fit %.3f s (%.0f ns/point), orthogonal distances %.3f s, max %.4f mm\n", label, fit_s,
+              fit_s * 1e9 / static_cast<double>(c.points.size()), dist_s, worst);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const bool quick = argc > 1 && std::string(argv[1]) == "--quick";
+  lsq("scattered 1e4, 32x32 bicubic", make(10000, false));
+  lsq("scattered 1e5, 32x32 bicubic", make(100000, false));
+  if (!quick) {
+    lsq("scattered 1e6, 32x32 bicubic", make(1000000, false));
+    lsq("grid 1000x1000, 32x32 bicubic", make(1000000, true));
+  }
+  const PointCloud c = make(quick ? 100000 : 1000000, false);
+  const Parameters p = parameterize(c, Parameterization::kTableXy);
+  ToleranceOptions o;
+  o.tolerance_mm = 0.02;
+  const auto t0 = std::chrono::steady_clock::now();
+  const ToleranceResult r = fit_to_tolerance(c, p, nullptr, o);
+  std::printf("tolerance 0.02 mm on %zu points: %s, %d x %d control points, %d fits, max %.4f mm, %.3f s\n",
+              c.points.size(), r.kept ? "kept" : "refused", r.surface.count_u, r.surface.count_v, r.iterations,
+              r.max_distance_mm, seconds_since(t0));
+  return 0;
+}
