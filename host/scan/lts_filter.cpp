@@ -60,7 +60,10 @@ void nearest_neighbourhoods(const std::vector<Point3>& points, size_t k, std::ve
   const double area = std::max((x1 - x0) * (y1 - y0), 1e-12);
   const double cell = std::max(std::sqrt(area * 4.0 / static_cast<double>(points.size())), 1e-9);  // ~4 points a cell
   std::unordered_map<long long, std::vector<size_t>> buckets;
-  auto key = [](long cx, long cy) { return (static_cast<long long>(cx) << 32) ^ static_cast<long long>(cy & 0xffffffff); };
+  // Unsigned arithmetic: cell coordinates may be negative one ring out from the edge.
+  auto key = [](long cx, long cy) {
+    return static_cast<long long>((static_cast<unsigned long long>(cx) << 32) ^ (static_cast<unsigned long long>(cy) & 0xffffffffULL));
+  };
   for (size_t i = 0; i < points.size(); ++i) {
     buckets[key(std::lround(std::floor((points[i].x - x0) / cell)), std::lround(std::floor((points[i].y - y0) / cell)))].push_back(i);
   }
