@@ -32,6 +32,10 @@ struct FloatingPolicy {
   using Value = T;  // a coordinate in mm
   using Accum = T;
   using Solve = T;
+  // The fixed-point policy's limits, kept here too so that a host fit in double accepts exactly the
+  // points the device's fit accepts and the two can be compared.
+  static constexpr int32_t kMaxValueNm = (int32_t{1} << 27) - 1;
+  static constexpr uint32_t kMaxPoints = uint32_t{1} << 20;
   static Accum product(Basis a, Basis b) { return a * b; }
   static Accum product_value(Basis a, Value v) { return a * v; }
   // Entries are scaled by powers of two (see NormalEquations::solve), which is exact in any type.

@@ -11,7 +11,7 @@ template <typename T>
 constexpr int find_span(int control_count, int degree, T u, const T* knots) {
   const int last = control_count - 1;
   if (!(u < knots[last + 1])) return last;
-  if (u < knots[degree + 1] || u == knots[degree]) return degree;
+  if (u < knots[degree + 1]) return degree;
   int lo = degree, hi = last + 1;
   while (hi - lo > 1) {
     const int mid = (lo + hi) / 2;

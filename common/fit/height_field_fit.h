@@ -65,7 +65,7 @@ class HeightFieldFit {
       has_reference_ = true;
     }
     const int64_t dz = int64_t{z_nm} - reference_z_nm_;
-    if (dz > kMaxOffsetNm || dz < -kMaxOffsetNm || equations_.count() >= kMaxPoints) {
+    if (dz > Policy::kMaxValueNm || dz < -Policy::kMaxValueNm || equations_.count() >= Policy::kMaxPoints) {
       ++rejected_;
       return Status::kOverflow;
     }
@@ -113,9 +113,6 @@ class HeightFieldFit {
   }
 
  private:
-  static constexpr int64_t kMaxOffsetNm = (int64_t{1} << 27) - 1;  // 134 mm either side
-  static constexpr uint32_t kMaxPoints = uint32_t{1} << 20;
-
   FitRegion region_;
   UnitScale scale_u_, scale_v_;
   NormalEquations<Policy, kUnknowns, 1> equations_;

@@ -38,7 +38,7 @@ template <>
 struct ScalarTraits<fx::Q32x32> {
   static constexpr fx::Q32x32 from_int(int32_t n) { return fx::Q32x32::from_int(n); }
   static constexpr fx::Q32x32 from_ratio(int64_t num, int64_t den) {
-    return fx::Q32x32::from_int(1) * fx::Q32x32::from_raw(num) / fx::Q32x32::from_raw(den);
+    return fx::Q32x32::from_raw(num) / fx::Q32x32::from_raw(den);  // (num << 32) / den
   }
   static constexpr bool is_zero_or_negative(fx::Q32x32 v) { return v.raw <= 0; }
 };

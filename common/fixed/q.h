@@ -64,7 +64,7 @@ constexpr U128 mul_u64(uint64_t a, uint64_t b) {
 }
 
 // A 64-bit Q32.32 value: range +-2^31, resolution 2^-32. The device's dense solver runs in it.
-// Arithmetic saturates to +-INT64_MAX instead of wrapping; `is_saturated()` lets a solver refuse.
+// Arithmetic saturates to +-INT64_MAX instead of wrapping; `is_saturated()` tells a result that did.
 class Q32x32 {
  public:
   static constexpr int kFractionBits = 32;
@@ -76,11 +76,6 @@ class Q32x32 {
     return q;
   }
   static constexpr Q32x32 from_int(int32_t n) { return from_raw(int64_t{n} * (int64_t{1} << 32)); }
-  // A value with F fraction bits held in a 64-bit integer.
-  static constexpr Q32x32 from_fixed(int64_t value, int fraction_bits) {
-    return fraction_bits >= 32 ? from_raw(fraction_bits == 32 ? value : round_shift(value, fraction_bits - 32))
-                               : from_raw(value * (int64_t{1} << (32 - fraction_bits)));
-  }
 
   friend constexpr Q32x32 operator+(Q32x32 a, Q32x32 b) { return from_raw(a.raw + b.raw); }
   friend constexpr Q32x32 operator-(Q32x32 a, Q32x32 b) { return from_raw(a.raw - b.raw); }

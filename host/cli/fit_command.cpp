@@ -49,8 +49,8 @@ CLI::App* add_fit_command(CLI::App& app, FitArgs& a) {
   cmd->add_option("input", a.input, ".csv, .xyz, .ply or .scan points in mm")->required()->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", a.output, "surface file (.json)")->required();
   cmd->add_option("--model", a.model, "bspline or bezier")->capture_default_str()->check(CLI::IsMember({"bspline", "bezier"}));
-  cmd->add_option("--method", a.method, "lsq (least squares) or ips (seed 000's inverse progressive search, bezier)")
-      ->capture_default_str()->check(CLI::IsMember({"lsq", "ips"}));
+  cmd->add_option("--method", a.method, "lsq (least squares; the only method built so far)")
+      ->capture_default_str()->check(CLI::IsMember({"lsq"}));
   cmd->add_option("--degree", a.degree, "B-spline degree in both directions")->capture_default_str()->check(CLI::Range(1, 7));
   cmd->add_option("--ctrl", a.ctrl, "control points NxM (or N); with --tolerance, the starting net");
   cmd->add_option("--param", a.param, "xy (table coordinates, a height field), uniform, chord or centripetal")
@@ -84,12 +84,9 @@ int run_fit(const FitArgs& a) {
   int nu = a.degree + 1, nv = a.degree + 1;
   if (!a.ctrl.empty()) parse_ctrl(a.ctrl, nu, nv);
   if (a.model == "bezier") {
-    if (a.method == "ips") throw std::invalid_argument("--method ips is not available in this build");
     if (!a.ctrl.empty() && (nu != 4 || nv != 4)) throw std::invalid_argument("a bicubic Bezier patch has 4x4 control points");
     if (a.tolerance_mm > 0) throw std::invalid_argument("--tolerance refines B-splines; a single Bezier patch has a fixed net");
     nu = nv = 4;
-  } else if (a.method != "lsq") {
-    throw std::invalid_argument("--method ips applies to --model bezier");
   }
   const int degree = a.model == "bezier" ? 3 : a.degree;
   int exit_code = 0;

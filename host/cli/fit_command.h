@@ -8,7 +8,7 @@ namespace dg::host {
 struct FitArgs {
   std::string input, output;
   std::string model = "bspline";  // bspline | bezier
-  std::string method = "lsq";     // lsq | ips
+  std::string method = "lsq";     // lsq (the only method so far)
   int degree = 3;
   std::string ctrl;               // NxM control points; empty: automatic
   std::string param = "xy";

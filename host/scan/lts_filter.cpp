@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <unordered_map>
 
-#include "common/fit/dense_ldlt.h"
+#include "host/scan/local_polynomial.h"
 
 namespace dg::host {
 
@@ -95,42 +95,6 @@ void nearest_neighbourhoods(const std::vector<Point3>& points, size_t k, std::ve
   }
 }
 
-// Polynomial terms in (dx, dy) for a model of `order` 1 (plane, 3 terms) or 2 (quadratic, 6 terms).
-int model_terms(int order, double dx, double dy, double* t) {
-  t[0] = 1, t[1] = dx, t[2] = dy;
-  if (order == 1) return 3;
-  t[3] = dx * dx, t[4] = dx * dy, t[5] = dy * dy;
-  return 6;
-}
-
-// Least-squares polynomial through the chosen points, centred on `centre` so that its value there is
-// the first coefficient; false when the points do not determine it (collinear in XY).
-bool fit_model(const std::vector<Point3>& points, const std::vector<size_t>& chosen, const Point3& centre, int order,
-               double* coefficients) {
-  double a[fit::packed_size(6)] = {}, inverse_d[6];
-  int n = 3;
-  for (int k = 0; k < 6; ++k) coefficients[k] = 0;
-  for (size_t j : chosen) {
-    double t[6];
-    n = model_terms(order, points[j].x - centre.x, points[j].y - centre.y, t);
-    for (int r = 0; r < n; ++r) {
-      for (int c = 0; c <= r; ++c) a[fit::packed_index(r, c)] += t[r] * t[c];
-      coefficients[r] += t[r] * points[j].z;
-    }
-  }
-  if (fit::ldlt_factor(a, n, inverse_d, 1e-9) != Status::kOk) return false;
-  fit::ldlt_solve(a, inverse_d, n, coefficients);
-  return true;
-}
-
-double model_at(int order, const double* c, double dx, double dy) {
-  double t[6];
-  const int n = model_terms(order, dx, dy, t);
-  double z = 0;
-  for (int k = 0; k < n; ++k) z += c[k] * t[k];
-  return z;
-}
-
 double median_of(std::vector<double> v) {
   const size_t mid = v.size() / 2;
   std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid), v.end());
@@ -155,7 +119,7 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
 
   std::vector<double> reference(points.size());
   std::vector<double> values;
-  std::vector<std::pair<double, double>> by_distance;  // (|residual|, neighbour index)
+  std::vector<std::pair<double, size_t>> by_distance;  // (|residual|, neighbour index)
   std::vector<size_t> chosen;
   std::vector<double> local_sigma(points.size(), 0.0);  // the trimmed residual scale at each point
   for (size_t i = 0; i < points.size(); ++i) {
@@ -179,31 +143,31 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
       // The reference signal at this point: the window's median in the first pass, this point's
       // previous output after that (seed 004: "the output from previous iteration is used as a
       // reference signal for the next iteration").
-      for (size_t j : hood[i]) by_distance.push_back({std::fabs(points[j].z - reference[i]), static_cast<double>(j)});
+      for (size_t j : hood[i]) by_distance.push_back({std::fabs(points[j].z - reference[i]), j});
       std::nth_element(by_distance.begin(), by_distance.begin() + (h - 1), by_distance.end());
       double mean = 0;
-      for (int m = 0; m < h; ++m) mean += points[static_cast<size_t>(by_distance[m].second)].z;
+      for (int m = 0; m < h; ++m) mean += points[by_distance[m].second].z;
       mean /= h;
       next[i] = mean;
       if (order > 0) {
         chosen.clear();
-        for (int m = 0; m < h; ++m) chosen.push_back(static_cast<size_t>(by_distance[m].second));
-        double c[6];
+        for (int m = 0; m < h; ++m) chosen.push_back(by_distance[m].second);
+        LocalPolynomial model;
         // Concentration steps: keep the h smallest residuals to the model and refit; never increases
         // the trimmed sum of squares, and two or three steps settle it. A subset that does not
         // determine the model keeps the trimmed mean.
-        for (int step = 0; step < 4 && fit_model(points, chosen, points[i], order, c); ++step) {
-          next[i] = c[0];
+        for (int step = 0; step < 4 && fit_local_polynomial(points, chosen, points[i], order, model); ++step) {
+          next[i] = model.c[0];
           by_distance.clear();
           for (size_t j : hood[i]) {
-            const double r = points[j].z - model_at(order, c, points[j].x - points[i].x, points[j].y - points[i].y);
-            by_distance.push_back({std::fabs(r), static_cast<double>(j)});
+            const double r = points[j].z - model.at(points[j].x, points[j].y);
+            by_distance.push_back({std::fabs(r), j});
           }
           std::nth_element(by_distance.begin(), by_distance.begin() + (h - 1), by_distance.end());
           chosen.clear();
           double trimmed = 0;
           for (int m = 0; m < h; ++m) {
-            chosen.push_back(static_cast<size_t>(by_distance[m].second));
+            chosen.push_back(by_distance[m].second);
             trimmed += by_distance[m].first * by_distance[m].first;
           }
           local_sigma[i] = std::sqrt(trimmed / std::max(1, h - p));

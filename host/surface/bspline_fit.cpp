@@ -69,8 +69,11 @@ class Band {
 };
 
 // Adds lambda * D^T D for the second divided differences of the control values along one direction.
-void add_smoothing(Band& band, const std::vector<double>& knots, int degree, int count, int other_count, bool along_u,
-                   int count_v, double lambda) {
+void add_smoothing(Band& band, const BSplineSurface& s, bool along_u, double lambda) {
+  const std::vector<double>& knots = along_u ? s.knots_u : s.knots_v;
+  const int degree = along_u ? s.degree_u : s.degree_v;
+  const int count = along_u ? s.count_u : s.count_v, other_count = along_u ? s.count_v : s.count_u;
+  const int count_v = s.count_v;
   const double h = 1.0 / std::max(1, count - 1);
   for (int i = 1; i + 1 < count; ++i) {
     const double g0 = greville(knots, degree, i - 1), g1 = greville(knots, degree, i), g2 = greville(knots, degree, i + 1);
@@ -150,8 +153,8 @@ BSplineSurface fit_least_squares(const std::vector<Point3>& points, const Parame
     }
   }
   const double lambda = 1e-6 * band.diagonal_mean();
-  add_smoothing(band, s.knots_u, s.degree_u, s.count_u, s.count_v, true, s.count_v, lambda);
-  add_smoothing(band, s.knots_v, s.degree_v, s.count_v, s.count_u, false, s.count_v, lambda);
+  add_smoothing(band, s, true, lambda);
+  add_smoothing(band, s, false, lambda);
 
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver(band.lower());
   if (solver.info() != Eigen::Success) throw FitError("the normal equations are singular: the points do not determine the net");

@@ -56,14 +56,11 @@ Closest closest_point(const BSplineSurface& surface, const Point3& p, double u0,
       if (!improved) break;
       continue;
     }
-    // The move on the surface, to first order, in mm: below 1e-7 mm the distance is settled.
-    const double step = norm((nu - u) * su + (nv - v) * sv);
     u = nu;
     v = nv;
     s = ns;
     su = nsu;
     sv = nsv;
-    if (step < 1e-7) break;
   }
   Closest result;
   result.u = u;

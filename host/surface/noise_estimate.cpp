@@ -6,7 +6,7 @@
 #include <map>
 #include <unordered_map>
 
-#include "common/fit/dense_ldlt.h"
+#include "host/scan/local_polynomial.h"
 #include "host/surface/vec3.h"
 
 namespace dg::host {
@@ -54,33 +54,15 @@ double from_cells(const PointCloud& cloud, const Parameters& params) {
   std::vector<double> sigmas;
   for (const auto& [key, m] : cells) {
     if (m.size() < 12) continue;
-    double mx = 0, my = 0, sx = 0, sy = 0;
-    for (size_t i : m) mx += cloud.points[i].x, my += cloud.points[i].y;
+    Point3 centroid;
+    for (size_t i : m) centroid.x += cloud.points[i].x, centroid.y += cloud.points[i].y;
     const double k = static_cast<double>(m.size());
-    mx /= k, my /= k;
-    for (size_t i : m) sx = std::max(sx, std::fabs(cloud.points[i].x - mx)), sy = std::max(sy, std::fabs(cloud.points[i].y - my));
-    if (!(sx > 0) || !(sy > 0)) continue;
-    double a[fit::packed_size(6)] = {}, b[6] = {}, inverse_d[6];
-    auto terms = [&](size_t i, double* t) {
-      const double x = (cloud.points[i].x - mx) / sx, y = (cloud.points[i].y - my) / sy;
-      t[0] = 1, t[1] = x, t[2] = y, t[3] = x * x, t[4] = x * y, t[5] = y * y;
-    };
-    for (size_t i : m) {
-      double t[6];
-      terms(i, t);
-      for (int r = 0; r < 6; ++r) {
-        for (int c = 0; c <= r; ++c) a[fit::packed_index(r, c)] += t[r] * t[c];
-        b[r] += t[r] * cloud.points[i].z;
-      }
-    }
-    if (fit::ldlt_factor(a, 6, inverse_d, 1e-10) != Status::kOk) continue;
-    fit::ldlt_solve(a, inverse_d, 6, b);
+    centroid.x /= k, centroid.y /= k;
+    LocalPolynomial quadratic;
+    if (!fit_local_polynomial(cloud.points, m, centroid, 2, quadratic)) continue;
     double ss = 0;
     for (size_t i : m) {
-      double t[6];
-      terms(i, t);
-      double r = cloud.points[i].z;
-      for (int c = 0; c < 6; ++c) r -= b[c] * t[c];
+      const double r = cloud.points[i].z - quadratic.at(cloud.points[i].x, cloud.points[i].y);
       ss += r * r;
     }
     sigmas.push_back(std::sqrt(ss / (k - 6)));

@@ -2,6 +2,7 @@
 #include "host/surface/surface_json.h"
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>

@@ -1,0 +1,26 @@
+// A low-order polynomial z(x, y) fitted by least squares to a handful of neighbouring points.
+#pragma once
+#include <cstddef>
+#include <vector>
+
+#include "host/scan/point3.h"
+
+namespace dg::host {
+
+// z = c0 + c1 dx + c2 dy (+ c3 dx^2 + c4 dx dy + c5 dy^2), with dx, dy measured from `centre` and
+// scaled by the neighbourhood's extent so the normal equations stay well conditioned in any unit.
+struct LocalPolynomial {
+  int order = 1;  // 1: plane (3 terms), 2: quadratic (6 terms)
+  Point3 centre;
+  double scale_x = 1, scale_y = 1;
+  double c[6] = {};
+
+  int terms() const { return order == 1 ? 3 : 6; }
+  double at(double x, double y) const;  // the value; at the centre it is c[0]
+};
+
+// Fits the model to points[indices]; false when they do not determine it (too few, or collinear in XY).
+bool fit_local_polynomial(const std::vector<Point3>& points, const std::vector<size_t>& indices, const Point3& centre,
+                          int order, LocalPolynomial& out);
+
+}  // namespace dg::host
