@@ -7,10 +7,12 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <sstream>
 #include <tuple>
 
+#include "host/scan/ply_reader.h"
 #include "host/scan/scan_file.h"
 
 namespace dg::host {
@@ -50,19 +52,16 @@ std::string trim(std::string s) {
   return s.substr(start);
 }
 
-void check_duplicates(const PointCloud& cloud, const std::vector<size_t>& source_lines, const std::string& name) {
+}  // namespace
+
+void check_duplicate_points(const PointCloud& cloud, const std::function<std::string(size_t)>& where_is) {
   std::map<std::tuple<double, double, double>, size_t> seen;
   for (size_t i = 0; i < cloud.points.size(); ++i) {
     const Point3& p = cloud.points[i];
-    const auto [it, inserted] = seen.emplace(std::make_tuple(p.x, p.y, p.z), source_lines[i]);
-    if (!inserted) {
-      throw PointFileError(where(name, source_lines[i]) + ": the same point as line " +
-                           std::to_string(it->second));
-    }
+    const auto [it, inserted] = seen.emplace(std::make_tuple(p.x, p.y, p.z), i);
+    if (!inserted) throw PointFileError(where_is(i) + ": the same point as " + where_is(it->second));
   }
 }
-
-}  // namespace
 
 PointCloud parse_csv_points(const std::string& text, const std::string& name) {
   std::istringstream in(text);
@@ -129,7 +128,7 @@ PointCloud parse_csv_points(const std::string& text, const std::string& name) {
     }
     source_lines.push_back(line_no);
   }
-  check_duplicates(cloud, source_lines, name);
+  check_duplicate_points(cloud, [&](size_t i) { return where(name, source_lines[i]); });
   return cloud;
 }
 
@@ -156,7 +155,7 @@ PointCloud parse_xyz_points(const std::string& text, const std::string& name) {
                             parse_number(values[2], name, line_no, "z")});
     source_lines.push_back(line_no);
   }
-  check_duplicates(cloud, source_lines, name);
+  check_duplicate_points(cloud, [&](size_t i) { return where(name, source_lines[i]); });
   return cloud;
 }
 
@@ -181,7 +180,11 @@ PointCloud read_points(const std::string& path) {
   buffer << in.rdbuf();
   if (ends_with(".csv")) return parse_csv_points(buffer.str(), path);
   if (ends_with(".xyz") || ends_with(".txt")) return parse_xyz_points(buffer.str(), path);
-  throw PointFileError(path + ": unknown point format (.csv, .xyz, .txt or .scan)");
+  if (ends_with(".ply")) {
+    const std::string bytes = buffer.str();
+    return parse_ply_points(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), path);
+  }
+  throw PointFileError(path + ": unknown point format (.csv, .xyz, .txt, .ply or .scan)");
 }
 
 }  // namespace dg::host

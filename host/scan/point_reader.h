@@ -1,5 +1,7 @@
-// Reading point clouds in millimetres: CSV with a header, whitespace XYZ, and scan files.
+// Reading point clouds in millimetres: CSV with a header, whitespace XYZ, PLY and scan files.
 #pragma once
+#include <cstdint>
+#include <functional>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -22,10 +24,12 @@ struct PointCloud {
   std::optional<std::vector<double>> sigma;   // per-point uncertainty, mm
 };
 
-// Picks the reader by extension: .csv, .xyz/.txt, .scan. Throws PointFileError for
+// Picks the reader by extension: .csv, .xyz/.txt, .ply, .scan. Throws PointFileError for
 // NaN, infinity, short or long rows, unknown or repeated columns, repeated points.
 PointCloud read_points(const std::string& path);
 PointCloud parse_csv_points(const std::string& text, const std::string& name);
 PointCloud parse_xyz_points(const std::string& text, const std::string& name);
+// Throws for a point that repeats an earlier one; where_is(i) names point i ("in.csv:12").
+void check_duplicate_points(const PointCloud& cloud, const std::function<std::string(size_t)>& where_is);
 
 }  // namespace dg::host

@@ -40,7 +40,7 @@ TEST(PointReader, NamesTheLineOfEveryBadRow) {
   STRCMP_CONTAINS("in.csv:1: unknown column 'w'", error_of("x,y,z,w\n1,2,3,4\n").c_str());
   STRCMP_CONTAINS("in.csv:1: column 'x' appears twice", error_of("x,y,z,x\n").c_str());
   STRCMP_CONTAINS("in.csv:1: header has no 'z'", error_of("x,y\n1,2\n").c_str());
-  STRCMP_CONTAINS("in.csv:3: the same point as line 2", error_of("x,y,z\n1,2,3\n1,2,3\n").c_str());
+  STRCMP_CONTAINS("in.csv:3: the same point as in.csv:2", error_of("x,y,z\n1,2,3\n1,2,3\n").c_str());
   STRCMP_CONTAINS("in.csv:2: column 'x' is not a number: '1.2.3'", error_of("x,y,z\n1.2.3,2,3\n").c_str());
   STRCMP_CONTAINS("normals need all of nx, ny, nz", error_of("x,y,z,nx\n").c_str());
   STRCMP_CONTAINS("empty file", error_of("").c_str());

@@ -1,0 +1,16 @@
+// PLY point clouds, ASCII or binary: the reader behind read_points for .ply files.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+#include "host/scan/point_reader.h"
+
+namespace dg::host {
+
+// Reads the vertex element's x, y, z (mm) and, when all present, nx, ny, nz; skips other elements
+// (faces, edges). Throws PointFileError naming the file and the text line or vertex number for a
+// damaged header, a short body, a non-finite value, an unknown vertex property or a repeated point.
+PointCloud parse_ply_points(const uint8_t* data, size_t size, const std::string& name);
+
+}  // namespace dg::host

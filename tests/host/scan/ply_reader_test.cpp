@@ -1,0 +1,142 @@
+// PLY reading: ASCII and both binary byte orders, skipped elements, and errors that name the place.
+#include "host/scan/ply_reader.h"
+#include "host/scan/point_export.h"
+
+#include <CppUTest/TestHarness.h>
+
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+namespace {
+
+dg::host::PointCloud read(const std::string& bytes) {
+  return dg::host::parse_ply_points(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), "in.ply");
+}
+
+std::string error_of(const std::string& bytes) {
+  try {
+    read(bytes);
+  } catch (const dg::host::PointFileError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+template <typename T>
+void put(std::string& out, T value, bool big_endian) {
+  char b[sizeof(T)];
+  std::memcpy(b, &value, sizeof(T));
+  if (big_endian) {
+    for (size_t i = 0; i < sizeof(T); ++i) out.push_back(b[sizeof(T) - 1 - i]);
+  } else {
+    out.append(b, sizeof(T));
+  }
+}
+
+// Two vertices (float x, double y, short z, uchar red) and one triangle face after them.
+std::string binary_ply(bool big_endian) {
+  std::string s = std::string("ply\nformat ") + (big_endian ? "binary_big_endian" : "binary_little_endian") +
+                  " 1.0\ncomment made by a test\nelement vertex 2\nproperty float x\nproperty double y\n"
+                  "property short z\nproperty uchar red\nelement face 1\nproperty list uchar int vertex_indices\n"
+                  "end_header\n";
+  put<float>(s, 1.5f, big_endian);
+  put<double>(s, -2.25, big_endian);
+  put<int16_t>(s, -7, big_endian);
+  put<uint8_t>(s, 200, big_endian);
+  put<float>(s, 3.0f, big_endian);
+  put<double>(s, 4.0, big_endian);
+  put<int16_t>(s, 9, big_endian);
+  put<uint8_t>(s, 10, big_endian);
+  put<uint8_t>(s, 3, big_endian);
+  for (int32_t i : {0, 1, 0}) put<int32_t>(s, i, big_endian);
+  return s;
+}
+
+}  // namespace
+
+TEST_GROUP(PlyReader){};
+
+TEST(PlyReader, ReadsAsciiVerticesWithNormalsAndSkipsFaces) {
+  const dg::host::PointCloud c = read(
+      "ply\r\nformat ascii 1.0\r\nelement vertex 3\r\nproperty float x\r\nproperty float y\r\nproperty float z\r\n"
+      "property float nx\r\nproperty float ny\r\nproperty float nz\r\nelement face 1\r\n"
+      "property list uchar int vertex_indices\r\nend_header\r\n"
+      "0 0 1.25 0 0 1\r\n1 0 2 0 0 1\r\n0 1 -3e-1 0 0 1\r\n3 0 1 2\r\n");
+  LONGS_EQUAL(3, c.points.size());
+  DOUBLES_EQUAL(1.25, c.points[0].z, 0);
+  DOUBLES_EQUAL(-0.3, c.points[2].z, 1e-15);
+  CHECK(c.normal.has_value());
+  DOUBLES_EQUAL(1.0, (*c.normal)[1].z, 0);
+}
+
+TEST(PlyReader, ReadsLittleEndianBinaryOfMixedTypes) {
+  const dg::host::PointCloud c = read(binary_ply(false));
+  LONGS_EQUAL(2, c.points.size());
+  DOUBLES_EQUAL(1.5, c.points[0].x, 0);
+  DOUBLES_EQUAL(-2.25, c.points[0].y, 0);
+  DOUBLES_EQUAL(-7, c.points[0].z, 0);
+  DOUBLES_EQUAL(9, c.points[1].z, 0);
+  CHECK_FALSE(c.normal.has_value());
+}
+
+TEST(PlyReader, ReadsBigEndianBinaryTheSame) {
+  const dg::host::PointCloud little = read(binary_ply(false));
+  const dg::host::PointCloud big = read(binary_ply(true));
+  for (size_t i = 0; i < 2; ++i) {
+    DOUBLES_EQUAL(little.points[i].x, big.points[i].x, 0);
+    DOUBLES_EQUAL(little.points[i].y, big.points[i].y, 0);
+    DOUBLES_EQUAL(little.points[i].z, big.points[i].z, 0);
+  }
+}
+
+TEST(PlyReader, SkipsElementsBeforeTheVertices) {
+  const dg::host::PointCloud c = read(
+      "ply\nformat ascii 1.0\nelement camera 1\nproperty float view_px\nproperty list uchar float k\n"
+      "element vertex 1\nproperty double x\nproperty double y\nproperty double z\nend_header\n"
+      "0.5 3 7 8 9\n1 2 3\n");
+  LONGS_EQUAL(1, c.points.size());
+  DOUBLES_EQUAL(3, c.points[0].z, 0);
+}
+
+TEST(PlyReader, NamesWhatIsWrongAndWhere) {
+  const std::string head = "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
+  STRCMP_CONTAINS("in.ply:9 (vertex 1): 'z' is not finite", error_of(head + "1 2 3\n4 5 nan\n").c_str());
+  STRCMP_CONTAINS("in.ply:9: file ends before 'z'", error_of(head + "1 2 3\n4 5\n").c_str());
+  STRCMP_CONTAINS("in.ply:9: 'y' is not a number: 'a'", error_of(head + "1 2 3\n4 a 6\n").c_str());
+  STRCMP_CONTAINS("in.ply:9: the same point as in.ply:8", error_of(head + "1 2 3\n1 2 3\n").c_str());
+  STRCMP_CONTAINS("not a PLY file", error_of("solid x\n").c_str());
+  STRCMP_CONTAINS("no end_header", error_of("ply\nformat ascii 1.0\n").c_str());
+  STRCMP_CONTAINS("no 'z' property",
+                  error_of("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nend_header\n1 2\n").c_str());
+  STRCMP_CONTAINS("unknown vertex property 'w'",
+                  error_of("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                           "property float z\nproperty float w\nend_header\n1 2 3 4\n").c_str());
+  STRCMP_CONTAINS("in.ply:2: unknown PLY format 'binary'", error_of("ply\nformat binary 1.0\nend_header\n").c_str());
+  std::string truncated = binary_ply(false);
+  truncated.resize(truncated.size() - 20);
+  STRCMP_CONTAINS("in.ply: file ends inside vertex 1", error_of(truncated).c_str());
+  STRCMP_CONTAINS("header promises 1000000 vertices",
+                  error_of("ply\nformat binary_little_endian 1.0\nelement vertex 1000000\nproperty float x\n"
+                           "property float y\nproperty float z\nend_header\n").c_str());
+}
+
+TEST(PlyReader, ReadsBackWhatExportWritesWithItsLines) {
+  std::vector<dg::PointSample> samples(3);
+  for (uint32_t i = 0; i < 3; ++i) {
+    samples[i].line = i / 2;
+    samples[i].x_nm = static_cast<int32_t>(i) * 1000000;
+    samples[i].y_nm = 250000;
+    samples[i].z_nm = -1234567 + static_cast<int32_t>(i);
+  }
+  const std::string path = "ply_reader_roundtrip.ply";
+  dg::host::write_points_ply(path, samples);
+  const dg::host::PointCloud c = dg::host::read_points(path);
+  std::remove(path.c_str());
+  LONGS_EQUAL(3, c.points.size());
+  CHECK(c.line.has_value());
+  LONGS_EQUAL(1, (*c.line)[2]);
+  DOUBLES_EQUAL(2.0, c.points[2].x, 1e-12);
+  DOUBLES_EQUAL(-1.234565, c.points[2].z, 1e-12);
+}
