@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "host/scan/point_reader.h"
+#include "host/surface/bezier_ips.h"
 #include "host/surface/closest_point.h"
 #include "host/surface/fit_error.h"
 #include "host/surface/surface_json.h"
@@ -42,6 +43,36 @@ void print_stats(const SurfaceFile& f) {
   if (f.noise_sigma_mm > 0) std::printf("estimated noise sigma %.4f mm\n", f.noise_sigma_mm);
 }
 
+void print_summary(const FitArgs& a, const SurfaceFile& out) {
+  if (a.quiet) return;
+  print_stats(out);
+  if (a.tolerance_mm > 0) {
+    std::printf("tolerance %.4f mm %s after %d fits\n", a.tolerance_mm, out.tolerance_kept ? "kept" : "NOT kept", out.iterations);
+  }
+  std::printf("wrote %s\n", a.output.c_str());
+}
+
+// Seed 000's method places all 16 points in space, so the patch is parametric, not a height field;
+// its distances start from chord-length parameters, which also order each line.
+int run_fit_ips(const FitArgs& a, const PointCloud& cloud) {
+  if (a.model != "bezier") throw std::invalid_argument("--method ips fits a bicubic Bezier patch: use --model bezier");
+  if (a.tolerance_mm > 0) throw std::invalid_argument("--tolerance refines B-splines; a single Bezier patch has a fixed net");
+  if (!a.ctrl.empty() && a.ctrl != "4" && a.ctrl != "4x4") throw std::invalid_argument("a bicubic Bezier patch has 4x4 control points");
+  const Parameters params = parameterize(cloud, Parameterization::kChordLength);
+  SurfaceFile out;
+  out.model = a.model;
+  out.method = a.method;
+  out.parameterization = parameterization_name(Parameterization::kChordLength);
+  out.height_field = false;
+  out.has_fit = true;
+  out.source = a.input;
+  out.surface = fit_bezier_ips(cloud, params).surface;
+  out.distance = distance_stats(orthogonal_distances(out.surface, cloud.points, params));
+  write_surface_json(a.output, out);
+  print_summary(a, out);
+  return 0;
+}
+
 }  // namespace
 
 CLI::App* add_fit_command(CLI::App& app, FitArgs& a) {
@@ -49,8 +80,8 @@ CLI::App* add_fit_command(CLI::App& app, FitArgs& a) {
   cmd->add_option("input", a.input, ".csv, .xyz, .ply or .scan points in mm")->required()->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", a.output, "surface file (.json)")->required();
   cmd->add_option("--model", a.model, "bspline or bezier")->capture_default_str()->check(CLI::IsMember({"bspline", "bezier"}));
-  cmd->add_option("--method", a.method, "lsq (least squares; the only method built so far)")
-      ->capture_default_str()->check(CLI::IsMember({"lsq"}));
+  cmd->add_option("--method", a.method, "lsq (least squares) or ips (seed 000's inverse progressive search; bezier only, needs scan lines)")
+      ->capture_default_str()->check(CLI::IsMember({"lsq", "ips"}));
   cmd->add_option("--degree", a.degree, "B-spline degree in both directions")->capture_default_str()->check(CLI::Range(1, 7));
   cmd->add_option("--ctrl", a.ctrl, "control points NxM (or N); with --tolerance, the starting net");
   cmd->add_option("--param", a.param, "xy (table coordinates, a height field), uniform, chord or centripetal")
@@ -64,6 +95,7 @@ CLI::App* add_fit_command(CLI::App& app, FitArgs& a) {
 
 int run_fit(const FitArgs& a) {
   const PointCloud cloud = read_points(a.input);
+  if (a.method == "ips") return run_fit_ips(a, cloud);
   const Parameters params = parameterize(cloud, parse_parameterization(a.param));
   std::vector<double> weights;
   if (cloud.sigma && !a.ignore_sigma) {
@@ -121,13 +153,7 @@ int run_fit(const FitArgs& a) {
   }
   out.distance = distance_stats(distances);
   write_surface_json(a.output, out);
-  if (!a.quiet) {
-    print_stats(out);
-    if (a.tolerance_mm > 0) {
-      std::printf("tolerance %.4f mm %s after %d fits\n", a.tolerance_mm, out.tolerance_kept ? "kept" : "NOT kept", out.iterations);
-    }
-    std::printf("wrote %s\n", a.output.c_str());
-  }
+  print_summary(a, out);
   return exit_code;
 }
 
