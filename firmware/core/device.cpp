@@ -55,6 +55,7 @@ bool Device::accept(const PointSample& point) {
   numbered.seq = next_seq_;
   if (!ring_.push(numbered)) return false;
   ++next_seq_;
+  fit_.add(numbered);
   return true;
 }
 
@@ -111,6 +112,7 @@ void Device::handle(const digitizer_Envelope& message) {
           scan_.start(message.body.scan_request, next_seq_, config_.default_feed_um_s, &reason);
       if (code != digitizer_FaultCode_FAULT_NONE) return fault(id, code, reason);
       line_first_seq_ = next_seq_;
+      fit_.begin(message.body.scan_request);
       queue({Reply::kAccepted, id, digitizer_FaultCode_FAULT_NONE, nullptr});
       return;
     }
@@ -159,6 +161,10 @@ void Device::handle_command(uint32_t id, const digitizer_Command& command) {
       }
       jogging_ = motion_.busy();
       return queue({Reply::kAccepted, id, digitizer_FaultCode_FAULT_NONE, nullptr});
+    }
+    case digitizer_CommandKind_CMD_PULL_FIT: {
+      Reply reply{Reply::kFitResult, id, digitizer_FaultCode_FAULT_NONE, nullptr, command.fit_model};
+      return queue(reply);
     }
     case digitizer_CommandKind_CMD_HOME:
       return fault(id, digitizer_FaultCode_FAULT_UNSUPPORTED, "homing is not in this firmware yet");
@@ -244,6 +250,11 @@ bool Device::send_reply(const Reply& reply) {
     case Reply::kAccepted:
       message.which_body = digitizer_Envelope_accepted_tag;
       message.body.accepted.request_id = reply.request_id;
+      break;
+    case Reply::kFitResult:
+      // Solved when it is sent, from every point stored so far.
+      message.which_body = digitizer_Envelope_fit_result_tag;
+      fit_.result(reply.fit_model, !scan_.active(), &message.body.fit_result);
       break;
     case Reply::kFault:
       message.which_body = digitizer_Envelope_fault_tag;

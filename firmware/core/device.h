@@ -6,6 +6,7 @@
 #include "common/link/frame.h"
 #include "common/proto/point_batch.h"
 #include "digitizer.pb.h"
+#include "firmware/core/device_fit.h"
 #include "firmware/core/digimatic_reader.h"
 #include "firmware/core/point_ring.h"
 #include "firmware/core/scan_engine.h"
@@ -50,10 +51,11 @@ class Device : private PointSink {
 
  private:
   struct Reply {
-    enum Kind : uint8_t { kHello, kStatus, kAccepted, kFault } kind;
+    enum Kind : uint8_t { kHello, kStatus, kAccepted, kFault, kFitResult } kind;
     uint32_t request_id;
     digitizer_FaultCode code;
     const char* detail;
+    digitizer_DeviceFitModel fit_model = digitizer_DeviceFitModel_DEVICE_FIT_BEZIER;  // kFitResult
   };
 
   bool accept(const PointSample& point) override;
@@ -77,6 +79,7 @@ class Device : private PointSink {
   StepGenerator motion_;
   DigimaticReader gauge_;
   ScanEngine scan_;
+  DeviceFit fit_;
   PointRing<kPointRingCapacity> ring_;
   FrameDecoder decoder_;
   uint32_t next_seq_ = 1;        // next point sequence number

@@ -11,11 +11,13 @@
 #include "host/cli/fit_command.h"
 #include "host/cli/units.h"
 #include "host/device/capture.h"
+#include "host/device/pull_fit.h"
 #include "host/scan/lts_filter.h"
 #include "host/scan/point_export.h"
 #include "host/scan/point_reader.h"
 #include "host/scan/segment.h"
 #include "host/scan/scan_file.h"
+#include "host/surface/device_fit_surface.h"
 #include "host/transport/transport.h"
 
 namespace {
@@ -37,8 +39,41 @@ struct ScanArgs {
   unsigned samples = 1;
   unsigned settle_ms = 0;
   std::string output;
+  std::string device_fit;  // pull the device's fit into this SURF.json after the scan
+  std::string device_fit_model = "bezier";
   bool quiet = false;
 };
+
+struct PullArgs {
+  std::string device = "sim:part=dome";
+  std::string model = "bezier";
+  std::string output;
+  bool quiet = false;
+};
+
+// Pulls the device's fit of its latest scan and writes it as SURF.json.
+void write_device_fit(Session& session, const digitizer_Hello& device, const std::string& model,
+                      const std::string& path, bool quiet) {
+  const digitizer_DeviceFitModel which =
+      model == "bspline" ? digitizer_DeviceFitModel_DEVICE_FIT_NET : digitizer_DeviceFitModel_DEVICE_FIT_BEZIER;
+  const digitizer_FitResult fit = pull_fit(session, device, which, 5000);
+  const std::string source = std::string("device ") + device.device_id + " scan " + std::to_string(fit.scan_id);
+  const SurfaceFile surface = surface_from_device_fit(fit, source);
+  write_surface_json(path, surface);
+  if (!quiet) {
+    std::printf("device fit: %s, %u x %u control points from %u points (%u rejected)%s\n", surface.model.c_str(),
+                fit.side, fit.side, fit.points, fit.rejected, fit.scan_finished ? "" : ", scan still running");
+    std::printf("wrote %s\n", path.c_str());
+  }
+}
+
+int run_pull(const PullArgs& a) {
+  auto transport = open_transport(a.device);
+  Session session(*transport);
+  const digitizer_Hello device = session.hello(5000);
+  write_device_fit(session, device, a.model, a.output, a.quiet);
+  return kExitOk;
+}
 
 void print_summary(const dg::host::ScanData& data, const char* prefix) {
   if (data.points.empty()) {
@@ -117,6 +152,8 @@ int run_scan(const ScanArgs& a) {
                 result.points ? static_cast<double>(session.bytes_received()) / static_cast<double>(result.points) : 0.0);
     std::printf("wrote %s\n", a.output.c_str());
   }
+  // The device's fit of whatever it measured, even of a scan cut short.
+  if (!a.device_fit.empty()) write_device_fit(session, device, a.device_fit_model, a.device_fit, a.quiet);
   if (result.done.reason != digitizer_ScanEnd_SCAN_COMPLETED) {
     std::fprintf(stderr, "digitizer: scan %s after %u points%s%s; the points are in %s\n",
                  result.done.reason == digitizer_ScanEnd_SCAN_ABORTED ? "aborted" : "stopped by a fault",
@@ -224,7 +261,18 @@ int main(int argc, char** argv) {
   scan_cmd->add_option("--settle-ms", scan.settle_ms, "wait after each move before reading")
       ->capture_default_str()->check(CLI::Range(0, 10000));
   scan_cmd->add_option("-o,--output", scan.output, "scan file to write")->required();
+  scan_cmd->add_option("--device-fit", scan.device_fit, "after the scan, pull the surface the device fitted while scanning into this SURF.json");
+  scan_cmd->add_option("--device-fit-model", scan.device_fit_model, "bezier (one bicubic patch) or bspline (5 x 5 cubic net)")
+      ->capture_default_str()->check(CLI::IsMember({"bezier", "bspline"}));
   scan_cmd->add_flag("-q,--quiet", scan.quiet, "print nothing but errors");
+
+  PullArgs pull;
+  CLI::App* pull_cmd = app.add_subcommand("pull", "fetch the surface the device fitted during its latest scan");
+  pull_cmd->add_option("--device", pull.device, "device URI")->capture_default_str();
+  pull_cmd->add_option("--model", pull.model, "bezier (one bicubic patch) or bspline (5 x 5 cubic net)")
+      ->capture_default_str()->check(CLI::IsMember({"bezier", "bspline"}));
+  pull_cmd->add_option("-o,--output", pull.output, "surface file (.json)")->required();
+  pull_cmd->add_flag("-q,--quiet", pull.quiet, "print nothing but errors");
 
   std::string export_in, export_out;
   CLI::App* export_cmd = app.add_subcommand("export", "write a scan's points as CSV or PLY");
@@ -272,6 +320,7 @@ int main(int argc, char** argv) {
   try {
     if (*scan_cmd) return run_scan(scan);
     if (*export_cmd) return run_export(export_in, export_out);
+    if (*pull_cmd) return run_pull(pull);
     if (*info_cmd) return run_info(info_in);
     if (*segment_cmd) return run_segment(segment_in, segment_out, segment_ratio, segment_turn);
     if (*fit_cmd) return run_fit(fit);

@@ -46,7 +46,7 @@ int main(int argc, char** argv) {
   device.device_id = options.device_id.c_str();
   device.board = "sim";
   device.firmware_version = DIGITIZER_VERSION;
-  device.capabilities = digitizer_Capability_CAP_DIGIMATIC | digitizer_Capability_CAP_SIMULATED;
+  device.capabilities = digitizer_Capability_CAP_DIGIMATIC | digitizer_Capability_CAP_DEVICE_FIT | digitizer_Capability_CAP_SIMULATED;
   device.gauge_resolution_nm = options.config.gauge.inch ? 2540 : 1000;
   // The simulated gauge takes its time like a real one; allow for it.
   device.gauge.first_clock_timeout_us = options.config.gauge.request_to_clock_us + 100000;

@@ -13,6 +13,7 @@
 #include "host/scan/scan_file.h"
 #include "host/transport/transport.h"
 #include "hw/sim/parts.h"
+#include "tests/support/scan_request.h"
 
 namespace {
 
@@ -21,16 +22,7 @@ std::string temp_path(const std::string& name) {
 }
 
 digitizer_ScanRequest grid_41_by_31(digitizer_ScanPattern pattern) {
-  digitizer_ScanRequest r = digitizer_ScanRequest_init_zero;
-  r.scan_id = 7;
-  r.has_x = r.has_y = true;
-  r.x.max_nm = 40000000;
-  r.y.max_nm = 30000000;
-  r.step_x_nm = r.step_y_nm = 1000000;
-  r.pattern = pattern;
-  r.feed_um_s = 20000;
-  r.probe = digitizer_ProbeType_PROBE_DIGIMATIC;
-  return r;
+  return dg::test::grid_request(7, 0, 40000000, 30000000, 1000000, pattern);
 }
 
 dg::host::ScanData scan(const std::string& uri, const digitizer_ScanRequest& request,

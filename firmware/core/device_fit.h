@@ -1,0 +1,38 @@
+// The surfaces the device fits while it scans: every stored point goes into a bicubic Bezier patch
+// and a 5 x 5 cubic net over the scanned rectangle, in fixed point and constant memory (common/fit).
+#pragma once
+#include <cstdint>
+
+#include "common/fit/height_field_fit.h"
+#include "common/proto/point_batch.h"
+#include "digitizer.pb.h"
+
+namespace dg {
+
+class DeviceFit {
+ public:
+  static constexpr int kNetSide = 5;
+  using Policy = fit::FixedPolicy<15>;
+  using Bezier = fit::HeightFieldFit<Policy, fit::BezierBasis>;
+  using Net = fit::HeightFieldFit<Policy, fit::UniformCubicBasis<kNetSide>>;
+
+  // Starts both fits over the request's rectangle; the previous scan's fit is dropped.
+  void begin(const digitizer_ScanRequest& request);
+  void add(const PointSample& point);
+  // Solves `model` from the points so far and fills `out` (the scan may still be running).
+  void result(digitizer_DeviceFitModel model, bool scan_finished, digitizer_FitResult* out);
+
+ private:
+  bool started_ = false;
+  uint32_t scan_id_ = 0;
+  Bezier bezier_;
+  Net net_;
+  // One solve at a time, so the two fits share their scratch memory.
+  union Workspace {
+    Workspace() : net() {}
+    Bezier::Workspace bezier;
+    Net::Workspace net;
+  } work_;
+};
+
+}  // namespace dg
