@@ -54,6 +54,8 @@ struct FloatingPolicy {
     return static_cast<T>(static_cast<double>(offset) / static_cast<double>(scale.range));
   }
   static Basis tensor(Unit a, Unit b) { return a * b; }
+  static Basis narrow(Unit a) { return a; }
+  static Accum scale(Accum sum, Unit b) { return sum * b; }
   // s = u * spans split into the span index (clamped to the last span) and the local t in [0, 1].
   static void split(Unit u, int spans, int& span, Unit& t) {
     const T s = u * static_cast<T>(spans);
@@ -117,6 +119,17 @@ struct FixedPolicy {
   // The product of two values in [0, 1], Q1.30 x Q1.30 -> Q1.F, rounded.
   static Basis tensor(Unit a, Unit b) {
     return Basis::from_raw(static_cast<int32_t>(fx::round_shift(int64_t{a.raw} * b.raw, 60 - F)));
+  }
+  // A one-dimensional basis value, Q1.30 -> Q1.F rounded.
+  static Basis narrow(Unit a) { return Basis::from_raw(static_cast<int32_t>(fx::round_shift(a.raw, 30 - F))); }
+  // sum * b for b in [0, 1] (Q1.30), rounded; the result is no larger than the sum. The 64 x 32-bit
+  // product is taken in two halves so nothing overflows: sum = hi 2^32 + lo, and hi b 2^2 is at
+  // most the result. Q1.30, not Q1.F: a scan line's v products multiply all of its sums, so
+  // their rounding would not average out over points (measured: 107 nm instead of 14 on a patch).
+  static Accum scale(Accum sum, Unit b) {
+    const int64_t hi = sum >> 32;
+    const int64_t lo = static_cast<int64_t>(static_cast<uint64_t>(sum) & 0xFFFFFFFFu);
+    return hi * b.raw * 4 + ((lo * b.raw + (int64_t{1} << 29)) >> 30);
   }
   static void split(Unit u, int spans, int& span, Unit& t) {
     const int64_t s = int64_t{u.raw} * spans;

@@ -4,6 +4,7 @@
 
 #include "common/fit/accumulate_policy.h"
 #include "common/fit/bernstein.h"
+#include "common/fit/dense_ldlt.h"
 #include "common/fit/normal_equations.h"
 
 namespace dg::fit {
@@ -39,6 +40,7 @@ class HeightFieldFit {
   using Unit = typename Policy::Unit;
   using Value = typename Policy::Value;
   using Solve = typename Policy::Solve;
+  using Accum = typename Policy::Accum;
   static constexpr int kSide = Kind::kSide;
   static constexpr int kUnknowns = kSide * kSide;
 
@@ -47,12 +49,19 @@ class HeightFieldFit {
     scale_u_ = UnitScale::for_range(int64_t{region.x_max_nm} - region.x_min_nm);
     scale_v_ = UnitScale::for_range(int64_t{region.y_max_nm} - region.y_min_nm);
     equations_.clear();
+    clear_line();
     rejected_ = 0;
     has_reference_ = false;
   }
 
   // One measured point. Points outside the region, or too far from the first height for the sums,
   // are counted as rejected and do not change the fit.
+  //
+  // Points that share y (a scan line along x) share their v basis values, so the product of two
+  // tensor basis values factors: c_(i,j) c_(k,l) = (bu_i bu_k)(bv_j bv_l). A point adds only the
+  // ten along-line products bu_i bu_k and four bu_i z; the line's sums are multiplied by the v
+  // products once, when y changes or before a solve. That is what keeps a point within about a
+  // thousand instructions on a Cortex-M4 instead of 136 products for the patch's 16 unknowns.
   Status add(int32_t x_nm, int32_t y_nm, int32_t z_nm) {
     if (!region_.valid()) return Status::kNotReady;
     if (x_nm < region_.x_min_nm || x_nm > region_.x_max_nm || y_nm < region_.y_min_nm ||
@@ -65,34 +74,34 @@ class HeightFieldFit {
       has_reference_ = true;
     }
     const int64_t dz = int64_t{z_nm} - reference_z_nm_;
-    if (dz > Policy::kMaxValueNm || dz < -Policy::kMaxValueNm || equations_.count() >= Policy::kMaxPoints) {
+    if (dz > Policy::kMaxValueNm || dz < -Policy::kMaxValueNm || count() >= Policy::kMaxPoints) {
       ++rejected_;
       return Status::kOverflow;
     }
+    if (!line_open_ || y_nm != line_y_nm_) {
+      flush_line();
+      const Unit v = Policy::unit(int64_t{y_nm} - region_.y_min_nm, scale_v_);
+      Kind::template basis<Policy>(v, line_bv_, line_span_v_);
+      line_y_nm_ = y_nm;
+      line_open_ = true;
+    }
     const Unit u = Policy::unit(int64_t{x_nm} - region_.x_min_nm, scale_u_);
-    const Unit v = Policy::unit(int64_t{y_nm} - region_.y_min_nm, scale_v_);
-    Unit bu[4], bv[4];
-    int span_u = 0, span_v = 0;
+    Unit bu[4];
+    int span_u = 0;
     Kind::template basis<Policy>(u, bu, span_u);
-    Kind::template basis<Policy>(v, bv, span_v);
-    Basis c[16];
-    int index[16];
-    for (int i = 0; i < 4; ++i) {
-      for (int j = 0; j < 4; ++j) {
-        c[i * 4 + j] = Policy::tensor(bu[i], bv[j]);
-        index[i * 4 + j] = (span_u + i) * kSide + span_v + j;
-      }
-    }
+    Basis b[4];
+    for (int i = 0; i < 4; ++i) b[i] = Policy::narrow(bu[i]);
     const Value value = Policy::value_from_nm(static_cast<int32_t>(dz));
-    if constexpr (kUnknowns == 16) {
-      equations_.add_all(c, &value);
-    } else {
-      equations_.add(index, c, 16, &value);
+    for (int i = 0; i < 4; ++i) {
+      Accum* row = &line_matrix_[packed_index(span_u + i, span_u)];
+      for (int k = 0; k <= i; ++k) row[k] += Policy::product(b[i], b[k]);
+      line_rhs_[span_u + i] += Policy::product_value(b[i], value);
     }
+    ++line_count_;
     return Status::kOk;
   }
 
-  uint32_t count() const { return equations_.count(); }
+  uint32_t count() const { return equations_.count() + line_count_; }
   uint32_t rejected() const { return rejected_; }
   const FitRegion& region() const { return region_; }
 
@@ -101,7 +110,8 @@ class HeightFieldFit {
   // Control heights P[i][j] (i along x, j along y), in the policy's value unit (nm or mm).
   // kNotReady: fewer points than unknowns; kInvalidArgument: the points leave some control point
   // undetermined (for example all on one line).
-  Status solve(Value (&heights)[kSide][kSide], Workspace& work) const {
+  Status solve(Value (&heights)[kSide][kSide], Workspace& work) {
+    flush_line();
     if (equations_.count() < static_cast<uint32_t>(kUnknowns)) return Status::kNotReady;
     Value x[1][kUnknowns];
     const Status status = equations_.solve(x, work, ScalarTraits<Solve>::from_ratio(1, 1000000));
@@ -113,12 +123,57 @@ class HeightFieldFit {
   }
 
  private:
+  void clear_line() {
+    for (auto& sum : line_matrix_) sum = Accum{};
+    for (auto& sum : line_rhs_) sum = Accum{};
+    line_count_ = 0;
+    line_open_ = false;
+  }
+
+  // Adds the open line's sums times its v products to the normal equations. Unknown (i, j) is
+  // i * kSide + j, so row i > k gives row (i, j) > (k, l) for every j, l; on i == k only j >= l
+  // is a distinct entry of the symmetric matrix.
+  void flush_line() {
+    if (line_count_ == 0) {
+      line_open_ = false;
+      return;
+    }
+    Unit bvv[4][4];
+    for (int j = 0; j < 4; ++j) {
+      for (int l = 0; l <= j; ++l) bvv[j][l] = line_bv_[j] * line_bv_[l];
+    }
+    for (int i = 0; i < kSide; ++i) {
+      for (int k = 0; k <= i; ++k) {
+        const Accum sum = line_matrix_[packed_index(i, k)];
+        if (sum == Accum{}) continue;  // outside the band of a net
+        for (int j = 0; j < 4; ++j) {
+          for (int l = 0; l < 4; ++l) {
+            if (i == k && l > j) continue;
+            const int row = i * kSide + line_span_v_ + j, column = k * kSide + line_span_v_ + l;
+            equations_.matrix_sum(row, column) += Policy::scale(sum, i == k || j >= l ? bvv[j][l] : bvv[l][j]);
+          }
+        }
+      }
+      for (int j = 0; j < 4; ++j) equations_.rhs_sum(0, i * kSide + line_span_v_ + j) += Policy::scale(line_rhs_[i], line_bv_[j]);
+    }
+    equations_.add_count(line_count_);
+    clear_line();
+  }
+
   FitRegion region_;
   UnitScale scale_u_, scale_v_;
   NormalEquations<Policy, kUnknowns, 1> equations_;
   uint32_t rejected_ = 0;
   int32_t reference_z_nm_ = 0;
   bool has_reference_ = false;
+  // The scan line being summed (see add()).
+  Accum line_matrix_[packed_size(kSide)] = {};
+  Accum line_rhs_[kSide] = {};
+  Unit line_bv_[4] = {};
+  int line_span_v_ = 0;
+  int32_t line_y_nm_ = 0;
+  uint32_t line_count_ = 0;
+  bool line_open_ = false;
 };
 
 // One bicubic Bezier patch over the region.

@@ -49,6 +49,12 @@ class NormalEquations {
 
   uint32_t count() const { return count_; }
 
+  // Direct access for callers that sum blocks of the products themselves (HeightFieldFit sums a
+  // scan line's along-line products and adds them here once per line). Row i >= column j.
+  Accum& matrix_sum(int i, int j) { return matrix_[packed_index(i, j)]; }
+  Accum& rhs_sum(int r, int i) { return rhs_[r][i]; }
+  void add_count(uint32_t points) { count_ += points; }
+
   // Memory for a solve, kept apart from the sums so that a device can share it between fits.
   struct Workspace {
     Solve factor[packed_size(N)];

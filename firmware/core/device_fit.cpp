@@ -26,7 +26,7 @@ void DeviceFit::add(const PointSample& point) {
 namespace {
 
 template <typename Fit, typename Work, int kSide>
-digitizer_FitStatus solve_into(const Fit& fit, Work& work, digitizer_FitResult* out) {
+digitizer_FitStatus solve_into(Fit& fit, Work& work, digitizer_FitResult* out) {
   int32_t solved[kSide][kSide];
   const Status status = fit.solve(solved, work);
   out->points = fit.count();

@@ -1,0 +1,108 @@
+// Instructions per point of the device's fixed-point streaming fit, counted on QEMU's Cortex-M4
+// (mps2-an386) run with -icount: SysTick ticks are calibrated against a loop of known length, so
+// the figures do not depend on the board's clock. Prints the figures and the fit's RAM.
+#include <cstdint>
+
+#include "firmware/core/device_fit.h"
+#include "tests/bench/m4/semihosting.h"
+
+namespace {
+
+constexpr int kSide = 32;
+constexpr int kPoints = kSide * kSide;
+dg::PointSample points[kPoints];
+dg::DeviceFit device_fit;
+dg::DeviceFit::Bezier bezier;
+dg::DeviceFit::Net net;
+dg::DeviceFit::Bezier::Workspace bezier_work;
+dg::DeviceFit::Net::Workspace net_work;
+digitizer_FitResult result;
+
+volatile uint32_t* const kSysTick = reinterpret_cast<volatile uint32_t*>(0xE000E010);
+
+void start_ticks() {
+  kSysTick[0] = 0;
+  kSysTick[1] = 0xFFFFFF;
+  kSysTick[2] = 0;
+  kSysTick[0] = 5;  // enable, processor clock, no interrupt
+}
+
+uint32_t ticks_since_start() { return 0xFFFFFF - (kSysTick[2] & 0xFFFFFF); }
+
+// 2 instructions per round (subs, bne) plus a few around.
+__attribute__((noinline)) void known_loop(uint32_t rounds) {
+  asm volatile(
+      "1: subs %0, %0, #1\n"
+      "   bne 1b\n"
+      : "+r"(rounds)
+      :
+      : "cc");
+}
+
+template <typename F>
+uint32_t measure(F&& work) {
+  start_ticks();
+  work();
+  return ticks_since_start();
+}
+
+void report(const char* what, uint64_t instructions, uint32_t per) {
+  dg::bench::write_text(what);
+  dg::bench::write_number((instructions + per / 2) / per);
+  dg::bench::write_text("\n");
+}
+
+}  // namespace
+
+int main() {
+  // A 200 x 200 mm region at the device's resolution; heights of a shallow dome (mm range).
+  for (int j = 0; j < kSide; ++j) {
+    for (int i = 0; i < kSide; ++i) {
+      const int64_t dx = (i - 15) * 6451612, dy = (j - 15) * 6451612;  // nm
+      dg::PointSample& p = points[j * kSide + i];
+      p.x_nm = static_cast<int32_t>(i * 6451612);
+      p.y_nm = static_cast<int32_t>(j * 6451612);
+      p.z_nm = static_cast<int32_t>(8000000 - (dx * dx + dy * dy) / 2000000000);
+    }
+  }
+  constexpr uint32_t kRounds = 1000000;
+  const uint32_t calibration_ticks = measure([] { known_loop(kRounds); });
+  // Instructions per tick in 1/1000 units.
+  const uint64_t milli_per_tick = (2ull * kRounds * 1000 + calibration_ticks / 2) / calibration_ticks;
+  auto instructions = [&](uint32_t ticks) { return ticks * milli_per_tick / 1000; };
+
+  digitizer_ScanRequest request = digitizer_ScanRequest_init_zero;
+  request.scan_id = 1;
+  request.x.max_nm = request.y.max_nm = 200000000;
+  dg::fit::FitRegion region;
+  region.x_max_nm = region.y_max_nm = 200000000;
+
+  device_fit.begin(request);
+  const uint32_t both = measure([] {
+    for (const auto& p : points) device_fit.add(p);
+  });
+  bezier.begin(region);
+  const uint32_t bezier_ticks = measure([] {
+    for (const auto& p : points) bezier.add(p.x_nm, p.y_nm, p.z_nm);
+  });
+  net.begin(region);
+  const uint32_t net_ticks = measure([] {
+    for (const auto& p : points) net.add(p.x_nm, p.y_nm, p.z_nm);
+  });
+  static int32_t bezier_heights[4][4];
+  static int32_t net_heights[5][5];
+  const uint32_t bezier_solve = measure([] { bezier.solve(bezier_heights, bezier_work); });
+  const uint32_t net_solve = measure([] { net.solve(net_heights, net_work); });
+  const uint32_t pull = measure([] { device_fit.result(digitizer_DeviceFitModel_DEVICE_FIT_NET, true, &result); });
+
+  dg::bench::write_text("Cortex-M4 (QEMU mps2-an386, -icount), 1024 points over 200 x 200 mm:\n");
+  report("  instructions per point, Bezier patch and 5x5 net together (DeviceFit::add): ", instructions(both), kPoints);
+  report("  instructions per point, Bezier patch alone: ", instructions(bezier_ticks), kPoints);
+  report("  instructions per point, 5x5 net alone: ", instructions(net_ticks), kPoints);
+  report("  instructions to solve the Bezier patch (16 unknowns): ", instructions(bezier_solve), 1);
+  report("  instructions to solve the 5x5 net (25 unknowns): ", instructions(net_solve), 1);
+  report("  instructions for a pull of the net (solve and FitResult): ", instructions(pull), 1);
+  report("  RAM of the device's fits (DeviceFit, both fits and the shared workspace), bytes: ", sizeof(dg::DeviceFit), 1);
+  dg::bench::write_text(result.status == digitizer_FitStatus_FIT_OK ? "  fit status: ok\n" : "  fit status: FAILED\n");
+  return result.status == digitizer_FitStatus_FIT_OK ? 0 : 1;
+}
