@@ -7,6 +7,8 @@
 #include "host/scan/point_reader.h"
 #include "host/surface/bezier_ips.h"
 #include "host/surface/closest_point.h"
+#include "host/surface/crease_detect.h"
+#include "host/surface/noise_estimate.h"
 #include "host/surface/fit_error.h"
 #include "host/surface/surface_json.h"
 #include "host/surface/tolerance_fit.h"
@@ -41,6 +43,19 @@ void print_stats(const SurfaceFile& f) {
   std::printf("orthogonal distance over %zu points: mean %.4f median %.4f std %.4f rms %.4f max %.4f min %.4f mm\n",
               d.count, d.mean, d.median, d.stddev, d.rms, d.max, d.min);
   if (f.noise_sigma_mm > 0) std::printf("estimated noise sigma %.4f mm\n", f.noise_sigma_mm);
+}
+
+void print_creases(const FitArgs& a, const Parameters& params, const Creases& creases) {
+  if (a.quiet || (creases.u.empty() && creases.v.empty())) return;
+  const bool table = params.kind == Parameterization::kTableXy;
+  for (double u : creases.u) {
+    if (table) std::printf("crease or step across the scan at x = %.3f mm: knot of multiplicity %d\n", params.x_min + u * (params.x_max - params.x_min), a.degree);
+    else std::printf("crease or step across the scan at u = %.4f: knot of multiplicity %d\n", u, a.degree);
+  }
+  for (double v : creases.v) {
+    if (table) std::printf("crease or step across the scan at y = %.3f mm: knot of multiplicity %d\n", params.y_min + v * (params.y_max - params.y_min), a.degree);
+    else std::printf("crease or step across the scan at v = %.4f: knot of multiplicity %d\n", v, a.degree);
+  }
 }
 
 void print_summary(const FitArgs& a, const SurfaceFile& out) {
@@ -89,6 +104,7 @@ CLI::App* add_fit_command(CLI::App& app, FitArgs& a) {
   cmd->add_option("--tolerance", a.tolerance_mm, "refine until every orthogonal distance is within this, mm")
       ->check(CLI::PositiveNumber);
   cmd->add_flag("--ignore-sigma", a.ignore_sigma, "do not weight points by 1/sigma^2 from a sigma column");
+  cmd->add_flag("--no-creases", a.no_creases, "B-splines: no multiple knots at creases and steps found across the scan");
   cmd->add_flag("-q,--quiet", a.quiet, "print nothing but errors");
   return cmd;
 }
@@ -121,6 +137,13 @@ int run_fit(const FitArgs& a) {
     nu = nv = 4;
   }
   const int degree = a.model == "bezier" ? 3 : a.degree;
+  // Seed 004 section 6: C0 knots where a crease or step runs across the scan. A Bezier patch has
+  // no interior knots to place.
+  Creases creases;
+  if (a.model == "bspline" && !a.no_creases) {
+    creases = detect_creases(cloud, params, estimate_noise(cloud, params));
+    print_creases(a, params, creases);
+  }
   int exit_code = 0;
   std::vector<double> distances;
   if (a.tolerance_mm > 0) {
@@ -131,6 +154,8 @@ int run_fit(const FitArgs& a) {
       options.start_count_u = nu;
       options.start_count_v = nv;
     }
+    options.extra_knots_u = with_crease_knots({}, creases.u, degree);
+    options.extra_knots_v = with_crease_knots({}, creases.v, degree);
     ToleranceResult r = fit_to_tolerance(cloud, params, w, options);
     out.surface = std::move(r.surface);
     out.tolerance_mm = a.tolerance_mm;
@@ -146,8 +171,8 @@ int run_fit(const FitArgs& a) {
     if (nu <= degree || nv <= degree) throw std::invalid_argument("--ctrl: a degree " + std::to_string(degree) + " net needs at least " + std::to_string(degree + 1) + " control points per direction");
     LsqSpec spec;
     spec.degree_u = spec.degree_v = degree;
-    spec.knots_u = clamped_uniform_knots(nu, degree);
-    spec.knots_v = clamped_uniform_knots(nv, degree);
+    spec.knots_u = with_crease_knots(clamped_uniform_knots(nu, degree), creases.u, degree);
+    spec.knots_v = with_crease_knots(clamped_uniform_knots(nv, degree), creases.v, degree);
     out.surface = fit_least_squares(cloud.points, params, w, spec);
     distances = orthogonal_distances(out.surface, cloud.points, params);
   }

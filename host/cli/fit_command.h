@@ -8,12 +8,13 @@ namespace dg::host {
 struct FitArgs {
   std::string input, output;
   std::string model = "bspline";  // bspline | bezier
-  std::string method = "lsq";     // lsq (the only method so far)
+  std::string method = "lsq";     // lsq | ips (Bezier only)
   int degree = 3;
   std::string ctrl;               // NxM control points; empty: automatic
   std::string param = "xy";
   double tolerance_mm = 0;        // 0: fit the given net once
   bool ignore_sigma = false;
+  bool no_creases = false;        // B-splines: do not put multiple knots at detected creases
   bool quiet = false;
 };
 
