@@ -50,18 +50,17 @@ constexpr void bspline_basis(int span, int degree, T u, const T* knots, T* n, T*
     return;
   }
   const T p = ScalarTraits<T>::from_int(degree);
+  // term[r] = N_{span-degree+r+1, degree-1} / (t_{span+r+1} - t_{span-degree+r+1}); each of the
+  // degree widths is divided by once and serves two derivatives.
+  T term[kMaxDegree + 1] = {};
+  for (int r = 0; r < degree; ++r) {
+    const T width = knots[span + r + 1] - knots[span - degree + r + 1];
+    term[r] = ScalarTraits<T>::is_zero_or_negative(width) ? zero<T>() : lower[r] / width;
+  }
   for (int r = 0; r <= degree; ++r) {
-    const int i = span - degree + r;
-    T value = zero<T>();
-    if (r > 0) {
-      const T width = knots[i + degree] - knots[i];
-      if (!ScalarTraits<T>::is_zero_or_negative(width)) value = value + lower[r - 1] / width;
-    }
-    if (r < degree) {
-      const T width = knots[i + degree + 1] - knots[i + 1];
-      if (!ScalarTraits<T>::is_zero_or_negative(width)) value = value - lower[r] / width;
-    }
-    d1[r] = p * value;
+    const T before = r > 0 ? term[r - 1] : zero<T>();
+    const T after = r < degree ? term[r] : zero<T>();
+    d1[r] = p * (before - after);
   }
 }
 

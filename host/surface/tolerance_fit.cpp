@@ -74,28 +74,39 @@ ToleranceResult fit_to_tolerance(const PointCloud& cloud, const Parameters& para
       refusal = std::string("not enough points to refine further: ") + e.what();
       break;
     }
-    // Upper bounds first; project only the points they do not clear.
+    // Upper bounds first; project only the points they do not clear, and only while the projection
+    // can still flag a span: once both of a point's spans are flagged, its bound stands in for its
+    // distance (the best surface's distances are computed exactly at the end). On a coarse net
+    // most points exceed the tolerance, and this keeps those iterations from projecting them all.
     const std::vector<double> bound = parameter_distances(surface, points, params);
-    std::set<int> spans_u, spans_v;
+    std::vector<char> flagged_u(static_cast<size_t>(surface.count_u), 0), flagged_v(static_cast<size_t>(surface.count_v), 0);
     double worst = 0, sum_sq = 0;
-    std::vector<double> distances(points.size());
     for (size_t k = 0; k < points.size(); ++k) {
       sum_sq += bound[k] * bound[k];
       double d = bound[k];
       if (bound[k] > options.tolerance_mm) {
-        const Closest c = closest_point(surface, points[k], params.uv[k].u, params.uv[k].v);
-        d = std::fabs(c.distance);
-        if (d > options.tolerance_mm) {
-          spans_u.insert(fit::find_span(surface.count_u, surface.degree_u, params.uv[k].u, surface.knots_u.data()));
-          spans_v.insert(fit::find_span(surface.count_v, surface.degree_v, params.uv[k].v, surface.knots_v.data()));
+        const int su = fit::find_span(surface.count_u, surface.degree_u, params.uv[k].u, surface.knots_u.data());
+        const int sv = fit::find_span(surface.count_v, surface.degree_v, params.uv[k].v, surface.knots_v.data());
+        if (!flagged_u[static_cast<size_t>(su)] || !flagged_v[static_cast<size_t>(sv)]) {
+          d = std::fabs(closest_point(surface, points[k], params.uv[k].u, params.uv[k].v).distance);
+          if (d > options.tolerance_mm) {
+            flagged_u[static_cast<size_t>(su)] = flagged_v[static_cast<size_t>(sv)] = 1;
+          }
         }
       }
       worst = std::max(worst, d);
     }
+    std::set<int> spans_u, spans_v;
+    for (int i = 0; i < surface.count_u; ++i) {
+      if (flagged_u[static_cast<size_t>(i)]) spans_u.insert(i);
+    }
+    for (int j = 0; j < surface.count_v; ++j) {
+      if (flagged_v[static_cast<size_t>(j)]) spans_v.insert(j);
+    }
     const double rms = std::sqrt(sum_sq / static_cast<double>(points.size()));
     if (spans_u.empty() || worst < best.max_distance_mm) {
       best.surface = surface;
-      best.max_distance_mm = worst;  // exact where above the tolerance, an upper bound below it
+      best.max_distance_mm = worst;  // an upper bound until the exact distances at the end
       best.iterations = iteration;
     }
     if (spans_u.empty()) {
