@@ -8,6 +8,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "host/surface/atomic_file.h"
+
 namespace dg::host {
 
 namespace {
@@ -55,17 +57,7 @@ std::string surface_json_text(const SurfaceFile& f) {
 }
 
 void write_surface_json(const std::string& path, const SurfaceFile& file) {
-  const std::string text = surface_json_text(file);
-  const std::string temporary = path + ".part";
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error(path + ": cannot create");
-    out << text;
-    out.flush();
-    if (!out) throw std::runtime_error(path + ": write failed");
-  }
-  // Replace atomically: a crash never leaves a half-written surface under the real name.
-  if (std::rename(temporary.c_str(), path.c_str()) != 0) throw std::runtime_error(path + ": cannot rename into place");
+  write_file_atomically(path, surface_json_text(file));
 }
 
 SurfaceFile parse_surface_json(const std::string& text, const std::string& name) {

@@ -1,0 +1,98 @@
+// Our IGES read by a real CAD kernel: OpenCASCADE's IGES reader must accept the file, and the
+// surface it builds must evaluate to our surface's points (relative 1e-9).
+#include <CppUTest/TestHarness.h>
+
+#include <BRep_Tool.hxx>
+#include <Geom_BSplineSurface.hxx>
+#include <IFSelect_ReturnStatus.hxx>
+#include <IGESControl_Reader.hxx>
+#include <Standard_Version.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Face.hxx>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <unistd.h>
+
+#include "host/surface/iges_writer.h"
+
+using namespace dg::host;
+
+namespace {
+
+// A 6 x 5 bicubic-by-quadratic net with an interior knot pair, a real fit's kind of surface.
+BSplineSurface sample_surface() {
+  BSplineSurface s;
+  s.degree_u = 3;
+  s.degree_v = 2;
+  s.count_u = 6;
+  s.count_v = 5;
+  s.knots_u = {0, 0, 0, 0, 0.3, 0.6, 1, 1, 1, 1};
+  s.knots_v = {0, 0, 0, 0.25, 0.25, 1, 1, 1};
+  for (int i = 0; i < s.count_u; ++i) {
+    for (int j = 0; j < s.count_v; ++j) {
+      s.control.push_back({8.0 * i + 0.3 * j, 7.5 * j, 2.0 + std::sin(i * 0.9) * std::cos(j * 0.7) + 0.01 * i * j});
+    }
+  }
+  return s;
+}
+
+Handle(Geom_BSplineSurface) read_back(const std::string& path) {
+  IGESControl_Reader reader;
+  CHECK_EQUAL(IFSelect_RetDone, reader.ReadFile(path.c_str()));
+  CHECK(reader.TransferRoots() > 0);
+  const TopoDS_Shape shape = reader.OneShape();
+  TopExp_Explorer faces(shape, TopAbs_FACE);
+  CHECK(faces.More());
+  const Handle(Geom_Surface) surface = BRep_Tool::Surface(TopoDS::Face(faces.Current()));
+  const Handle(Geom_BSplineSurface) bspline = Handle(Geom_BSplineSurface)::DownCast(surface);
+  CHECK(!bspline.IsNull());
+  return bspline;
+}
+
+}  // namespace
+
+TEST_GROUP(IgesOcct){};
+
+TEST(IgesOcct, OpenCascadeReadsOurSurfaceAndEvaluatesItToOurPoints) {
+  const BSplineSurface ours = sample_surface();
+  const std::string path = std::string(P_tmpdir) + "/dg_iges_" + std::to_string(getpid()) + ".igs";
+  IgesOptions options;
+  options.file_name = "test.igs";
+  write_iges(path, ours, options);
+  const Handle(Geom_BSplineSurface) theirs = read_back(path);
+  std::remove(path.c_str());
+  LONGS_EQUAL(ours.degree_u, theirs->UDegree());
+  LONGS_EQUAL(ours.degree_v, theirs->VDegree());
+  LONGS_EQUAL(ours.count_u, theirs->NbUPoles());
+  LONGS_EQUAL(ours.count_v, theirs->NbVPoles());
+  double scale = 0;
+  for (const Point3& p : ours.control) scale = std::fmax(scale, std::fmax(std::fabs(p.x), std::fmax(std::fabs(p.y), std::fabs(p.z))));
+  for (int a = 0; a <= 20; ++a) {
+    for (int b = 0; b <= 20; ++b) {
+      const double u = a / 20.0, v = b / 20.0;
+      const Point3 p = ours.evaluate(u, v);
+      const gp_Pnt q = theirs->Value(u, v);
+      DOUBLES_EQUAL(p.x, q.X(), 1e-9 * scale);
+      DOUBLES_EQUAL(p.y, q.Y(), 1e-9 * scale);
+      DOUBLES_EQUAL(p.z, q.Z(), 1e-9 * scale);
+    }
+  }
+}
+
+TEST(IgesOcct, WritesTheFixedColumnLayout) {
+  const std::string text = iges_text(sample_surface(), IgesOptions{});
+  size_t start = 0, lines = 0;
+  while (start < text.size()) {
+    const size_t end = text.find('\n', start);
+    LONGS_EQUAL(80, end - start);
+    ++lines;
+    start = end + 1;
+  }
+  CHECK(lines > 6);
+  STRCMP_CONTAINS("2HMM", text.c_str());
+  STRCMP_EQUAL("3.", iges_real(3.0).c_str());
+  STRCMP_EQUAL("1.E-05", iges_real(1e-5).c_str());
+  STRCMP_EQUAL("0.1", iges_real(0.1).c_str());
+}
