@@ -20,6 +20,7 @@
 #include "host/scan/scan_file.h"
 #include "host/surface/device_fit_surface.h"
 #include "host/surface/iges_writer.h"
+#include "host/surface/step_writer.h"
 #include "host/surface/surface_json.h"
 #include "host/transport/transport.h"
 
@@ -172,20 +173,29 @@ bool ends_with(const std::string& text, const char* suffix) {
   return text.size() >= s.size() && text.compare(text.size() - s.size(), s.size(), s) == 0;
 }
 
-// A surface file to CAD: IGES 5.3 entity 128 in millimetres.
+// A surface file to CAD: IGES 5.3 entity 128 or STEP AP214, in millimetres.
 int run_export_surface(const std::string& input, const std::string& output) {
   const SurfaceFile surface = read_surface_json(input);
-  if (!ends_with(output, ".igs") && !ends_with(output, ".iges")) {
-    throw std::invalid_argument("a surface exports to .igs or .iges (got " + output + ")");
-  }
-  IgesOptions options;
+  const bool iges = ends_with(output, ".igs") || ends_with(output, ".iges");
+  const bool step = ends_with(output, ".stp") || ends_with(output, ".step");
+  if (!iges && !step) throw std::invalid_argument("a surface exports to .igs/.iges or .stp/.step (got " + output + ")");
   const size_t slash = output.find_last_of('/');
-  options.file_name = slash == std::string::npos ? output : output.substr(slash + 1);
+  const std::string name = slash == std::string::npos ? output : output.substr(slash + 1);
   const std::time_t now = std::time(nullptr);
   char stamp[32];
-  std::strftime(stamp, sizeof stamp, "%Y%m%d.%H%M%S", std::gmtime(&now));
-  options.timestamp = stamp;
-  write_iges(output, surface.surface, options);
+  if (iges) {
+    IgesOptions options;
+    options.file_name = name;
+    std::strftime(stamp, sizeof stamp, "%Y%m%d.%H%M%S", std::gmtime(&now));
+    options.timestamp = stamp;
+    write_iges(output, surface.surface, options);
+  } else {
+    StepOptions options;
+    options.file_name = name;
+    std::strftime(stamp, sizeof stamp, "%Y-%m-%dT%H:%M:%S", std::gmtime(&now));
+    options.timestamp = stamp;
+    write_step(output, surface.surface, options);
+  }
   std::printf("wrote %s surface (%d x %d control points, degree %d x %d) to %s\n", surface.model.c_str(),
               surface.surface.count_u, surface.surface.count_v, surface.surface.degree_u, surface.surface.degree_v,
               output.c_str());
@@ -304,9 +314,9 @@ int main(int argc, char** argv) {
   pull_cmd->add_flag("-q,--quiet", pull.quiet, "print nothing but errors");
 
   std::string export_in, export_out;
-  CLI::App* export_cmd = app.add_subcommand("export", "write a scan's points as CSV or PLY, or a surface as IGES");
+  CLI::App* export_cmd = app.add_subcommand("export", "write a scan's points as CSV or PLY, or a surface as IGES or STEP");
   export_cmd->add_option("input", export_in, "scan file, or SURF.json")->required()->check(CLI::ExistingFile);
-  export_cmd->add_option("-o,--output", export_out, "output .csv or .ply (points), .igs (surface)")->required();
+  export_cmd->add_option("-o,--output", export_out, "output .csv or .ply (points), .igs or .stp (surface)")->required();
 
   std::string segment_in, segment_out;
   double segment_ratio = 2.0, segment_turn = 60.0;

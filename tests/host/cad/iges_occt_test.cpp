@@ -16,27 +16,11 @@
 #include <unistd.h>
 
 #include "host/surface/iges_writer.h"
+#include "tests/support/sample_surfaces.h"
 
 using namespace dg::host;
 
 namespace {
-
-// A 6 x 5 bicubic-by-quadratic net with an interior knot pair, a real fit's kind of surface.
-BSplineSurface sample_surface() {
-  BSplineSurface s;
-  s.degree_u = 3;
-  s.degree_v = 2;
-  s.count_u = 6;
-  s.count_v = 5;
-  s.knots_u = {0, 0, 0, 0, 0.3, 0.6, 1, 1, 1, 1};
-  s.knots_v = {0, 0, 0, 0.25, 0.25, 1, 1, 1};
-  for (int i = 0; i < s.count_u; ++i) {
-    for (int j = 0; j < s.count_v; ++j) {
-      s.control.push_back({8.0 * i + 0.3 * j, 7.5 * j, 2.0 + std::sin(i * 0.9) * std::cos(j * 0.7) + 0.01 * i * j});
-    }
-  }
-  return s;
-}
 
 Handle(Geom_BSplineSurface) read_back(const std::string& path) {
   IGESControl_Reader reader;
@@ -56,7 +40,7 @@ Handle(Geom_BSplineSurface) read_back(const std::string& path) {
 TEST_GROUP(IgesOcct){};
 
 TEST(IgesOcct, OpenCascadeReadsOurSurfaceAndEvaluatesItToOurPoints) {
-  const BSplineSurface ours = sample_surface();
+  const BSplineSurface ours = dg::test::clamped_sample();
   const std::string path = std::string(P_tmpdir) + "/dg_iges_" + std::to_string(getpid()) + ".igs";
   IgesOptions options;
   options.file_name = "test.igs";
@@ -82,7 +66,7 @@ TEST(IgesOcct, OpenCascadeReadsOurSurfaceAndEvaluatesItToOurPoints) {
 }
 
 TEST(IgesOcct, WritesTheFixedColumnLayout) {
-  const std::string text = iges_text(sample_surface(), IgesOptions{});
+  const std::string text = iges_text(dg::test::clamped_sample(), IgesOptions{});
   size_t start = 0, lines = 0;
   while (start < text.size()) {
     const size_t end = text.find('\n', start);

@@ -1,0 +1,40 @@
+// Surfaces for export tests: a clamped fit-like net and an unclamped uniform net like the device's.
+#pragma once
+#include <cmath>
+
+#include "host/surface/bspline_surface.h"
+
+namespace dg::test {
+
+// A 6 x 5 bicubic-by-quadratic net with an interior double knot in v.
+inline host::BSplineSurface clamped_sample() {
+  host::BSplineSurface s;
+  s.degree_u = 3;
+  s.degree_v = 2;
+  s.count_u = 6;
+  s.count_v = 5;
+  s.knots_u = {0, 0, 0, 0, 0.3, 0.6, 1, 1, 1, 1};
+  s.knots_v = {0, 0, 0, 0.25, 0.25, 1, 1, 1};
+  for (int i = 0; i < s.count_u; ++i) {
+    for (int j = 0; j < s.count_v; ++j) {
+      s.control.push_back({8.0 * i + 0.3 * j, 7.5 * j, 2.0 + std::sin(i * 0.9) * std::cos(j * 0.7) + 0.01 * i * j});
+    }
+  }
+  return s;
+}
+
+// A 5 x 5 uniform cubic net on knots (i - 3) / 2, as `digitizer pull` writes the device's net.
+inline host::BSplineSurface unclamped_sample() {
+  host::BSplineSurface s;
+  s.count_u = s.count_v = 5;
+  for (int i = 0; i <= 8; ++i) s.knots_u.push_back((i - 3) / 2.0);
+  s.knots_v = s.knots_u;
+  for (int i = 0; i < 5; ++i) {
+    for (int j = 0; j < 5; ++j) {
+      s.control.push_back({20.0 * (i - 1) / 2.0, 15.0 * (j - 1) / 2.0, 3.0 + 0.4 * std::cos(i + 0.5 * j)});
+    }
+  }
+  return s;
+}
+
+}  // namespace dg::test
