@@ -8,14 +8,14 @@
 namespace dg::host {
 namespace {
 
-// Inserts t once into `knots` (degree p) for every row of control points; `at(i, r)` addresses
-// control point i of row r along the direction being refined.
+// The knots of one direction and the rows of control points along it.
 struct Direction {
   std::vector<double> knots;
   int degree = 3;
   std::vector<std::vector<Point3>> rows;  // rows[r][i]
 };
 
+// Inserts t once (Boehm) into every row.
 void insert_knot(Direction& d, double t) {
   const int p = d.degree;
   const int n = static_cast<int>(d.rows.front().size());
@@ -56,7 +56,7 @@ void clamp(Direction& d) {
   while (d.knots[first_lo] < lo) ++first_lo;
   size_t last_hi = d.knots.size() - 1;
   while (d.knots[last_hi] > hi) --last_hi;
-  const size_t first = first_lo - 1 + 0;  // control point index of the curve at lo
+  const size_t first = first_lo - 1;  // the control point the curve passes through at lo
   std::vector<double> knots;
   knots.push_back(lo);
   for (size_t i = first_lo; i <= last_hi; ++i) knots.push_back(d.knots[i]);
@@ -73,39 +73,42 @@ bool is_clamped(const std::vector<double>& knots, int degree) {
   return true;
 }
 
+// The same surface with u and v exchanged, so one routine serves both directions.
+BSplineSurface transposed(const BSplineSurface& s) {
+  BSplineSurface t;
+  t.degree_u = s.degree_v;
+  t.degree_v = s.degree_u;
+  t.count_u = s.count_v;
+  t.count_v = s.count_u;
+  t.knots_u = s.knots_v;
+  t.knots_v = s.knots_u;
+  t.control.resize(s.control.size());
+  for (int i = 0; i < s.count_u; ++i)
+    for (int j = 0; j < s.count_v; ++j) t.at(j, i) = s.at(i, j);
+  return t;
+}
+
+BSplineSurface clamp_along_u(const BSplineSurface& s) {
+  if (is_clamped(s.knots_u, s.degree_u)) return s;
+  Direction d{s.knots_u, s.degree_u, {}};
+  for (int j = 0; j < s.count_v; ++j) {
+    d.rows.emplace_back();
+    for (int i = 0; i < s.count_u; ++i) d.rows.back().push_back(s.at(i, j));
+  }
+  clamp(d);
+  BSplineSurface out = s;
+  out.knots_u = d.knots;
+  out.count_u = static_cast<int>(d.rows.front().size());
+  out.control.assign(static_cast<size_t>(out.count_u) * out.count_v, Point3{});
+  for (int j = 0; j < out.count_v; ++j)
+    for (int i = 0; i < out.count_u; ++i) out.at(i, j) = d.rows[static_cast<size_t>(j)][static_cast<size_t>(i)];
+  return out;
+}
+
 }  // namespace
 
 BSplineSurface clamp_ends(const BSplineSurface& s) {
-  BSplineSurface out = s;
-  if (!is_clamped(s.knots_u, s.degree_u)) {
-    Direction d{s.knots_u, s.degree_u, {}};
-    for (int j = 0; j < s.count_v; ++j) {
-      d.rows.emplace_back();
-      for (int i = 0; i < s.count_u; ++i) d.rows.back().push_back(s.at(i, j));
-    }
-    clamp(d);
-    out.knots_u = d.knots;
-    out.count_u = static_cast<int>(d.rows.front().size());
-    out.control.assign(static_cast<size_t>(out.count_u) * out.count_v, Point3{});
-    for (int j = 0; j < out.count_v; ++j)
-      for (int i = 0; i < out.count_u; ++i) out.at(i, j) = d.rows[static_cast<size_t>(j)][static_cast<size_t>(i)];
-  }
-  if (!is_clamped(out.knots_v, out.degree_v)) {
-    Direction d{out.knots_v, out.degree_v, {}};
-    for (int i = 0; i < out.count_u; ++i) {
-      d.rows.emplace_back();
-      for (int j = 0; j < out.count_v; ++j) d.rows.back().push_back(out.at(i, j));
-    }
-    clamp(d);
-    BSplineSurface next = out;
-    next.knots_v = d.knots;
-    next.count_v = static_cast<int>(d.rows.front().size());
-    next.control.assign(static_cast<size_t>(next.count_u) * next.count_v, Point3{});
-    for (int i = 0; i < next.count_u; ++i)
-      for (int j = 0; j < next.count_v; ++j) next.at(i, j) = d.rows[static_cast<size_t>(i)][static_cast<size_t>(j)];
-    out = next;
-  }
-  return out;
+  return transposed(clamp_along_u(transposed(clamp_along_u(s))));
 }
 
 }  // namespace dg::host
