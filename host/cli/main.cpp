@@ -20,6 +20,7 @@
 #include "host/scan/scan_file.h"
 #include "host/surface/device_fit_surface.h"
 #include "host/surface/iges_writer.h"
+#include "host/surface/mesh_writer.h"
 #include "host/surface/step_writer.h"
 #include "host/surface/surface_json.h"
 #include "host/transport/transport.h"
@@ -173,12 +174,21 @@ bool ends_with(const std::string& text, const char* suffix) {
   return text.size() >= s.size() && text.compare(text.size() - s.size(), s.size(), s) == 0;
 }
 
-// A surface file to CAD: IGES 5.3 entity 128 or STEP AP214, in millimetres.
-int run_export_surface(const std::string& input, const std::string& output) {
+// A surface file to CAD (IGES 5.3 entity 128, STEP AP214) or a mesh (STL, OBJ, PLY), in millimetres.
+int run_export_surface(const std::string& input, const std::string& output, double chord_mm) {
   const SurfaceFile surface = read_surface_json(input);
   const bool iges = ends_with(output, ".igs") || ends_with(output, ".iges");
   const bool step = ends_with(output, ".stp") || ends_with(output, ".step");
-  if (!iges && !step) throw std::invalid_argument("a surface exports to .igs/.iges or .stp/.step (got " + output + ")");
+  if (ends_with(output, ".stl") || ends_with(output, ".obj") || ends_with(output, ".ply")) {
+    const Mesh mesh = tessellate(surface.surface, chord_mm);
+    write_mesh(output, mesh);
+    std::printf("wrote %zu triangles (chord error %.4f mm, asked %.4f) to %s\n", mesh.triangles.size(),
+                mesh.chord_error_mm, chord_mm, output.c_str());
+    return kExitOk;
+  }
+  if (!iges && !step) {
+    throw std::invalid_argument("a surface exports to .igs/.iges, .stp/.step, .stl, .obj or .ply (got " + output + ")");
+  }
   const size_t slash = output.find_last_of('/');
   const std::string name = slash == std::string::npos ? output : output.substr(slash + 1);
   const std::time_t now = std::time(nullptr);
@@ -202,8 +212,8 @@ int run_export_surface(const std::string& input, const std::string& output) {
   return kExitOk;
 }
 
-int run_export(const std::string& input, const std::string& output) {
-  if (ends_with(input, ".json")) return run_export_surface(input, output);
+int run_export(const std::string& input, const std::string& output, double chord_mm) {
+  if (ends_with(input, ".json")) return run_export_surface(input, output, chord_mm);
   const ScanData data = read_scan_file(input);
   for (const auto& w : data.warnings) std::fprintf(stderr, "digitizer: warning: %s\n", w.c_str());
   write_points(output, data.points);
@@ -316,7 +326,10 @@ int main(int argc, char** argv) {
   std::string export_in, export_out;
   CLI::App* export_cmd = app.add_subcommand("export", "write a scan's points as CSV or PLY, or a surface as IGES or STEP");
   export_cmd->add_option("input", export_in, "scan file, or SURF.json")->required()->check(CLI::ExistingFile);
-  export_cmd->add_option("-o,--output", export_out, "output .csv or .ply (points), .igs or .stp (surface)")->required();
+  export_cmd->add_option("-o,--output", export_out, "points: .csv or .ply; a surface: .igs, .stp, or a mesh .stl, .obj, .ply")->required();
+  double export_chord_mm = 0.01;
+  export_cmd->add_option("--chord", export_chord_mm, "meshes: largest distance from the surface to its triangles, mm")
+      ->capture_default_str()->check(CLI::PositiveNumber);
 
   std::string segment_in, segment_out;
   double segment_ratio = 2.0, segment_turn = 60.0;
@@ -358,7 +371,7 @@ int main(int argc, char** argv) {
   }
   try {
     if (*scan_cmd) return run_scan(scan);
-    if (*export_cmd) return run_export(export_in, export_out);
+    if (*export_cmd) return run_export(export_in, export_out, export_chord_mm);
     if (*pull_cmd) return run_pull(pull);
     if (*info_cmd) return run_info(info_in);
     if (*segment_cmd) return run_segment(segment_in, segment_out, segment_ratio, segment_turn);
