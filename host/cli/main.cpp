@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "host/cli/fit_command.h"
+#include "host/cli/inspect_command.h"
 #include "host/cli/units.h"
 #include "host/device/capture.h"
 #include "host/device/pull_fit.h"
@@ -363,6 +364,8 @@ int main(int argc, char** argv) {
 
   FitArgs fit;
   CLI::App* fit_cmd = add_fit_command(app, fit);
+  InspectArgs inspect_args;
+  CLI::App* inspect_cmd = add_inspect_command(app, inspect_args);
 
   try {
     app.parse(argc, argv);
@@ -376,6 +379,7 @@ int main(int argc, char** argv) {
     if (*info_cmd) return run_info(info_in);
     if (*segment_cmd) return run_segment(segment_in, segment_out, segment_ratio, segment_turn);
     if (*fit_cmd) return run_fit(fit);
+    if (*inspect_cmd) return run_inspect(inspect_args);
     if (*filter_cmd) return run_filter(filter);
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "digitizer: %s\n", e.what());

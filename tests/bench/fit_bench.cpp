@@ -9,6 +9,7 @@
 
 #include "host/surface/bspline_fit.h"
 #include "host/surface/closest_point.h"
+#include "host/surface/inspect.h"
 #include "host/surface/tolerance_fit.h"
 
 using namespace dg::host;
@@ -74,5 +75,16 @@ int main(int argc, char** argv) {
   std::printf("tolerance 0.02 mm on %zu points: %s, %d x %d control points, %d fits, max %.4f mm, %.3f s\n",
               c.points.size(), r.kept ? "kept" : "refused", r.surface.count_u, r.surface.count_v, r.iterations,
               r.max_distance_mm, seconds_since(t0));
+  {
+    // Inspection: points with no parameters of their own, against a 32 x 32 bicubic fit.
+    LsqSpec spec;
+    spec.knots_u = spec.knots_v = clamped_uniform_knots(32, 3);
+    const BSplineSurface s = fit_least_squares(c.points, p, nullptr, spec);
+    const auto t0 = std::chrono::steady_clock::now();
+    const Inspection r = inspect(c.points, s, {0.01});
+    std::printf("inspection of %zu points, 32x32 bicubic: %.3f s (%.0f ns/point), rms %.4f mm, max %.4f mm\n",
+                c.points.size(), seconds_since(t0), seconds_since(t0) * 1e9 / static_cast<double>(c.points.size()),
+                r.stats.rms, r.stats.max_abs);
+  }
   return 0;
 }

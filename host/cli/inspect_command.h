@@ -1,0 +1,19 @@
+// `digitizer inspect`: deviations of measured points from a surface, with statistics and bands.
+#pragma once
+#include <CLI/CLI.hpp>
+#include <string>
+#include <vector>
+
+namespace dg::host {
+
+struct InspectArgs {
+  std::string points, surface;
+  std::vector<double> bands_mm = {0.005, 0.01, 0.02, 0.05, 0.1, 0.5};
+  bool json = false;             // the summary as JSON on standard output
+  std::string deviations_csv;    // per point: x,y,z,deviation
+};
+
+CLI::App* add_inspect_command(CLI::App& app, InspectArgs& args);
+int run_inspect(const InspectArgs& args);
+
+}  // namespace dg::host
