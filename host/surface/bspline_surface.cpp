@@ -66,6 +66,14 @@ double greville(const std::vector<double>& knots, int degree, int i) {
   return sum / degree;
 }
 
+std::vector<double> distinct_knots(const std::vector<double>& knots, double lo, double hi) {
+  std::vector<double> distinct;
+  for (double k : knots) {
+    if (k >= lo && k <= hi && (distinct.empty() || k > distinct.back())) distinct.push_back(k);
+  }
+  return distinct;
+}
+
 bool is_valid(const BSplineSurface& s, std::string* why) {
   auto fail = [&](const std::string& text) {
     if (why) *why = text;

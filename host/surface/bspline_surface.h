@@ -30,6 +30,8 @@ std::vector<double> clamped_uniform_knots(int count, int degree);
 // The Greville abscissa of control point i: the mean of its degree interior knots. A B-spline whose
 // control values are a linear function of these abscissae is that linear function.
 double greville(const std::vector<double>& knots, int degree, int i);
+// The distinct knot values within [lo, hi], ascending: the ends of the non-empty spans.
+std::vector<double> distinct_knots(const std::vector<double>& knots, double lo, double hi);
 // Checks counts, degrees, knot order and lengths; the message says what is wrong.
 bool is_valid(const BSplineSurface& s, std::string* why);
 

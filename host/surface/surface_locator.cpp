@@ -11,10 +11,7 @@ namespace dg::host {
 namespace {
 
 std::vector<double> span_samples(const std::vector<double>& knots, double lo, double hi, int per_span) {
-  std::vector<double> distinct;
-  for (double k : knots) {
-    if (k >= lo && k <= hi && (distinct.empty() || k > distinct.back())) distinct.push_back(k);
-  }
+  const std::vector<double> distinct = distinct_knots(knots, lo, hi);
   const int spans = static_cast<int>(distinct.size()) - 1;
   per_span = std::max(1, std::min(per_span, 512 / std::max(1, spans)));
   std::vector<double> t;

@@ -12,10 +12,7 @@ namespace {
 
 // Parameters: every distinct knot in the domain, each span cut into `per_span` equal parts.
 std::vector<double> grid_parameters(const std::vector<double>& knots, double lo, double hi, int per_span) {
-  std::vector<double> distinct;
-  for (double k : knots) {
-    if (k >= lo && k <= hi && (distinct.empty() || k > distinct.back())) distinct.push_back(k);
-  }
+  const std::vector<double> distinct = distinct_knots(knots, lo, hi);
   std::vector<double> t;
   for (size_t s = 0; s + 1 < distinct.size(); ++s) {
     for (int k = 0; k < per_span; ++k) t.push_back(distinct[s] + (distinct[s + 1] - distinct[s]) * k / per_span);
