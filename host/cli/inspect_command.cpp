@@ -5,7 +5,11 @@
 #include <cstdio>
 
 #include "host/scan/point_reader.h"
+#include <ctime>
+
+#include "host/scan/scan_file.h"
 #include "host/surface/atomic_file.h"
+#include "host/surface/html_report.h"
 #include "host/surface/inspect.h"
 #include "host/surface/inspection_json.h"
 #include "host/surface/surface_json.h"
@@ -19,8 +23,65 @@ CLI::App* add_inspect_command(CLI::App& app, InspectArgs& a) {
   cmd->add_option("--band", a.bands_mm, "count the points within these deviations, mm")->capture_default_str()->check(CLI::PositiveNumber);
   cmd->add_flag("--json", a.json, "print the summary as JSON");
   cmd->add_option("--deviations", a.deviations_csv, "write x,y,z,deviation per point to this CSV");
+  cmd->add_option("-o,--report", a.report_html, "write a self-contained HTML report (and its pictures as PNG/SVG beside it)");
   return cmd;
 }
+
+namespace {
+
+// What a scan file says about how the points were measured.
+std::vector<std::string> scan_facts(const std::string& path) {
+  if (path.size() < 5 || path.compare(path.size() - 5, 5, ".scan") != 0) return {};
+  const ScanData data = read_scan_file(path);
+  std::vector<std::string> facts;
+  if (data.device) {
+    facts.push_back(std::string("device ") + data.device->device_id + " (" + data.device->board + ", firmware " +
+                    data.device->firmware_version + "), gauge resolution " + std::to_string(data.device->gauge_resolution_nm) + " nm");
+  }
+  char line[160];
+  if (data.request) {
+    std::snprintf(line, sizeof line, "grid x %.3f..%.3f mm, y %.3f..%.3f mm, steps %.3f x %.3f mm", data.request->x.min_nm * 1e-6,
+                  data.request->x.max_nm * 1e-6, data.request->y.min_nm * 1e-6, data.request->y.max_nm * 1e-6,
+                  data.request->step_x_nm * 1e-6, data.request->step_y_nm * 1e-6);
+    facts.push_back(line);
+  }
+  std::snprintf(line, sizeof line, "%zu points in %zu lines", data.points.size(), data.lines.size());
+  facts.push_back(line);
+  if (data.done) {
+    std::snprintf(line, sizeof line, "scan %s in %.1f s of device time",
+                  data.done->reason == digitizer_ScanEnd_SCAN_COMPLETED ? "completed" : "cut short",
+                  static_cast<double>(data.done->duration_us) * 1e-6);
+    facts.push_back(line);
+  }
+  return facts;
+}
+
+std::string without_extension(const std::string& path) {
+  const size_t dot = path.find_last_of('.'), slash = path.find_last_of('/');
+  return dot != std::string::npos && (slash == std::string::npos || dot > slash) ? path.substr(0, dot) : path;
+}
+
+void write_report(const InspectArgs& a, const Inspection& r, const SurfaceFile& surface) {
+  std::string svg;
+  ReportInputs in;
+  in.pictures = inspection_pictures(r, &svg);
+  const std::time_t now = std::time(nullptr);
+  char stamp[48];
+  std::strftime(stamp, sizeof stamp, "%Y-%m-%d %H:%M:%S UTC", std::gmtime(&now));
+  in.created = stamp;
+  in.points_file = a.points;
+  in.surface_file = a.surface;
+  in.scan_facts = scan_facts(a.points);
+  in.surface = &surface;
+  in.inspection = &r;
+  const std::string stem = without_extension(a.report_html);
+  const char* names[] = {"-deviation.png", "-error-x.png", "-error-y.png", "-error-z.png"};
+  for (size_t k = 0; k < in.pictures.size() && k < 4; ++k) write_file_atomically(stem + names[k], in.pictures[k].png);
+  write_file_atomically(stem + "-deviation.svg", svg);
+  write_file_atomically(a.report_html, html_report(in));
+}
+
+}  // namespace
 
 int run_inspect(const InspectArgs& a) {
   const PointCloud cloud = read_points(a.points);
@@ -37,6 +98,7 @@ int run_inspect(const InspectArgs& a) {
     }
     write_file_atomically(a.deviations_csv, text);
   }
+  if (!a.report_html.empty()) write_report(a, r, surface);
   if (a.json) {
     std::fputs(inspection_json_text(r, a.points, a.surface).c_str(), stdout);
     return 0;
@@ -48,6 +110,10 @@ int run_inspect(const InspectArgs& a) {
               s.stddev, s.rms, s.max, s.min);
   for (const Band& b : r.bands) std::printf("within %.4f mm: %zu points (%.1f %%)\n", b.limit_mm, b.count, 100.0 * b.share);
   if (!a.deviations_csv.empty()) std::printf("wrote %s\n", a.deviations_csv.c_str());
+  if (!a.report_html.empty()) {
+    std::printf("wrote %s (pictures beside it: %s-deviation.png/.svg, -error-x/y/z.png)\n", a.report_html.c_str(),
+                without_extension(a.report_html).c_str());
+  }
   return 0;
 }
 

@@ -11,6 +11,7 @@ struct InspectArgs {
   std::vector<double> bands_mm = {0.005, 0.01, 0.02, 0.05, 0.1, 0.5};
   bool json = false;             // the summary as JSON on standard output
   std::string deviations_csv;    // per point: x,y,z,deviation
+  std::string report_html;       // the report, with its pictures beside it
 };
 
 CLI::App* add_inspect_command(CLI::App& app, InspectArgs& args);

@@ -1,7 +1,9 @@
 // Temporary file and rename: readers see the old file or the new one, never a part.
 #include "host/surface/atomic_file.h"
 
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <stdexcept>
 
@@ -11,7 +13,7 @@ void write_file_atomically(const std::string& path, const std::string& bytes) {
   const std::string temporary = path + ".part";
   {
     std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error(path + ": cannot create");
+    if (!out) throw std::runtime_error(path + ": cannot create: " + std::strerror(errno));
     out << bytes;
     out.flush();
     if (!out) throw std::runtime_error(path + ": write failed");
