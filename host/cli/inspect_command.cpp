@@ -10,6 +10,8 @@
 #include "host/scan/scan_file.h"
 #include "host/surface/atomic_file.h"
 #include "host/surface/html_report.h"
+#include "host/surface/iges_reader.h"
+#include "host/surface/rigid_align.h"
 #include "host/surface/inspect.h"
 #include "host/surface/inspection_json.h"
 #include "host/surface/surface_json.h"
@@ -19,19 +21,26 @@ namespace dg::host {
 CLI::App* add_inspect_command(CLI::App& app, InspectArgs& a) {
   CLI::App* cmd = app.add_subcommand("inspect", "deviations of measured points from a surface (orthogonal, signed)");
   cmd->add_option("points", a.points, ".csv, .xyz, .ply or .scan points in mm")->required()->check(CLI::ExistingFile);
-  cmd->add_option("surface", a.surface, "SURF.json")->required()->check(CLI::ExistingFile);
+  cmd->add_option("surface", a.surface, "SURF.json, or a nominal surface as IGES (.igs: its first entity 128)")
+      ->required()->check(CLI::ExistingFile);
   cmd->add_option("--band", a.bands_mm, "count the points within these deviations, mm")->capture_default_str()->check(CLI::PositiveNumber);
   cmd->add_flag("--json", a.json, "print the summary as JSON");
   cmd->add_option("--deviations", a.deviations_csv, "write x,y,z,deviation per point to this CSV");
+  cmd->add_flag("--align", a.align, "rigid best-fit alignment of the points to the surface before measuring");
   cmd->add_option("-o,--report", a.report_html, "write a self-contained HTML report (and its pictures as PNG/SVG beside it)");
   return cmd;
 }
 
 namespace {
 
+bool ends_with(const std::string& text, const char* suffix) {
+  const std::string s = suffix;
+  return text.size() >= s.size() && text.compare(text.size() - s.size(), s.size(), s) == 0;
+}
+
 // What a scan file says about how the points were measured.
 std::vector<std::string> scan_facts(const std::string& path) {
-  if (path.size() < 5 || path.compare(path.size() - 5, 5, ".scan") != 0) return {};
+  if (!ends_with(path, ".scan")) return {};
   const ScanData data = read_scan_file(path);
   std::vector<std::string> facts;
   if (data.device) {
@@ -61,7 +70,7 @@ std::string without_extension(const std::string& path) {
   return dot != std::string::npos && (slash == std::string::npos || dot > slash) ? path.substr(0, dot) : path;
 }
 
-void write_report(const InspectArgs& a, const Inspection& r, const SurfaceFile& surface) {
+void write_report(const InspectArgs& a, const Inspection& r, const SurfaceFile& surface, const std::string& alignment) {
   std::string svg;
   ReportInputs in;
   in.pictures = inspection_pictures(r, &svg);
@@ -72,6 +81,7 @@ void write_report(const InspectArgs& a, const Inspection& r, const SurfaceFile& 
   in.points_file = a.points;
   in.surface_file = a.surface;
   in.scan_facts = scan_facts(a.points);
+  if (!alignment.empty()) in.scan_facts.push_back(alignment);
   in.surface = &surface;
   in.inspection = &r;
   const std::string stem = without_extension(a.report_html);
@@ -84,8 +94,29 @@ void write_report(const InspectArgs& a, const Inspection& r, const SurfaceFile& 
 }  // namespace
 
 int run_inspect(const InspectArgs& a) {
-  const PointCloud cloud = read_points(a.points);
-  const SurfaceFile surface = read_surface_json(a.surface);
+  PointCloud cloud = read_points(a.points);
+  SurfaceFile surface;
+  if (ends_with(a.surface, ".igs") || ends_with(a.surface, ".iges")) {
+    surface.surface = read_iges_surface(a.surface);
+    surface.model = "bspline";
+    surface.method = "nominal (IGES)";
+    surface.parameterization = "-";
+    surface.source = a.surface;
+  } else {
+    surface = read_surface_json(a.surface);
+  }
+  std::string alignment;
+  if (a.align) {
+    const Alignment fit = align_to_surface(cloud.points, SurfaceLocator(surface.surface));
+    for (Point3& p : cloud.points) p = fit.transform.apply(p);
+    char text[256];
+    std::snprintf(text, sizeof text,
+                  "aligned by a rigid best fit: rotation %.4f deg, translation (%.4f, %.4f, %.4f) mm, RMS %.4f -> %.4f mm "
+                  "in %d steps%s",
+                  fit.transform.angle_deg(), fit.transform.translation.x, fit.transform.translation.y, fit.transform.translation.z,
+                  fit.rms_before_mm, fit.rms_after_mm, fit.iterations, fit.converged ? "" : " (not converged)");
+    alignment = text;
+  }
   std::vector<double> bands = a.bands_mm;
   std::sort(bands.begin(), bands.end());
   const Inspection r = inspect(cloud.points, surface.surface, bands);
@@ -98,12 +129,13 @@ int run_inspect(const InspectArgs& a) {
     }
     write_file_atomically(a.deviations_csv, text);
   }
-  if (!a.report_html.empty()) write_report(a, r, surface);
+  if (!a.report_html.empty()) write_report(a, r, surface, alignment);
   if (a.json) {
     std::fputs(inspection_json_text(r, a.points, a.surface).c_str(), stdout);
     return 0;
   }
   const DistanceStats& s = r.stats;
+  if (!alignment.empty()) std::printf("%s\n", alignment.c_str());
   std::printf("%zu points against %s (%s, %d x %d control points)\n", s.count, a.surface.c_str(), surface.model.c_str(),
               surface.surface.count_u, surface.surface.count_v);
   std::printf("orthogonal deviation: mean %.4f median %.4f std %.4f rms %.4f max %.4f min %.4f mm\n", s.mean, s.median,

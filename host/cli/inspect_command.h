@@ -12,6 +12,7 @@ struct InspectArgs {
   bool json = false;             // the summary as JSON on standard output
   std::string deviations_csv;    // per point: x,y,z,deviation
   std::string report_html;       // the report, with its pictures beside it
+  bool align = false;            // rigid best fit of the points to the surface first
 };
 
 CLI::App* add_inspect_command(CLI::App& app, InspectArgs& args);

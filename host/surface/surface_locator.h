@@ -16,6 +16,7 @@ class SurfaceLocator {
   // The closest surface point to p: Gauss-Newton from the nearest sample and from the nearest
   // sample of a different region when one is about as near, keeping the better.
   Closest closest(const Point3& p) const;
+  const BSplineSurface& surface() const { return surface_; }
 
  private:
   struct Sample {
