@@ -64,6 +64,19 @@ void write_points_csv(const std::string& path, const std::vector<PointSample>& p
   finish(std::move(f), path);
 }
 
+void write_points_xyz(const std::string& path, const std::vector<PointSample>& points) {
+  File f = open_for_writing(path, "w");
+  for (const PointSample& p : points) {
+    print_mm(f.get(), p.x_nm);
+    std::fputc(' ', f.get());
+    print_mm(f.get(), p.y_nm);
+    std::fputc(' ', f.get());
+    print_mm(f.get(), p.z_nm);
+    std::fputc('\n', f.get());
+  }
+  finish(std::move(f), path);
+}
+
 void write_points_ply(const std::string& path, const std::vector<PointSample>& points) {
   File f = open_for_writing(path, "wb");
   std::fprintf(f.get(),
@@ -105,7 +118,8 @@ void write_cloud_csv(const std::string& path, const std::vector<Point3>& points,
 void write_points(const std::string& path, const std::vector<PointSample>& points) {
   if (ends_with(path, ".csv")) return write_points_csv(path, points);
   if (ends_with(path, ".ply")) return write_points_ply(path, points);
-  throw std::invalid_argument(path + ": unknown point format (use .csv or .ply)");
+  if (ends_with(path, ".xyz")) return write_points_xyz(path, points);
+  throw std::invalid_argument(path + ": unknown point format (use .csv, .xyz or .ply)");
 }
 
 }  // namespace dg::host

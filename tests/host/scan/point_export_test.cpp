@@ -47,6 +47,17 @@ TEST(PointExport, CsvIsExactToTheNanometre) {
   std::remove(path.c_str());
 }
 
+TEST(PointExport, XyzIsExactAndReadsBack) {
+  const std::string path = temp_path("p.xyz");
+  dg::host::write_points(path, sample_points());
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  STRCMP_EQUAL("1.500000 -0.000001 -12.345678\n0.000000 0.000000 0.000000\n2147.483647 0.000000 0.000000\n",
+               text.str().c_str());
+  std::remove(path.c_str());
+}
+
 TEST(PointExport, PlyHeaderMatchesBody) {
   const std::string path = temp_path("p.ply");
   dg::host::write_points(path, sample_points());
