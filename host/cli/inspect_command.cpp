@@ -12,6 +12,7 @@
 #include "host/surface/html_report.h"
 #include "host/surface/iges_reader.h"
 #include "host/surface/rigid_align.h"
+#include "host/surface/step_reader.h"
 #include "host/surface/inspect.h"
 #include "host/surface/inspection_json.h"
 #include "host/surface/surface_json.h"
@@ -21,7 +22,7 @@ namespace dg::host {
 CLI::App* add_inspect_command(CLI::App& app, InspectArgs& a) {
   CLI::App* cmd = app.add_subcommand("inspect", "deviations of measured points from a surface (orthogonal, signed)");
   cmd->add_option("points", a.points, ".csv, .xyz, .ply or .scan points in mm")->required()->check(CLI::ExistingFile);
-  cmd->add_option("surface", a.surface, "SURF.json, or a nominal surface as IGES (.igs: its first entity 128)")
+  cmd->add_option("surface", a.surface, "SURF.json, or a nominal surface from CAD: IGES (.igs, its first entity 128) or STEP (.stp)")
       ->required()->check(CLI::ExistingFile);
   cmd->add_option("--band", a.bands_mm, "count the points within these deviations, mm")->capture_default_str()->check(CLI::PositiveNumber);
   cmd->add_flag("--json", a.json, "print the summary as JSON");
@@ -96,10 +97,12 @@ void write_report(const InspectArgs& a, const Inspection& r, const SurfaceFile& 
 int run_inspect(const InspectArgs& a) {
   PointCloud cloud = read_points(a.points);
   SurfaceFile surface;
-  if (ends_with(a.surface, ".igs") || ends_with(a.surface, ".iges")) {
-    surface.surface = read_iges_surface(a.surface);
+  const bool iges = ends_with(a.surface, ".igs") || ends_with(a.surface, ".iges");
+  const bool step = ends_with(a.surface, ".stp") || ends_with(a.surface, ".step");
+  if (iges || step) {
+    surface.surface = iges ? read_iges_surface(a.surface) : read_step_surface(a.surface);
     surface.model = "bspline";
-    surface.method = "nominal (IGES)";
+    surface.method = iges ? "nominal (IGES)" : "nominal (STEP)";
     surface.parameterization = "-";
     surface.source = a.surface;
   } else {
