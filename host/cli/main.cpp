@@ -19,6 +19,8 @@
 #include "host/scan/point_reader.h"
 #include "host/scan/segment.h"
 #include "host/scan/scan_file.h"
+#include "host/surface/bspline_curve.h"
+#include "host/surface/clamp.h"
 #include "host/surface/device_fit_surface.h"
 #include "host/surface/iges_writer.h"
 #include "host/surface/mesh_writer.h"
@@ -176,7 +178,7 @@ bool ends_with(const std::string& text, const char* suffix) {
 }
 
 // A surface file to CAD (IGES 5.3 entity 128, STEP AP214) or a mesh (STL, OBJ, PLY), in millimetres.
-int run_export_surface(const std::string& input, const std::string& output, double chord_mm) {
+int run_export_surface(const std::string& input, const std::string& output, double chord_mm, bool edges) {
   const SurfaceFile surface = read_surface_json(input);
   const bool iges = ends_with(output, ".igs") || ends_with(output, ".iges");
   const bool step = ends_with(output, ".stp") || ends_with(output, ".step");
@@ -189,6 +191,23 @@ int run_export_surface(const std::string& input, const std::string& output, doub
   }
   if (!iges && !step) {
     throw std::invalid_argument("a surface exports to .igs/.iges, .stp/.step, .stl, .obj or .ply (got " + output + ")");
+  }
+  if (edges) {
+    // The four edges as curves: IGES entity 126 or a STEP curve set, for trimming or sketching in CAD.
+    const std::vector<BSplineCurve> curves = boundary_curves(clamp_ends(surface.surface));
+    const size_t slash_at = output.find_last_of('/');
+    const std::string file = slash_at == std::string::npos ? output : output.substr(slash_at + 1);
+    if (iges) {
+      IgesOptions options;
+      options.file_name = file;
+      write_iges_curves(output, curves, options);
+    } else {
+      StepOptions options;
+      options.file_name = file;
+      write_step_curves(output, curves, options);
+    }
+    std::printf("wrote the surface's 4 edges as B-spline curves to %s\n", output.c_str());
+    return kExitOk;
   }
   const size_t slash = output.find_last_of('/');
   const std::string name = slash == std::string::npos ? output : output.substr(slash + 1);
@@ -213,8 +232,9 @@ int run_export_surface(const std::string& input, const std::string& output, doub
   return kExitOk;
 }
 
-int run_export(const std::string& input, const std::string& output, double chord_mm) {
-  if (ends_with(input, ".json")) return run_export_surface(input, output, chord_mm);
+int run_export(const std::string& input, const std::string& output, double chord_mm, bool edges) {
+  if (ends_with(input, ".json")) return run_export_surface(input, output, chord_mm, edges);
+  if (edges) throw std::invalid_argument("--edges exports a surface's edges: give a SURF.json");
   const ScanData data = read_scan_file(input);
   for (const auto& w : data.warnings) std::fprintf(stderr, "digitizer: warning: %s\n", w.c_str());
   write_points(output, data.points);
@@ -331,6 +351,8 @@ int main(int argc, char** argv) {
   double export_chord_mm = 0.01;
   export_cmd->add_option("--chord", export_chord_mm, "meshes: largest distance from the surface to its triangles, mm")
       ->capture_default_str()->check(CLI::PositiveNumber);
+  bool export_edges = false;
+  export_cmd->add_flag("--edges", export_edges, "IGES/STEP: write the surface's four edges as B-spline curves instead");
 
   std::string segment_in, segment_out;
   double segment_ratio = 2.0, segment_turn = 60.0;
@@ -374,7 +396,7 @@ int main(int argc, char** argv) {
   }
   try {
     if (*scan_cmd) return run_scan(scan);
-    if (*export_cmd) return run_export(export_in, export_out, export_chord_mm);
+    if (*export_cmd) return run_export(export_in, export_out, export_chord_mm, export_edges);
     if (*pull_cmd) return run_pull(pull);
     if (*info_cmd) return run_info(info_in);
     if (*segment_cmd) return run_segment(segment_in, segment_out, segment_ratio, segment_turn);

@@ -60,17 +60,18 @@ std::string section_line(const std::string& data72, char section, int sequence) 
 
 }  // namespace
 
-std::string iges_text(const BSplineSurface& s, const IgesOptions& options) {
-  std::string why;
-  if (!is_valid(s, &why)) throw std::invalid_argument("cannot write this surface as IGES: " + why);
-  double max_coordinate = 0;
-  for (const Point3& p : s.control) {
-    max_coordinate = std::fmax(max_coordinate, std::fmax(std::fabs(p.x), std::fmax(std::fabs(p.y), std::fabs(p.z))));
-  }
+namespace {
 
-  std::string out;
-  out += section_line("Bench digitizer: a B-spline surface fitted to measured points, mm", 'S', 1);
+struct Entity {
+  int type;
+  std::string label;
+  std::vector<std::string> parameters;
+};
 
+// The whole file for a list of independent geometry entities.
+std::string document(const std::vector<Entity>& entities, double max_coordinate, const IgesOptions& options,
+                     const std::string& start) {
+  std::string out = section_line(start, 'S', 1);
   const std::vector<std::string> global = {
       "1H,", "1H;", hollerith(options.file_name), hollerith(options.file_name), hollerith("bench digitizer"),
       hollerith("bench digitizer IGES writer 1"), "32", "38", "6", "308", "15", hollerith(options.file_name),
@@ -79,10 +80,43 @@ std::string iges_text(const BSplineSurface& s, const IgesOptions& options) {
       hollerith(options.timestamp)};
   int g = 0;
   for (const std::string& line : pack(global, 72)) out += section_line(line, 'G', ++g);
+  // Directory entries: two lines of nine 8-column fields each. Status 00000000: visible,
+  // independent, geometry. Parameter lines carry their entry's directory line in columns 66-72.
+  auto field = [](const std::string& v) { return right(v, 8); };
+  std::string directory, parameters;
+  int d = 0, p = 0;
+  for (const Entity& e : entities) {
+    const std::vector<std::string> lines = pack(e.parameters, 64);
+    const int first_d = d + 1;
+    directory += section_line(field(std::to_string(e.type)) + field(std::to_string(p + 1)) + field("0") + field("0") +
+                                  field("0") + field("0") + field("0") + field("0") + "00000000",
+                              'D', ++d);
+    directory += section_line(field(std::to_string(e.type)) + field("0") + field("0") + field(std::to_string(lines.size())) +
+                                  field("0") + field("") + field("") + field(e.label) + field("0"),
+                              'D', ++d);
+    for (const std::string& line : lines) parameters += section_line(pad(line, 64) + right(std::to_string(first_d), 8), 'P', ++p);
+  }
+  out += directory + parameters;
+  char terminate[73];
+  std::snprintf(terminate, sizeof terminate, "S%7dG%7dD%7dP%7d", 1, g, d, p);
+  out += section_line(terminate, 'T', 1);
+  return out;
+}
 
+double largest_coordinate(const std::vector<Point3>& points, double so_far) {
+  for (const Point3& p : points) so_far = std::fmax(so_far, std::fmax(std::fabs(p.x), std::fmax(std::fabs(p.y), std::fabs(p.z))));
+  return so_far;
+}
+
+}  // namespace
+
+std::string iges_text(const BSplineSurface& s, const IgesOptions& options) {
+  std::string why;
+  if (!is_valid(s, &why)) throw std::invalid_argument("cannot write this surface as IGES: " + why);
   // Entity 128: K1, K2, M1, M2, PROP1..5, knots, weights, control points (u index fastest), bounds.
-  std::vector<std::string> p = {"128", std::to_string(s.count_u - 1), std::to_string(s.count_v - 1),
-                                std::to_string(s.degree_u), std::to_string(s.degree_v), "0", "0", "1", "0", "0"};
+  Entity e{128, "SURFACE", {"128", std::to_string(s.count_u - 1), std::to_string(s.count_v - 1), std::to_string(s.degree_u),
+                            std::to_string(s.degree_v), "0", "0", "1", "0", "0"}};
+  auto& p = e.parameters;
   for (double k : s.knots_u) p.push_back(iges_real(k));
   for (double k : s.knots_v) p.push_back(iges_real(k));
   for (size_t i = 0; i < s.control.size(); ++i) p.push_back("1.");
@@ -98,25 +132,38 @@ std::string iges_text(const BSplineSurface& s, const IgesOptions& options) {
   p.push_back(iges_real(s.u_max()));
   p.push_back(iges_real(s.v_min()));
   p.push_back(iges_real(s.v_max()));
-  const std::vector<std::string> parameter_lines = pack(p, 64);
+  return document({e}, largest_coordinate(s.control, 0), options, "Bench digitizer: a B-spline surface fitted to measured points, mm");
+}
 
-  // Directory entry: two lines of nine 8-column fields. Status 00000000: visible, independent,
-  // geometry, its own level.
-  auto field = [](const std::string& v) { return right(v, 8); };
-  const std::string de1 = field("128") + field("1") + field("0") + field("0") + field("0") + field("0") + field("0") +
-                          field("0") + "00000000";
-  const std::string de2 = field("128") + field("0") + field("0") + field(std::to_string(parameter_lines.size())) +
-                          field("0") + field("") + field("") + field("SURFACE") + field("0");
-  out += section_line(de1, 'D', 1);
-  out += section_line(de2, 'D', 2);
+std::string iges_curves_text(const std::vector<BSplineCurve>& curves, const IgesOptions& options) {
+  std::vector<Entity> entities;
+  double largest = 0;
+  for (const BSplineCurve& c : curves) {
+    const int n = static_cast<int>(c.control.size());
+    if (c.degree < 1 || n <= c.degree || c.knots.size() != static_cast<size_t>(n + c.degree + 1)) {
+      throw std::invalid_argument("cannot write a curve as IGES: its knots, degree and control points disagree");
+    }
+    // Entity 126: K, M, PROP1..4 (planar, closed, polynomial, periodic), knots, weights, control
+    // points, parameter range, and the unit normal (unused for a non-planar curve).
+    Entity e{126, "CURVE", {"126", std::to_string(n - 1), std::to_string(c.degree), "0", "0", "1", "0"}};
+    for (double k : c.knots) e.parameters.push_back(iges_real(k));
+    for (int i = 0; i < n; ++i) e.parameters.push_back("1.");
+    for (const Point3& q : c.control) {
+      e.parameters.push_back(iges_real(q.x));
+      e.parameters.push_back(iges_real(q.y));
+      e.parameters.push_back(iges_real(q.z));
+    }
+    for (const char* v : {"", "", "0.", "0.", "1."}) e.parameters.push_back(v);
+    e.parameters[e.parameters.size() - 5] = iges_real(c.t_min());
+    e.parameters[e.parameters.size() - 4] = iges_real(c.t_max());
+    entities.push_back(e);
+    largest = largest_coordinate(c.control, largest);
+  }
+  return document(entities, largest, options, "Bench digitizer: B-spline curves, mm");
+}
 
-  int sequence = 0;
-  for (const std::string& line : parameter_lines) out += section_line(pad(line, 64) + right("1", 8), 'P', ++sequence);
-
-  char terminate[73];
-  std::snprintf(terminate, sizeof terminate, "S%7dG%7dD%7dP%7d", 1, g, 2, sequence);
-  out += section_line(terminate, 'T', 1);
-  return out;
+void write_iges_curves(const std::string& path, const std::vector<BSplineCurve>& curves, const IgesOptions& options) {
+  write_file_atomically(path, iges_curves_text(curves, options));
 }
 
 void write_iges(const std::string& path, const BSplineSurface& surface, const IgesOptions& options) {

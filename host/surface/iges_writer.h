@@ -1,7 +1,10 @@
-// IGES 5.3 output of a B-spline surface: entity 128 (rational B-spline surface) in millimetres.
+// IGES 5.3 output in millimetres: a B-spline surface as entity 128, curves as entity 126.
 #pragma once
 #include <string>
 
+#include <vector>
+
+#include "host/surface/bspline_curve.h"
 #include "host/surface/bspline_surface.h"
 
 namespace dg::host {
@@ -20,6 +23,10 @@ struct IgesOptions {
 // for a surface that is_valid() rejects.
 std::string iges_text(const BSplineSurface& surface, const IgesOptions& options);
 void write_iges(const std::string& path, const BSplineSurface& surface, const IgesOptions& options);
+
+// Curves as entity 126 (rational B-spline curve, all weights 1, marked polynomial and non-planar).
+std::string iges_curves_text(const std::vector<BSplineCurve>& curves, const IgesOptions& options);
+void write_iges_curves(const std::string& path, const std::vector<BSplineCurve>& curves, const IgesOptions& options);
 
 // An IGES real: shortest round-trip digits with a decimal point and an upper-case exponent.
 std::string iges_real(double value);

@@ -1,8 +1,11 @@
-// STEP (ISO 10303-21, AP214) output of a B-spline surface: B_SPLINE_SURFACE_WITH_KNOTS as the face
-// of an open shell in a shell-based surface model, in millimetres.
+// STEP (ISO 10303-21, AP214) output in millimetres: a B-spline surface as the face of an open shell
+// in a shell-based surface model, or B-spline curves as a geometric curve set.
 #pragma once
 #include <string>
 
+#include <vector>
+
+#include "host/surface/bspline_curve.h"
 #include "host/surface/bspline_surface.h"
 
 namespace dg::host {
@@ -18,5 +21,9 @@ struct StepOptions {
 // B-spline curves bounding one ADVANCED_FACE. Throws std::invalid_argument for an invalid surface.
 std::string step_text(const BSplineSurface& surface, const StepOptions& options);
 void write_step(const std::string& path, const BSplineSurface& surface, const StepOptions& options);
+
+// Curves as B_SPLINE_CURVE_WITH_KNOTS in a GEOMETRIC_CURVE_SET (a wireframe representation).
+std::string step_curves_text(const std::vector<BSplineCurve>& curves, const StepOptions& options);
+void write_step_curves(const std::string& path, const std::vector<BSplineCurve>& curves, const StepOptions& options);
 
 }  // namespace dg::host
