@@ -37,4 +37,15 @@ inline host::BSplineSurface unclamped_sample() {
   return s;
 }
 
+// One bicubic Bezier patch (knots 0,0,0,0,1,1,1,1), as `fit --model bezier` writes it.
+inline host::BSplineSurface bezier_sample() {
+  host::BSplineSurface s;
+  s.count_u = s.count_v = 4;
+  s.knots_u = s.knots_v = {0, 0, 0, 0, 1, 1, 1, 1};
+  for (int i = 0; i < 4; ++i) {
+    for (int j = 0; j < 4; ++j) s.control.push_back({12.0 * i, 10.0 * j, 4.0 + ((i == 1 || i == 2) && (j == 1 || j == 2) ? 3.0 : 0.5 * i)});
+  }
+  return s;
+}
+
 }  // namespace dg::test

@@ -67,6 +67,8 @@ TEST(IgesOcct, OpenCascadeReadsAFittedNetAndEvaluatesItToOurPoints) { check_roun
 
 TEST(IgesOcct, OpenCascadeReadsTheDevicesUnclampedNet) { check_round_trip(dg::test::unclamped_sample()); }
 
+TEST(IgesOcct, OpenCascadeReadsABezierPatch) { check_round_trip(dg::test::bezier_sample()); }
+
 TEST(IgesOcct, WritesTheFixedColumnLayout) {
   const std::string text = iges_text(dg::test::clamped_sample(), IgesOptions{});
   size_t start = 0, lines = 0;

@@ -67,6 +67,8 @@ TEST(StepOcct, OpenCascadeReadsAFittedNetAsOneFace) { check_round_trip(dg::test:
 
 TEST(StepOcct, OpenCascadeReadsTheDevicesUnclampedNetAfterClamping) { check_round_trip(dg::test::unclamped_sample()); }
 
+TEST(StepOcct, OpenCascadeReadsABezierPatch) { check_round_trip(dg::test::bezier_sample()); }
+
 TEST(StepOcct, OurReaderReadsAStepFileOpenCascadeWrote) {
   // A surface built in OCCT (our sample's poles and knots), written by OCCT's STEP writer, read by
   // ours: a foreign file, not our own writer's layout.
