@@ -1,0 +1,177 @@
+// The reliable link over frames: every data frame numbered, cumulative acknowledgements,
+// retransmission after a timeout (go-back-N), duplicates and out-of-order frames discarded, a
+// bounded window that pushes back on the sender. The same class runs on the device and the host;
+// it holds no heap memory and throws nothing.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+
+#include "common/link/frame.h"
+#include "common/status.h"
+
+namespace dg {
+
+struct LinkCounters {
+  uint32_t sent = 0;              // data frames sent the first time
+  uint32_t retransmitted = 0;     // data frames sent again
+  uint32_t delivered = 0;         // payloads handed up, in order, once each
+  uint32_t duplicates = 0;        // frames already delivered, dropped
+  uint32_t out_of_order = 0;      // frames after a gap, dropped (the sender resends them)
+  uint32_t acks_sent = 0;         // ack-only frames
+};
+
+// kWindow frames may be unacknowledged at once; each holds up to kFrameMaxPayload bytes.
+template <size_t kWindow>
+class ReliableLink {
+ public:
+  // A power of two divides 2^16, so the slots of any kWindow consecutive sequence numbers differ,
+  // across the wrap from 65535 to 0 too.
+  static_assert(kWindow >= 1 && kWindow <= 16384 && (kWindow & (kWindow - 1)) == 0, "the window must be a power of two");
+
+  explicit ReliableLink(uint32_t retransmit_us = 50000) : retransmit_us_(retransmit_us) {}
+
+  // Forgets everything in flight and starts numbering again (a new session).
+  void reset() {
+    next_seq_ = 1;
+    oldest_ = 1;
+    count_ = 0;
+    rx_expected_ = 1;
+    ack_owed_ = false;
+    resending_ = false;
+    counters_ = LinkCounters{};
+  }
+
+  bool window_full() const { return count_ == kWindow; }
+  bool all_acknowledged() const { return count_ == 0; }
+  size_t in_flight() const { return count_; }
+  const LinkCounters& counters() const { return counters_; }
+
+  // Queues a payload as the next data frame. kBusy when the window is full: try again once
+  // acknowledgements have made room. kOverflow for a payload larger than a frame holds.
+  Status send(const uint8_t* payload, size_t size, uint64_t now_us) {
+    if (size > kFrameMaxPayload) return Status::kOverflow;
+    if (window_full()) return Status::kBusy;
+    Slot& slot = slots_[index(next_seq_)];
+    for (size_t i = 0; i < size; ++i) slot.payload[i] = payload[i];
+    slot.size = size;
+    slot.seq = next_seq_;
+    slot.sent = false;
+    slot.sent_us = now_us;
+    ++next_seq_;
+    ++count_;
+    return Status::kOk;
+  }
+
+  // A decoded frame from the other side. Returns true when its payload is new and in order: the
+  // caller hands it up. The ack field frees our acknowledged frames either way.
+  bool receive(const FrameHeader& header) {
+    acknowledge(header.ack);
+    if (header.kind != FrameKind::kData) return false;
+    ack_owed_ = true;  // every data frame is answered, so a lost ack is repaired by the next one
+    if (header.seq == rx_expected_) {
+      ++rx_expected_;
+      ++counters_.delivered;
+      return true;
+    }
+    // Behind: already delivered (our ack was lost). Ahead: a frame before it was lost.
+    if (static_cast<int16_t>(header.seq - rx_expected_) < 0) ++counters_.duplicates;
+    else ++counters_.out_of_order;
+    return false;
+  }
+
+  // The next frame to put on the wire, if any is due: a retransmission (all unacknowledged frames
+  // from the oldest, once its timer has run out), then new frames, then an ack-only frame when an
+  // acknowledgement is owed. The caller transmits `wire` completely before asking again.
+  bool next_frame(uint64_t now_us, uint8_t* wire, size_t capacity, size_t* wire_size) {
+    if (count_ > 0 && !resending_) {
+      const Slot& oldest = slots_[index(oldest_)];
+      if (oldest.sent && now_us - oldest.sent_us >= retransmit_us_) {
+        resending_ = true;
+        resend_next_ = oldest_;
+      }
+    }
+    if (resending_) {
+      if (in_window(resend_next_) && slots_[index(resend_next_)].sent) {
+        Slot& slot = slots_[index(resend_next_)];
+        if (!encode_data(slot, wire, capacity, wire_size)) return false;
+        ++counters_.retransmitted;
+        slot.sent_us = now_us;
+        ++resend_next_;
+        return true;
+      }
+      resending_ = false;
+    }
+    for (uint16_t seq = oldest_; in_window(seq); ++seq) {
+      Slot& slot = slots_[index(seq)];
+      if (slot.sent) continue;
+      if (!encode_data(slot, wire, capacity, wire_size)) return false;
+      ++counters_.sent;
+      slot.sent = true;
+      slot.sent_us = now_us;
+      return true;
+    }
+    if (!ack_owed_) return false;
+    FrameHeader header;
+    header.kind = FrameKind::kAckOnly;
+    header.ack = static_cast<uint16_t>(rx_expected_ - 1);
+    if (frame_encode(header, nullptr, 0, wire, capacity, wire_size) != Status::kOk) return false;
+    ack_owed_ = false;
+    ++counters_.acks_sent;
+    return true;
+  }
+
+  // When next_frame() may next have something without new input: the oldest frame's timer.
+  uint64_t next_deadline_us(uint64_t never) const {
+    if (count_ == 0) return never;
+    const Slot& oldest = slots_[index(oldest_)];
+    return oldest.sent ? oldest.sent_us + retransmit_us_ : 0;
+  }
+
+ private:
+  struct Slot {
+    uint8_t payload[kFrameMaxPayload];
+    size_t size = 0;
+    uint16_t seq = 0;
+    bool sent = false;
+    uint64_t sent_us = 0;
+  };
+
+  static size_t index(uint16_t seq) { return seq % kWindow; }
+  // seq is queued and not yet acknowledged.
+  bool in_window(uint16_t seq) const {
+    const int16_t from_oldest = static_cast<int16_t>(seq - oldest_);
+    return from_oldest >= 0 && static_cast<size_t>(from_oldest) < count_;
+  }
+  bool encode_data(const Slot& slot, uint8_t* wire, size_t capacity, size_t* wire_size) {
+    FrameHeader header;
+    header.kind = FrameKind::kData;
+    header.seq = slot.seq;
+    header.ack = static_cast<uint16_t>(rx_expected_ - 1);
+    if (frame_encode(header, slot.payload, slot.size, wire, capacity, wire_size) != Status::kOk) return false;
+    ack_owed_ = false;  // the frame carries the ack
+    return true;
+  }
+
+  // Frees every frame up to and including `ack` (cumulative); acks outside the window are stale.
+  void acknowledge(uint16_t ack) {
+    const int16_t ahead = static_cast<int16_t>(ack - oldest_);
+    if (ahead < 0 || static_cast<size_t>(ahead) >= count_) return;
+    const uint16_t freed = static_cast<uint16_t>(ahead + 1);
+    oldest_ = static_cast<uint16_t>(oldest_ + freed);
+    count_ -= freed;
+    if (resending_ && static_cast<int16_t>(resend_next_ - oldest_) < 0) resend_next_ = oldest_;
+  }
+
+  Slot slots_[kWindow];
+  uint32_t retransmit_us_;
+  uint16_t next_seq_ = 1;     // seq of the next new frame
+  uint16_t oldest_ = 1;       // seq of the oldest unacknowledged frame
+  size_t count_ = 0;          // frames in the window
+  uint16_t rx_expected_ = 1;  // the seq we deliver next
+  bool ack_owed_ = false;
+  bool resending_ = false;    // going back over the window after a timeout
+  uint16_t resend_next_ = 0;  // the next seq to resend while resending_
+  LinkCounters counters_{};
+};
+
+}  // namespace dg

@@ -1,0 +1,172 @@
+// The reliable link in isolation: two endpoints over a channel that loses, duplicates, reorders
+// and corrupts frames; every payload must arrive exactly once, in order.
+#include "common/link/reliable_link.h"
+
+#include <CppUTest/TestHarness.h>
+
+#include <cstring>
+#include <deque>
+#include <random>
+#include <vector>
+
+namespace {
+
+using Link = dg::ReliableLink<4>;
+
+struct Faults {
+  double drop = 0, duplicate = 0, reorder = 0, corrupt_byte = 0;
+};
+
+// One direction of the wire: frames in flight, with faults applied as they enter.
+class Channel {
+ public:
+  Channel(Faults faults, unsigned seed) : faults_(faults), rng_(seed) {}
+  void put(const uint8_t* wire, size_t size) {
+    std::vector<uint8_t> frame(wire, wire + size);
+    if (chance(faults_.drop)) return;
+    for (auto& b : frame)
+      if (chance(faults_.corrupt_byte)) b ^= static_cast<uint8_t>(1 + rng_() % 255);
+    if (chance(faults_.reorder) && !queue_.empty()) {
+      queue_.insert(queue_.end() - 1, frame);
+    } else {
+      queue_.push_back(frame);
+    }
+    if (chance(faults_.duplicate)) queue_.push_back(frame);
+  }
+  bool take(std::vector<uint8_t>& frame) {
+    if (queue_.empty()) return false;
+    frame = queue_.front();
+    queue_.pop_front();
+    return true;
+  }
+
+ private:
+  bool chance(double p) { return std::uniform_real_distribution<double>(0, 1)(rng_) < p; }
+  Faults faults_;
+  std::mt19937 rng_;
+  std::deque<std::vector<uint8_t>> queue_;
+};
+
+struct Endpoint {
+  Link link{20000};
+  dg::FrameDecoder decoder;
+  std::vector<uint32_t> received;
+  uint32_t next_to_send = 0;
+};
+
+// Runs until `count` payloads went from a to b (and b's acks back), or `max_ms` of simulated time.
+void exchange(Endpoint& a, Endpoint& b, uint32_t count, Faults faults, uint64_t max_ms = 200000) {
+  Channel ab(faults, 1), ba(faults, 2);
+  uint8_t wire[dg::kFrameMaxWire];
+  for (uint64_t now_us = 0; now_us < max_ms * 1000; now_us += 1000) {
+    while (a.next_to_send < count) {
+      uint8_t payload[4];
+      std::memcpy(payload, &a.next_to_send, 4);
+      if (a.link.send(payload, 4, now_us) != dg::Status::kOk) break;
+      ++a.next_to_send;
+    }
+    size_t size = 0;
+    for (int k = 0; k < 8 && a.link.next_frame(now_us, wire, sizeof wire, &size); ++k) ab.put(wire, size);
+    for (int k = 0; k < 8 && b.link.next_frame(now_us, wire, sizeof wire, &size); ++k) ba.put(wire, size);
+    auto deliver = [](Channel& channel, Endpoint& to) {
+      std::vector<uint8_t> frame;
+      while (channel.take(frame)) {
+        size_t offset = 0;
+        while (offset < frame.size()) {
+          size_t used = 0;
+          const dg::Status s = to.decoder.feed(frame.data() + offset, frame.size() - offset, &used);
+          offset += used;
+          if (s == dg::Status::kNeedMore) break;
+          if (s != dg::Status::kOk) continue;
+          if (to.link.receive(to.decoder.header()) && to.decoder.payload_size() == 4) {
+            uint32_t value;
+            std::memcpy(&value, to.decoder.payload(), 4);
+            to.received.push_back(value);
+          }
+        }
+      }
+    };
+    deliver(ab, b);
+    deliver(ba, a);
+    if (b.received.size() == count && a.link.all_acknowledged()) return;
+  }
+}
+
+void check_exactly_once_in_order(const Endpoint& b, uint32_t count) {
+  LONGS_EQUAL(count, b.received.size());
+  for (uint32_t i = 0; i < b.received.size(); ++i) LONGS_EQUAL(i, b.received[i]);
+}
+
+}  // namespace
+
+TEST_GROUP(ReliableLink){};
+
+TEST(ReliableLink, DeliversInOrderOverACleanChannel) {
+  Endpoint a, b;
+  exchange(a, b, 500, Faults{});
+  check_exactly_once_in_order(b, 500);
+  LONGS_EQUAL(0, a.link.counters().retransmitted);
+  CHECK(a.link.all_acknowledged());
+}
+
+TEST(ReliableLink, RecoversFromLossDuplicationReorderingAndCorruption) {
+  Endpoint a, b;
+  Faults f;
+  f.drop = 0.05;
+  f.duplicate = 0.05;
+  f.reorder = 0.05;
+  f.corrupt_byte = 0.002;
+  exchange(a, b, 3000, f);
+  check_exactly_once_in_order(b, 3000);
+  CHECK(a.link.counters().retransmitted > 0);
+  CHECK(b.link.counters().duplicates + b.link.counters().out_of_order > 0);
+  CHECK(a.link.all_acknowledged());
+}
+
+TEST(ReliableLink, AFullWindowPushesBackUntilAcknowledged) {
+  Link link;
+  const uint8_t payload[1] = {7};
+  for (int i = 0; i < 4; ++i) CHECK(dg::Status::kOk == link.send(payload, 1, 0));
+  CHECK(link.window_full());
+  CHECK(dg::Status::kBusy == link.send(payload, 1, 0));
+  dg::FrameHeader ack;
+  ack.kind = dg::FrameKind::kAckOnly;
+  ack.ack = 2;
+  link.receive(ack);
+  LONGS_EQUAL(2, link.in_flight());
+  CHECK(dg::Status::kOk == link.send(payload, 1, 0));
+}
+
+TEST(ReliableLink, RetransmitsOnlyAfterTheTimeout) {
+  Link link(50000);
+  const uint8_t payload[1] = {1};
+  link.send(payload, 1, 0);
+  uint8_t wire[dg::kFrameMaxWire];
+  size_t size = 0;
+  CHECK(link.next_frame(0, wire, sizeof wire, &size));
+  CHECK_FALSE(link.next_frame(49999, wire, sizeof wire, &size));
+  CHECK(link.next_frame(50000, wire, sizeof wire, &size));
+  LONGS_EQUAL(1, link.counters().retransmitted);
+  LONGS_EQUAL(100000, link.next_deadline_us(~0ull));
+}
+
+TEST(ReliableLink, SurvivesTheSequenceNumberWrap) {
+  Endpoint a, b;
+  exchange(a, b, 70000, Faults{}, 400000);
+  check_exactly_once_in_order(b, 70000);
+}
+
+TEST(ReliableLink, AnswersADuplicateWithAnAck) {
+  Link receiver;
+  dg::FrameHeader data;
+  data.kind = dg::FrameKind::kData;
+  data.seq = 1;
+  CHECK(receiver.receive(data));
+  uint8_t wire[dg::kFrameMaxWire];
+  size_t size = 0;
+  CHECK(receiver.next_frame(0, wire, sizeof wire, &size));  // the ack
+  CHECK_FALSE(receiver.receive(data));                     // the same frame again
+  LONGS_EQUAL(1, receiver.counters().duplicates);
+  CHECK(receiver.next_frame(0, wire, sizeof wire, &size));  // acknowledged again
+  LONGS_EQUAL(2, receiver.counters().acks_sent);
+}
