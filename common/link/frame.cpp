@@ -97,7 +97,7 @@ Status FrameDecoder::finish_frame() {
     return Status::kBadCrc;
   }
   const uint8_t kind = buffer_[0] & 0x0F;
-  if (kind > static_cast<uint8_t>(FrameKind::kAckOnly)) {
+  if (kind > static_cast<uint8_t>(FrameKind::kSync)) {
     ++counters_.bad_encoding;
     return Status::kBadEncoding;
   }

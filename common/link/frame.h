@@ -29,6 +29,7 @@ constexpr size_t kFrameMaxWire = cobs_max_encoded_size(kFrameMaxRaw) + 2;
 enum class FrameKind : uint8_t {
   kData = 0,     // carries a payload
   kAckOnly = 1,  // no payload, only the ack field matters
+  kSync = 2,     // the first data frame of a session; its ack field holds the session's id
 };
 
 struct FrameHeader {

@@ -2,6 +2,12 @@
 // retransmission after a timeout (go-back-N), duplicates and out-of-order frames discarded, a
 // bounded window that pushes back on the sender. The same class runs on the device and the host;
 // it holds no heap memory and throws nothing.
+//
+// Sessions: the host opens one with send_sync(), whose frame (kind kSync) carries a session id in
+// its ack field. A receiver that sees a new id forgets both directions of the old session (the
+// frames it still had in flight belong to a host that is gone) and says so through
+// take_restart(), so the application can replay what the new host has not confirmed. Copies of
+// the same sync frame are ordinary duplicates.
 #pragma once
 #include <cstddef>
 #include <cstdint>
@@ -32,6 +38,7 @@ class ReliableLink {
 
   // Forgets everything in flight and starts numbering again (a new session).
   void reset() {
+    session_ = 0;
     next_seq_ = 1;
     oldest_ = 1;
     count_ = 0;
@@ -56,17 +63,44 @@ class ReliableLink {
     slot.size = size;
     slot.seq = next_seq_;
     slot.sent = false;
+    slot.sync = false;
     slot.sent_us = now_us;
     ++next_seq_;
     ++count_;
     return Status::kOk;
   }
 
+  // Starts a new session (`session_id` non-zero, different from the last) with `payload` as its
+  // first frame.
+  Status send_sync(const uint8_t* payload, size_t size, uint64_t now_us, uint16_t session_id) {
+    reset();
+    session_ = session_id;
+    const Status status = send(payload, size, now_us);
+    if (status == Status::kOk) slots_[index(oldest_)].sync = true;
+    return status;
+  }
+
+  // True once after a frame from the other side started a new session.
+  bool take_restart() {
+    const bool restarted = restarted_;
+    restarted_ = false;
+    return restarted;
+  }
+
   // A decoded frame from the other side. Returns true when its payload is new and in order: the
   // caller hands it up. The ack field frees our acknowledged frames either way.
   bool receive(const FrameHeader& header) {
-    acknowledge(header.ack);
-    if (header.kind != FrameKind::kData) return false;
+    if (header.kind == FrameKind::kSync) {
+      if (header.ack != session_) {
+        reset();
+        session_ = header.ack;
+        rx_expected_ = header.seq;
+        restarted_ = true;
+      }
+    } else {
+      acknowledge(header.ack);
+    }
+    if (header.kind == FrameKind::kAckOnly) return false;
     ack_owed_ = true;  // every data frame is answered, so a lost ack is repaired by the next one
     if (header.seq == rx_expected_) {
       ++rx_expected_;
@@ -133,6 +167,7 @@ class ReliableLink {
     size_t size = 0;
     uint16_t seq = 0;
     bool sent = false;
+    bool sync = false;  // sent as kSync: the session's first frame
     uint64_t sent_us = 0;
   };
 
@@ -144,11 +179,11 @@ class ReliableLink {
   }
   bool encode_data(const Slot& slot, uint8_t* wire, size_t capacity, size_t* wire_size) {
     FrameHeader header;
-    header.kind = FrameKind::kData;
+    header.kind = slot.sync ? FrameKind::kSync : FrameKind::kData;
     header.seq = slot.seq;
-    header.ack = static_cast<uint16_t>(rx_expected_ - 1);
+    header.ack = slot.sync ? session_ : static_cast<uint16_t>(rx_expected_ - 1);
     if (frame_encode(header, slot.payload, slot.size, wire, capacity, wire_size) != Status::kOk) return false;
-    ack_owed_ = false;  // the frame carries the ack
+    if (!slot.sync) ack_owed_ = false;  // the frame carries the ack (a sync frame carries the session)
     return true;
   }
 
@@ -169,6 +204,8 @@ class ReliableLink {
   size_t count_ = 0;          // frames in the window
   uint16_t rx_expected_ = 1;  // the seq we deliver next
   bool ack_owed_ = false;
+  uint16_t session_ = 0;      // the current session's id (0: none yet)
+  bool restarted_ = false;
   bool resending_ = false;    // going back over the window after a timeout
   uint16_t resend_next_ = 0;  // the next seq to resend while resending_
   LinkCounters counters_{};

@@ -170,3 +170,40 @@ TEST(ReliableLink, AnswersADuplicateWithAnAck) {
   CHECK(receiver.next_frame(0, wire, sizeof wire, &size));  // acknowledged again
   LONGS_EQUAL(2, receiver.counters().acks_sent);
 }
+
+TEST(ReliableLink, ASyncFrameStartsANewSessionOnceAndDropsTheOldOnesFrames) {
+  Link host, device;
+  uint8_t wire[dg::kFrameMaxWire];
+  size_t size = 0;
+  dg::FrameDecoder at_device, at_host;
+  auto carry = [&](Link& from, dg::FrameDecoder& decoder, Link& to, uint64_t now) {
+    int delivered = 0;
+    while (from.next_frame(now, wire, sizeof wire, &size)) {
+      size_t used = 0;
+      if (decoder.feed(wire, size, &used) == dg::Status::kOk && to.receive(decoder.header())) ++delivered;
+    }
+    return delivered;
+  };
+  const uint8_t hello[1] = {1};
+  CHECK(dg::Status::kOk == host.send_sync(hello, 1, 0, 0x1234));
+  LONGS_EQUAL(1, carry(host, at_device, device, 0));
+  CHECK(device.take_restart());
+  CHECK_FALSE(device.take_restart());
+  // The device has frames in flight when the host goes away.
+  const uint8_t point[1] = {2};
+  device.send(point, 1, 0);
+  device.send(point, 1, 0);
+  CHECK(device.next_frame(0, wire, sizeof wire, &size));
+  // A new host: a new session id. The device forgets its two frames and takes the new sync.
+  Link new_host;
+  CHECK(dg::Status::kOk == new_host.send_sync(hello, 1, 1000, 0x4321));
+  LONGS_EQUAL(1, carry(new_host, at_device, device, 1000));
+  CHECK(device.take_restart());
+  CHECK(device.all_acknowledged());
+  // The same sync again (a retransmission) is a duplicate, not another restart.
+  CHECK(new_host.next_frame(200000, wire, sizeof wire, &size));
+  size_t used = 0;
+  CHECK(dg::Status::kOk == at_device.feed(wire, size, &used));
+  CHECK_FALSE(device.receive(at_device.header()));
+  CHECK_FALSE(device.take_restart());
+}
