@@ -154,11 +154,12 @@ class ReliableLink {
     return true;
   }
 
-  // When next_frame() may next have something without new input: the oldest frame's timer.
+  // When next_frame() may next have something without new input: the oldest frame's timer. A
+  // frame not sent yet waits for the wire, not for a time (`never`).
   uint64_t next_deadline_us(uint64_t never) const {
     if (count_ == 0) return never;
     const Slot& oldest = slots_[index(oldest_)];
-    return oldest.sent ? oldest.sent_us + retransmit_us_ : 0;
+    return oldest.sent ? oldest.sent_us + retransmit_us_ : never;
   }
 
  private:

@@ -10,7 +10,8 @@ Device::Device(hal::Board& board, const DeviceConfig& config)
       config_(config),
       motion_(board, config.motion),
       gauge_(board, config.gauge),
-      scan_(board, motion_, gauge_, config.scan) {}
+      scan_(board, motion_, gauge_, config.scan),
+      link_(config.retransmit_us) {}
 
 void Device::begin() {
   gauge_.attach();
@@ -41,9 +42,12 @@ size_t Device::first_unsent_offset() const {
 
 uint64_t Device::next_deadline_us() const {
   uint64_t deadline = scan_.deadline_us();
-  // An unsent partial batch must go out when it is old enough.
+  const uint64_t resend = link_.next_deadline_us(UINT64_MAX);
+  if (resend < deadline) deadline = resend;
+  // An unsent partial batch must go out when it is old enough, once the link has room for it
+  // (with a full window the device waits for the host's acknowledgements, not for a time).
   const size_t offset = first_unsent_offset();
-  if (offset < ring_.size()) {
+  if (offset < ring_.size() && !link_.window_full()) {
     const uint64_t due = ring_.at(offset).t_us + kBatchMaxAgeUs;
     if (due < deadline) deadline = due;
   }
@@ -78,8 +82,9 @@ void Device::receive() {
       offset += used;
       if (status == Status::kNeedMore) break;
       if (status != Status::kOk) continue;  // damaged frame: counted and skipped
-      rx_last_seq_ = decoder_.header().seq;
-      if (decoder_.header().kind != FrameKind::kData) continue;
+      const bool deliver = link_.receive(decoder_.header());
+      if (link_.take_restart()) restart_session();
+      if (!deliver) continue;  // an ack, a duplicate, or a frame after a gap (it will come again)
       digitizer_Envelope message;
       if (decode_envelope(decoder_.payload(), decoder_.payload_size(), &message) != Status::kOk) {
         fault(0, digitizer_FaultCode_FAULT_BAD_FRAME, "message did not decode");
@@ -180,28 +185,32 @@ void Device::queue(Reply reply) {
 }
 
 bool Device::flush_tx() {
-  while (tx_sent_ < tx_size_) {
-    const size_t n = board_.link_write(tx_wire_ + tx_sent_, tx_size_ - tx_sent_);
-    if (n == 0) return false;
-    tx_sent_ += n;
+  for (;;) {
+    while (tx_sent_ < tx_size_) {
+      const size_t n = board_.link_write(tx_wire_ + tx_sent_, tx_size_ - tx_sent_);
+      if (n == 0) return false;
+      tx_sent_ += n;
+    }
+    tx_sent_ = tx_size_ = 0;
+    if (!link_.next_frame(board_.now_us(), tx_wire_, sizeof(tx_wire_), &tx_size_)) return true;
   }
-  return true;
+}
+
+void Device::restart_session() {
+  reply_count_ = 0;
+  line_done_pending_ = false;
+  // Everything the old host did not acknowledge with PointAck is still in the ring: send it again.
+  next_send_seq_ = ring_.empty() ? next_seq_ : ring_.at(0).seq;
+  line_first_seq_ = next_send_seq_;
+  tx_sent_ = tx_size_ = 0;
 }
 
 bool Device::send(const digitizer_Envelope& message) {
-  if (!flush_tx()) return false;
   uint8_t payload[kFrameMaxPayload];
   size_t payload_size = 0;
   if (encode_envelope(message, payload, sizeof(payload), &payload_size) != Status::kOk) return false;
-  FrameHeader header;
-  header.kind = FrameKind::kData;
-  header.seq = ++tx_seq_;
-  header.ack = rx_last_seq_;
-  if (frame_encode(header, payload, payload_size, tx_wire_, sizeof(tx_wire_), &tx_size_) !=
-      Status::kOk) {
-    return false;
-  }
-  tx_sent_ = 0;
+  // A full window (the host has not acknowledged four frames) waits: the caller tries again.
+  if (link_.send(payload, payload_size, board_.now_us()) != Status::kOk) return false;
   flush_tx();
   return true;
 }

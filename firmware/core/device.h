@@ -4,6 +4,7 @@
 #include <cstdint>
 
 #include "common/link/frame.h"
+#include "common/link/reliable_link.h"
 #include "common/proto/point_batch.h"
 #include "digitizer.pb.h"
 #include "firmware/core/device_fit.h"
@@ -18,6 +19,8 @@ namespace dg {
 constexpr size_t kPointRingCapacity = 128;
 // A partly filled batch goes out after this long, so a slow scan still streams.
 constexpr uint64_t kBatchMaxAgeUs = 1000000;
+// An unacknowledged frame is sent again after this long.
+constexpr uint32_t kRetransmitUs = 50000;
 
 struct DeviceConfig {
   MotionConfig motion{};
@@ -31,6 +34,9 @@ struct DeviceConfig {
   int32_t gauge_min_nm = 0;
   int32_t gauge_max_nm = 25000000;
   uint32_t default_feed_um_s = 10000;
+  // An unacknowledged frame is sent again after this long. The simulator's virtual time runs far
+  // faster than the host's real time, so it sets a longer one.
+  uint32_t retransmit_us = kRetransmitUs;
 };
 
 class Device : private PointSink {
@@ -66,7 +72,10 @@ class Device : private PointSink {
   void fault(uint32_t id, digitizer_FaultCode code, const char* detail) {
     queue({Reply::kFault, id, code, detail});
   }
+  // Writes what the wire takes: the rest of the current frame, then the link's due frames.
   bool flush_tx();
+  // A new host session: its replies and unconfirmed points are sent again from the ring.
+  void restart_session();
   bool send(const digitizer_Envelope& message);
   void transmit();
   bool send_reply(const Reply& reply);
@@ -90,8 +99,8 @@ class Device : private PointSink {
   bool alarm_ = false;
   digitizer_FaultCode alarm_code_ = digitizer_FaultCode_FAULT_NONE;
   bool jogging_ = false;
-  uint16_t tx_seq_ = 0;
-  uint16_t rx_last_seq_ = 0;
+  // Four frames in flight: enough to keep a USB full-speed link busy, 2.2 KB of RAM.
+  ReliableLink<4> link_;
   uint8_t tx_wire_[kFrameMaxWire] = {};
   size_t tx_size_ = 0, tx_sent_ = 0;
   Reply replies_[8] = {};

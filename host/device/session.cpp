@@ -28,51 +28,92 @@ const char* fault_name(digitizer_FaultCode code) {
 
 Session::Session(Transport& transport) : transport_(transport), name_(transport.describe()) {}
 
-uint32_t Session::send(digitizer_Envelope& message) {
+namespace {
+
+uint64_t now_us() {
+  return static_cast<uint64_t>(
+      std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now().time_since_epoch()).count());
+}
+
+}  // namespace
+
+void Session::transmit() {
+  uint8_t wire[kFrameMaxWire];
+  size_t wire_size = 0;
+  while (link_.next_frame(now_us(), wire, sizeof(wire), &wire_size)) {
+    transport_.write(wire, wire_size);
+    bytes_out_ += wire_size;
+  }
+}
+
+bool Session::pump(int wait_ms) {
+  transmit();
+  if (pending_offset_ >= pending_size_) {
+    pending_size_ = transport_.read(pending_, sizeof(pending_), wait_ms > 0 ? wait_ms : 1);
+    pending_offset_ = 0;
+    bytes_in_ += pending_size_;
+    if (pending_size_ == 0) return false;
+  }
+  while (pending_offset_ < pending_size_) {
+    size_t used = 0;
+    const Status status = decoder_.feed(pending_ + pending_offset_, pending_size_ - pending_offset_, &used);
+    pending_offset_ += used;
+    if (status != Status::kOk) continue;  // kNeedMore or a damaged frame (counted)
+    if (!link_.receive(decoder_.header())) continue;
+    // A frame with a good CRC whose message does not decode came from a sender with another
+    // message set; it is skipped like a damaged frame (the link has acknowledged it).
+    digitizer_Envelope message;
+    if (decode_envelope(decoder_.payload(), decoder_.payload_size(), &message) == Status::kOk) inbox_.push_back(message);
+  }
+  transmit();  // acknowledge promptly
+  return true;
+}
+
+uint32_t Session::queue(digitizer_Envelope& message, bool sync) {
   if (message.id == 0) message.id = next_id_++;
   uint8_t payload[kFrameMaxPayload];
   size_t payload_size = 0;
   if (encode_envelope(message, payload, sizeof(payload), &payload_size) != Status::kOk) {
     throw DeviceError(name_ + ": message too large to encode");
   }
-  FrameHeader header;
-  header.seq = ++tx_seq_;
-  header.ack = rx_seq_;
-  uint8_t wire[kFrameMaxWire];
-  size_t wire_size = 0;
-  if (frame_encode(header, payload, payload_size, wire, sizeof(wire), &wire_size) != Status::kOk) {
-    throw DeviceError(name_ + ": cannot frame message");
+  if (sync) {
+    // A session id from the clock: different from the last session's, never 0.
+    const uint16_t id = static_cast<uint16_t>(now_us() % 65535 + 1);
+    link_.send_sync(payload, payload_size, now_us(), id);
+  } else {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    while (link_.send(payload, payload_size, now_us()) == Status::kBusy) {
+      if (std::chrono::steady_clock::now() > deadline) {
+        throw DeviceError(name_ + ": the device acknowledged nothing for 10 s; the link is down");
+      }
+      pump(5);
+    }
   }
-  transport_.write(wire, wire_size);
-  bytes_out_ += wire_size;
+  transmit();
   return message.id;
 }
+
+uint32_t Session::send(digitizer_Envelope& message) { return queue(message, false); }
 
 bool Session::receive(digitizer_Envelope* message, int timeout_ms) {
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
   for (;;) {
-    while (pending_offset_ < pending_size_) {
-      size_t used = 0;
-      const Status status =
-          decoder_.feed(pending_ + pending_offset_, pending_size_ - pending_offset_, &used);
-      pending_offset_ += used;
-      if (status != Status::kOk) continue;  // kNeedMore or a damaged frame (counted)
-      rx_seq_ = decoder_.header().seq;
-      if (decoder_.header().kind != FrameKind::kData) continue;
-      // A frame with a good CRC whose message does not decode came from a sender
-      // with another message set; it is skipped like a damaged frame.
-      if (decode_envelope(decoder_.payload(), decoder_.payload_size(), message) != Status::kOk) {
-        continue;
-      }
+    if (!inbox_.empty()) {
+      *message = inbox_.front();
+      inbox_.pop_front();
       return true;
     }
     const auto now = std::chrono::steady_clock::now();
     if (now >= deadline) return false;
-    const int wait_ms = static_cast<int>(
-        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - now).count());
-    pending_size_ = transport_.read(pending_, sizeof(pending_), wait_ms > 0 ? wait_ms : 1);
-    pending_offset_ = 0;
-    bytes_in_ += pending_size_;
+    int wait_ms = static_cast<int>(std::chrono::duration_cast<std::chrono::milliseconds>(deadline - now).count());
+    // Wake for the retransmission timer as well.
+    const uint64_t resend = link_.next_deadline_us(UINT64_MAX);
+    if (resend != UINT64_MAX) {
+      const uint64_t t = now_us();
+      const int until_resend = resend > t ? static_cast<int>((resend - t) / 1000) + 1 : 1;
+      if (until_resend < wait_ms) wait_ms = until_resend;
+    }
+    pump(wait_ms);
   }
 }
 
@@ -82,7 +123,8 @@ digitizer_Hello Session::hello(int timeout_ms) {
   request.body.host_hello.protocol_version = digitizer_ProtocolVersion_PROTOCOL_VERSION;
   request.body.host_hello.min_protocol_version = digitizer_ProtocolVersion_PROTOCOL_VERSION;
   set_string(request.body.host_hello.host_version, DIGITIZER_VERSION);
-  const uint32_t id = send(request);
+  inbox_.clear();
+  const uint32_t id = queue(request, true);
   digitizer_Envelope reply;
   bool version_fault = false;
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);

@@ -4,7 +4,10 @@
 #include <stdexcept>
 #include <string>
 
+#include <deque>
+
 #include "common/link/frame.h"
+#include "common/link/reliable_link.h"
 #include "digitizer.pb.h"
 #include "host/transport/transport.h"
 
@@ -22,12 +25,17 @@ class Session {
  public:
   explicit Session(Transport& transport);
 
-  // Identifies the device; throws DeviceError when versions cannot talk or it is silent.
+  // Opens a link session (a sync frame with a fresh id) and identifies the device; throws
+  // DeviceError when versions cannot talk or it is silent.
   digitizer_Hello hello(int timeout_ms);
-  // Sends a message; gives it a fresh request id if it has none. Returns the id.
+  // Sends a message through the reliable link; gives it a fresh request id if it has none. Waits
+  // (reading, and keeping what arrives) while the window is full. Returns the id.
   uint32_t send(digitizer_Envelope& message);
-  // Waits up to timeout_ms for the next message; false on timeout.
+  // Waits up to timeout_ms for the next message; false on timeout. Retransmissions and
+  // acknowledgements go out while it waits.
   bool receive(digitizer_Envelope* message, int timeout_ms);
+
+  const LinkCounters& link_counters() const { return link_.counters(); }
 
   uint64_t bytes_received() const { return bytes_in_; }
   uint64_t bytes_sent() const { return bytes_out_; }
@@ -38,9 +46,16 @@ class Session {
   Transport& transport_;
   FrameDecoder decoder_;
   std::string name_;
+  // Puts every due frame on the wire (new, resent, acks).
+  void transmit();
+  // Reads for up to wait_ms and hands in-order messages to the inbox; false when nothing came.
+  bool pump(int wait_ms);
+  uint32_t queue(digitizer_Envelope& message, bool sync);
+
+  ReliableLink<8> link_{50000};
+  std::deque<digitizer_Envelope> inbox_;
   uint8_t pending_[512] = {};
   size_t pending_size_ = 0, pending_offset_ = 0;
-  uint16_t tx_seq_ = 0, rx_seq_ = 0;
   uint32_t next_id_ = 1;
   uint64_t bytes_in_ = 0, bytes_out_ = 0;
 };

@@ -48,10 +48,11 @@ size_t FdLink::read(uint8_t* data, size_t capacity) {
   }
 }
 
-bool FdLink::wait_readable() {
+bool FdLink::wait_readable(int timeout_ms) {
   while (!closed_) {
     pollfd p{read_fd_, POLLIN, 0};
-    const int r = ::poll(&p, 1, -1);
+    const int r = ::poll(&p, 1, timeout_ms);
+    if (r == 0) return false;  // the time ran out
     if (r < 0 && errno == EINTR) continue;
     if (r < 0) {
       closed_ = true;

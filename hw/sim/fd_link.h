@@ -9,7 +9,7 @@ class FdLink final : public LinkPort {
   FdLink(int read_fd, int write_fd);
   size_t write(const uint8_t* data, size_t size) override;
   size_t read(uint8_t* data, size_t capacity) override;
-  bool wait_readable() override;
+  bool wait_readable(int timeout_ms = -1) override;
   bool closed() const override { return closed_; }
 
  private:

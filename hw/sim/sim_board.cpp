@@ -3,6 +3,8 @@
 // on every gauge edge, at its deadline, or when the host has sent bytes.
 #include "hw/sim/sim_board.h"
 
+#include <algorithm>
+
 namespace dg::sim {
 
 namespace {
@@ -95,6 +97,20 @@ bool SimBoard::wait(uint64_t deadline_us) {
       // Nothing will happen until the host speaks.
       if (link_ == nullptr || !link_->wait_readable()) return false;
       link_hint_ = true;
+      return true;
+    }
+    if (link_ != nullptr && next == deadline_ns && timer_next_ns_ == kNever && gauge_ns == kNever) {
+      // Only the firmware's own deadline is pending: a retransmission timer while it waits for
+      // the host. Virtual time stands still while the host answers (so a scan stays the same
+      // whatever the machine's load); only a host silent for a quarter of a real second (a lost
+      // frame) lets the timer run out.
+      const int wait_ms = std::max(250, static_cast<int>((deadline_ns - now_ns_) / 1000000) + 1);
+      if (link_->wait_readable(wait_ms)) {
+        link_hint_ = true;
+        return true;
+      }
+      if (link_->closed()) return false;
+      now_ns_ = deadline_ns;
       return true;
     }
     now_ns_ = next;

@@ -16,8 +16,9 @@ class LinkPort {
   virtual ~LinkPort() = default;
   virtual size_t write(const uint8_t* data, size_t size) = 0;  // takes all unless closed
   virtual size_t read(uint8_t* data, size_t capacity) = 0;      // non-blocking
-  // Blocks until bytes can be read; false when the peer is gone.
-  virtual bool wait_readable() = 0;
+  // Blocks until the host has written something (true), the time runs out or the link closed
+  // (false); timeout_ms < 0 waits without end.
+  virtual bool wait_readable(int timeout_ms = -1) = 0;
   virtual bool closed() const = 0;
 };
 
