@@ -2,6 +2,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "host/transport/fault_transport.h"
 #include "host/transport/sim_transport.h"
 #include "host/transport/transport.h"
 
@@ -14,6 +15,14 @@ std::unique_ptr<Transport> open_transport(const std::string& uri) {
   }
   const std::string scheme = uri.substr(0, colon);
   const std::string rest = uri.substr(colon + 1);
+  if (scheme == "fault") {
+    // fault:OPTIONS;INNER-URI wraps another transport in fault injection.
+    const size_t semicolon = rest.find(';');
+    if (semicolon == std::string::npos) {
+      throw std::invalid_argument("device URI '" + uri + "': fault: needs OPTIONS;URI, e.g. fault:drop=0.01;sim:part=dome");
+    }
+    return std::make_unique<FaultTransport>(open_transport(rest.substr(semicolon + 1)), parse_fault_spec(rest.substr(0, semicolon)));
+  }
   if (scheme == "sim") {
     std::vector<std::string> options;
     size_t start = 0;
@@ -33,7 +42,7 @@ std::unique_ptr<Transport> open_transport(const std::string& uri) {
     return std::make_unique<SimTransport>(uri, options);
   }
   throw std::invalid_argument("device URI '" + uri + "': unknown scheme '" + scheme +
-                              "' (this build knows sim:)");
+                              "' (this build knows sim: and fault:)");
 }
 
 }  // namespace dg::host
