@@ -24,6 +24,7 @@ struct LinkCounters {
   uint32_t duplicates = 0;        // frames already delivered, dropped
   uint32_t out_of_order = 0;      // frames after a gap, dropped (the sender resends them)
   uint32_t acks_sent = 0;         // ack-only frames
+  uint32_t fast_retransmits = 0;  // resends started by repeated acks, before the timer
 };
 
 // kWindow frames may be unacknowledged at once; each holds up to kFrameMaxPayload bytes.
@@ -45,6 +46,7 @@ class ReliableLink {
     rx_expected_ = 1;
     ack_owed_ = false;
     resending_ = false;
+    duplicate_acks_ = 0;
     counters_ = LinkCounters{};
   }
 
@@ -98,7 +100,18 @@ class ReliableLink {
         restarted_ = true;
       }
     } else {
-      acknowledge(header.ack);
+      const bool progressed = acknowledge(header.ack);
+      // Fast retransmission: an ack-only frame that frees nothing answers a frame that arrived
+      // after a gap (or twice). Two of them mean a frame of ours was lost: resend from the oldest
+      // now instead of waiting for the timer.
+      if (header.kind == FrameKind::kAckOnly && !progressed && count_ > 0) {
+        if (++duplicate_acks_ >= 2 && !resending_) {
+          resending_ = true;
+          resend_next_ = oldest_;
+          duplicate_acks_ = 0;
+          ++counters_.fast_retransmits;
+        }
+      }
     }
     if (header.kind == FrameKind::kAckOnly) return false;
     ack_owed_ = true;  // every data frame is answered, so a lost ack is repaired by the next one
@@ -189,13 +202,16 @@ class ReliableLink {
   }
 
   // Frees every frame up to and including `ack` (cumulative); acks outside the window are stale.
-  void acknowledge(uint16_t ack) {
+  // True when it freed something.
+  bool acknowledge(uint16_t ack) {
     const int16_t ahead = static_cast<int16_t>(ack - oldest_);
-    if (ahead < 0 || static_cast<size_t>(ahead) >= count_) return;
+    if (ahead < 0 || static_cast<size_t>(ahead) >= count_) return false;
+    duplicate_acks_ = 0;
     const uint16_t freed = static_cast<uint16_t>(ahead + 1);
     oldest_ = static_cast<uint16_t>(oldest_ + freed);
     count_ -= freed;
     if (resending_ && static_cast<int16_t>(resend_next_ - oldest_) < 0) resend_next_ = oldest_;
+    return true;
   }
 
   Slot slots_[kWindow];
@@ -207,6 +223,7 @@ class ReliableLink {
   bool ack_owed_ = false;
   uint16_t session_ = 0;      // the current session's id (0: none yet)
   bool restarted_ = false;
+  int duplicate_acks_ = 0;    // ack-only frames in a row that freed nothing
   bool resending_ = false;    // going back over the window after a timeout
   uint16_t resend_next_ = 0;  // the next seq to resend while resending_
   LinkCounters counters_{};

@@ -49,9 +49,10 @@ int main(int argc, char** argv) {
   device.capabilities = digitizer_Capability_CAP_DIGIMATIC | digitizer_Capability_CAP_DEVICE_FIT | digitizer_Capability_CAP_SIMULATED;
   device.gauge_resolution_nm = options.config.gauge.inch ? 2540 : 1000;
   // Virtual time runs hundreds of times faster than the host's clock during a scan: a 50 ms
-  // retransmission timer would fire long before any host could answer. 2 s of virtual time is a
-  // few milliseconds of real time.
-  device.retransmit_us = 2000000;
+  // retransmission timer would fire long before any host could answer (and resend frames the
+  // host has, costing wire bytes). 5 s of virtual time is about 25 ms of real time during a scan;
+  // lost frames are mostly resent sooner, on repeated acknowledgements.
+  device.retransmit_us = 5000000;
   // The simulated gauge takes its time like a real one; allow for it.
   device.gauge.first_clock_timeout_us = options.config.gauge.request_to_clock_us + 100000;
   static dg::Device firmware(board, device);

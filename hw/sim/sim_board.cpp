@@ -102,10 +102,9 @@ bool SimBoard::wait(uint64_t deadline_us) {
     if (link_ != nullptr && next == deadline_ns && timer_next_ns_ == kNever && gauge_ns == kNever) {
       // Only the firmware's own deadline is pending: a retransmission timer while it waits for
       // the host. Virtual time stands still while the host answers (so a scan stays the same
-      // whatever the machine's load); only a host silent for a quarter of a real second (a lost
-      // frame) lets the timer run out.
-      const int wait_ms = std::max(250, static_cast<int>((deadline_ns - now_ns_) / 1000000) + 1);
-      if (link_->wait_readable(wait_ms)) {
+      // whatever the machine's load); only a host silent for 50 ms of real time (a lost
+      // frame) lets the timer run out, however long the timer is in virtual time.
+      if (link_->wait_readable(50)) {
         link_hint_ = true;
         return true;
       }

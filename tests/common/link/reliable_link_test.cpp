@@ -207,3 +207,25 @@ TEST(ReliableLink, ASyncFrameStartsANewSessionOnceAndDropsTheOldOnesFrames) {
   CHECK_FALSE(device.receive(at_device.header()));
   CHECK_FALSE(device.take_restart());
 }
+
+TEST(ReliableLink, TwoAcksThatFreeNothingResendBeforeTheTimer) {
+  Link link(50000);
+  const uint8_t payload[1] = {1};
+  link.send(payload, 1, 0);
+  link.send(payload, 1, 0);
+  uint8_t wire[dg::kFrameMaxWire];
+  size_t size = 0;
+  CHECK(link.next_frame(0, wire, sizeof wire, &size));
+  CHECK(link.next_frame(0, wire, sizeof wire, &size));
+  CHECK_FALSE(link.next_frame(10, wire, sizeof wire, &size));
+  // The other side got frame 2 but not 1: it answers with ack 0, twice (once is not enough).
+  dg::FrameHeader nothing;
+  nothing.kind = dg::FrameKind::kAckOnly;
+  nothing.ack = 0;
+  link.receive(nothing);
+  CHECK_FALSE(link.next_frame(20, wire, sizeof wire, &size));
+  link.receive(nothing);
+  CHECK(link.next_frame(30, wire, sizeof wire, &size));
+  LONGS_EQUAL(1, link.counters().fast_retransmits);
+  LONGS_EQUAL(1, link.counters().retransmitted);
+}
