@@ -11,6 +11,7 @@
 
 #include "host/cli/fit_command.h"
 #include "host/cli/inspect_command.h"
+#include "host/cli/progress.h"
 #include "host/cli/units.h"
 #include "host/device/capture.h"
 #include "host/device/pull_fit.h"
@@ -141,15 +142,13 @@ int run_scan(const ScanArgs& a) {
   }
   ScanFileWriter file(a.output);
   CaptureOptions options;
-  const bool tty = !a.quiet && isatty(fileno(stdout));
-  if (tty) {
-    options.progress = [](const CaptureProgress& p) {
-      std::printf("\r%u / %u points, %u lines", p.points, p.points_total, p.lines);
-      std::fflush(stdout);
-    };
+  // A bar with rate and ETA on a terminal; a plain line every tenth of the scan otherwise.
+  ProgressPrinter progress(stdout, isatty(fileno(stdout)) != 0);
+  if (!a.quiet) {
+    options.progress = [&progress](const CaptureProgress& p) { progress.update(p.points, p.points_total); };
   }
   const CaptureResult result = capture_scan(session, device, request, file, options);
-  if (tty) std::printf("\n");
+  progress.finish();
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   if (!a.quiet) {
