@@ -9,6 +9,7 @@
 
 #include <unistd.h>
 
+#include "host/cli/device_commands.h"
 #include "host/cli/fit_command.h"
 #include "host/cli/inspect_command.h"
 #include "host/cli/progress.h"
@@ -387,6 +388,8 @@ int main(int argc, char** argv) {
   CLI::App* fit_cmd = add_fit_command(app, fit);
   InspectArgs inspect_args;
   CLI::App* inspect_cmd = add_inspect_command(app, inspect_args);
+  DeviceArgs device_args;
+  add_device_commands(app, device_args);
 
   try {
     app.parse(argc, argv);
@@ -401,6 +404,8 @@ int main(int argc, char** argv) {
     if (*segment_cmd) return run_segment(segment_in, segment_out, segment_ratio, segment_turn);
     if (*fit_cmd) return run_fit(fit);
     if (*inspect_cmd) return run_inspect(inspect_args);
+    const int device_result = run_device_command(app, device_args);
+    if (device_result >= 0) return device_result;
     if (*filter_cmd) return run_filter(filter);
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "digitizer: %s\n", e.what());

@@ -1,0 +1,106 @@
+// Each device command is one request through a fresh session; faults become clear errors.
+#include "host/cli/device_commands.h"
+
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "host/cli/units.h"
+#include "host/device/request.h"
+#include "host/transport/transport.h"
+
+namespace dg::host {
+namespace {
+
+const char* state_name(digitizer_DeviceState s) {
+  switch (s) {
+    case digitizer_DeviceState_STATE_IDLE: return "idle";
+    case digitizer_DeviceState_STATE_HOMING: return "homing";
+    case digitizer_DeviceState_STATE_JOGGING: return "jogging";
+    case digitizer_DeviceState_STATE_SCANNING: return "scanning";
+    case digitizer_DeviceState_STATE_PAUSED: return "paused";
+    case digitizer_DeviceState_STATE_ALARM: return "alarm";
+  }
+  return "unknown";
+}
+
+digitizer_Envelope command(Session& session, digitizer_CommandKind kind, const DeviceArgs& a) {
+  digitizer_Envelope message = digitizer_Envelope_init_zero;
+  message.which_body = digitizer_Envelope_command_tag;
+  message.body.command.kind = kind;
+  if (kind == digitizer_CommandKind_CMD_JOG) {
+    message.body.command.dx_nm = mm_to_nm(a.dx_mm, "--dx");
+    message.body.command.dy_nm = mm_to_nm(a.dy_mm, "--dy");
+    message.body.command.feed_um_s = static_cast<uint32_t>(a.feed_mm_s * 1000.0);
+  }
+  return request(session, message, 5000);
+}
+
+int run_status(const DeviceArgs& a) {
+  auto transport = open_transport(a.device);
+  Session session(*transport);
+  const digitizer_Hello hello = session.hello(5000);
+  const digitizer_Envelope reply = command(session, digitizer_CommandKind_CMD_STATUS, a);
+  if (reply.which_body != digitizer_Envelope_status_tag) throw DeviceError(a.device + ": answered status with something else");
+  const digitizer_Status& s = reply.body.status;
+  if (a.json) {
+    nlohmann::json j = {{"device", hello.device_id},     {"board", hello.board},
+                        {"firmware", hello.firmware_version}, {"state", state_name(s.state)},
+                        {"x_mm", s.x_nm * 1e-6},         {"y_mm", s.y_nm * 1e-6},
+                        {"z_mm", s.z_nm * 1e-6},         {"homed", s.homed},
+                        {"scan_id", s.scan_id},          {"points_done", s.points_done},
+                        {"points_total", s.points_total}, {"ring_used", s.ring_used},
+                        {"alarm", fault_name(s.alarm)}};
+    std::printf("%s\n", j.dump(1).c_str());
+    return 0;
+  }
+  std::printf("device %s (%s, firmware %s): %s\n", hello.device_id, hello.board, hello.firmware_version, state_name(s.state));
+  std::printf("table at x %.3f y %.3f mm, gauge %.3f mm, %s\n", s.x_nm * 1e-6, s.y_nm * 1e-6, s.z_nm * 1e-6,
+              s.homed ? "homed" : "not homed");
+  if (s.points_total > 0) std::printf("scan %u: %u of %u points, %u waiting in the ring\n", s.scan_id, s.points_done, s.points_total, s.ring_used);
+  if (s.state == digitizer_DeviceState_STATE_ALARM) std::printf("alarm: %s (digitizer unlock clears it)\n", fault_name(s.alarm));
+  return 0;
+}
+
+int run_simple(const DeviceArgs& a, digitizer_CommandKind kind, const char* done) {
+  auto transport = open_transport(a.device);
+  Session session(*transport);
+  session.hello(5000);
+  command(session, kind, a);
+  std::printf("%s: %s\n", a.device.c_str(), done);
+  return 0;
+}
+
+}  // namespace
+
+void add_device_commands(CLI::App& app, DeviceArgs& a) {
+  app.add_subcommand("devices", "list the kinds of device this build reaches");
+  auto with_device = [&](CLI::App* cmd) {
+    cmd->add_option("--device", a.device, "device URI")->capture_default_str();
+    return cmd;
+  };
+  with_device(app.add_subcommand("status", "the device's state, position and scan"))->add_flag("--json", a.json, "as JSON");
+  with_device(app.add_subcommand("home", "home both axes"));
+  with_device(app.add_subcommand("unlock", "clear an alarm"));
+  with_device(app.add_subcommand("abort", "stop a scan or a move"));
+  CLI::App* jog = with_device(app.add_subcommand("jog", "move the table by DX, DY mm"));
+  jog->add_option("--dx", a.dx_mm, "mm along x")->capture_default_str();
+  jog->add_option("--dy", a.dy_mm, "mm along y")->capture_default_str();
+  jog->add_option("--feed", a.feed_mm_s, "mm/s (default: the device's)")->check(CLI::Range(0.0, 200.0));
+}
+
+int run_device_command(const CLI::App& app, const DeviceArgs& a) {
+  if (app.got_subcommand("devices")) {
+    std::printf("sim:   the simulated table and gauge (always here), e.g. sim:part=dome,seed=7\n");
+    std::printf("fault: any device behind a damaged line, e.g. fault:drop=0.01;sim:part=dome\n");
+    std::printf("usb:   not in this build yet\n");
+    return 0;
+  }
+  if (app.got_subcommand("status")) return run_status(a);
+  if (app.got_subcommand("home")) return run_simple(a, digitizer_CommandKind_CMD_HOME, "homed");
+  if (app.got_subcommand("unlock")) return run_simple(a, digitizer_CommandKind_CMD_UNLOCK, "unlocked");
+  if (app.got_subcommand("abort")) return run_simple(a, digitizer_CommandKind_CMD_ABORT, "aborted");
+  if (app.got_subcommand("jog")) return run_simple(a, digitizer_CommandKind_CMD_JOG, "jog accepted");
+  return -1;
+}
+
+}  // namespace dg::host

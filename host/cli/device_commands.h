@@ -1,0 +1,19 @@
+// The device commands: devices, status, home, unlock, jog, abort.
+#pragma once
+#include <CLI/CLI.hpp>
+#include <string>
+
+namespace dg::host {
+
+struct DeviceArgs {
+  std::string device = "sim:part=dome";
+  bool json = false;          // status: as JSON
+  double dx_mm = 0, dy_mm = 0;  // jog
+  double feed_mm_s = 0;       // jog: 0 = the device's default
+};
+
+// Adds the subcommands; `run_device_command` runs whichever was given, or returns -1.
+void add_device_commands(CLI::App& app, DeviceArgs& args);
+int run_device_command(const CLI::App& app, const DeviceArgs& args);
+
+}  // namespace dg::host

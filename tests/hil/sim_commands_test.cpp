@@ -1,0 +1,45 @@
+// Device commands end to end through the simulated device: status, a jog and its soft limit,
+// and a command the firmware does not have yet.
+#include <CppUTest/TestHarness.h>
+
+#include <string>
+
+#include "host/device/request.h"
+#include "host/transport/transport.h"
+
+namespace {
+
+digitizer_Envelope command(digitizer_CommandKind kind, int32_t dx_nm = 0) {
+  digitizer_Envelope m = digitizer_Envelope_init_zero;
+  m.which_body = digitizer_Envelope_command_tag;
+  m.body.command.kind = kind;
+  m.body.command.dx_nm = dx_nm;
+  return m;
+}
+
+std::string refusal(dg::host::Session& session, digitizer_Envelope message) {
+  try {
+    dg::host::request(session, message, 5000);
+  } catch (const dg::host::DeviceError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST_GROUP(SimCommands){};
+
+TEST(SimCommands, StatusJogAndRefusalsCarryTheDevicesWords) {
+  auto transport = dg::host::open_transport("sim:part=flat");
+  dg::host::Session session(*transport);
+  session.hello(5000);
+  digitizer_Envelope status = command(digitizer_CommandKind_CMD_STATUS);
+  const digitizer_Envelope reply = dg::host::request(session, status, 5000);
+  LONGS_EQUAL(digitizer_Envelope_status_tag, reply.which_body);
+  LONGS_EQUAL(digitizer_DeviceState_STATE_IDLE, reply.body.status.state);
+  digitizer_Envelope jog = command(digitizer_CommandKind_CMD_JOG, 5000000);
+  LONGS_EQUAL(digitizer_Envelope_accepted_tag, dg::host::request(session, jog, 5000).which_body);
+  STRCMP_CONTAINS("soft limit", refusal(session, command(digitizer_CommandKind_CMD_JOG, 900000000)).c_str());
+  STRCMP_CONTAINS("unsupported", refusal(session, command(digitizer_CommandKind_CMD_HOME)).c_str());
+}
