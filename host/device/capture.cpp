@@ -1,6 +1,8 @@
 // Capture loop: store first, then acknowledge, so the device frees only what is on disk.
 #include "host/device/capture.h"
 
+#include <chrono>
+
 #include "common/proto/scan_grid.h"
 
 namespace dg::host {
@@ -26,12 +28,22 @@ CaptureResult capture_scan(Session& session, const digitizer_Hello& device,
   if (scan_grid(request, &grid)) progress.points_total = static_cast<uint32_t>(grid.points());
   bool accepted = false;
   uint32_t expected_seq = 0;  // 0: take the first batch's numbering
+  auto last_heard = std::chrono::steady_clock::now();
   for (;;) {
-    if (!session.receive(&message, options.silence_timeout_ms)) {
-      throw DeviceError(session.device_name() + ": device silent for " +
-                        std::to_string(options.silence_timeout_ms) + " ms after " +
-                        std::to_string(result.points) + " points; they are in " + file.path());
+    if (!session.receive(&message, options.heartbeat_ms)) {
+      const auto silent = std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - last_heard);
+      if (silent.count() >= options.silence_timeout_ms) {
+        throw DeviceError(session.device_name() + ": device silent for " + std::to_string(silent.count()) + " ms after " +
+                          std::to_string(result.points) + " points; they are in " + file.path());
+      }
+      // A slow scan (long settling, many samples) may have nothing to say: ask for a sign of life.
+      digitizer_Envelope probe = digitizer_Envelope_init_zero;
+      probe.which_body = digitizer_Envelope_command_tag;
+      probe.body.command.kind = digitizer_CommandKind_CMD_STATUS;
+      session.send(probe);
+      continue;
     }
+    last_heard = std::chrono::steady_clock::now();
     switch (message.which_body) {
       case digitizer_Envelope_accepted_tag:
         if (message.body.accepted.request_id == id) accepted = true;

@@ -25,7 +25,10 @@ struct CaptureResult {
 };
 
 struct CaptureOptions {
-  int silence_timeout_ms = 10000;  // the device said nothing for this long: give up
+  // Heartbeat: after heartbeat_ms without a message the host asks for the device's status; a
+  // device that answers nothing for silence_timeout_ms is declared silent.
+  int heartbeat_ms = 300;
+  int silence_timeout_ms = 1000;
   std::function<void(const CaptureProgress&)> progress;
 };
 

@@ -4,6 +4,7 @@
 
 #include <unistd.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -150,4 +151,27 @@ TEST(SimScan, AFaultyGaugeStopsTheScanWithAFaultAndKeepsThePoints) {
   std::remove(path.c_str());
   LONGS_EQUAL(digitizer_ScanEnd_SCAN_FAULTED, result.done.reason);
   LONGS_EQUAL(0, result.points);
+}
+
+TEST(SimScan, ASilentDeviceIsNoticedWithinASecondAndThePointsAreKept) {
+  // The line goes dead for 5 s after a few frames: the heartbeat finds the device silent.
+  const std::string path = temp_path("silent.scan");
+  auto transport = dg::host::open_transport("fault:outages=1,outage_ms=5000,every=30;sim:part=flat");
+  dg::host::Session session(*transport);
+  const digitizer_Hello hello = session.hello(5000);
+  dg::host::ScanFileWriter file(path);
+  const auto started = std::chrono::steady_clock::now();
+  std::string error;
+  try {
+    dg::host::capture_scan(session, hello, grid_41_by_31(digitizer_ScanPattern_PATTERN_RASTER), file, dg::host::CaptureOptions{});
+  } catch (const dg::host::DeviceError& e) {
+    error = e.what();
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  STRCMP_CONTAINS("device silent for", error.c_str());
+  CHECK(seconds < 3.0);
+  // What arrived before the line died is in the file.
+  const dg::host::ScanData data = dg::host::read_scan_file(path);
+  std::remove(path.c_str());
+  CHECK(data.points.size() > 0);
 }
