@@ -26,15 +26,17 @@ digitizer_ScanRequest grid_41_by_31(digitizer_ScanPattern pattern) {
   return dg::test::grid_request(7, 0, 40000000, 30000000, 1000000, pattern);
 }
 
-dg::host::ScanData scan(const std::string& uri, const digitizer_ScanRequest& request,
-                        const std::string& path) {
+// Opens the device, says hello and captures the scan into `path`; DeviceError passes through.
+dg::host::CaptureResult capture_to(const std::string& uri, const digitizer_ScanRequest& request, const std::string& path) {
   auto transport = dg::host::open_transport(uri);
   dg::host::Session session(*transport);
   const digitizer_Hello hello = session.hello(5000);
   dg::host::ScanFileWriter file(path);
-  const dg::host::CaptureResult result =
-      dg::host::capture_scan(session, hello, request, file, dg::host::CaptureOptions{});
-  LONGS_EQUAL(digitizer_ScanEnd_SCAN_COMPLETED, result.done.reason);
+  return dg::host::capture_scan(session, hello, request, file, dg::host::CaptureOptions{});
+}
+
+dg::host::ScanData scan(const std::string& uri, const digitizer_ScanRequest& request, const std::string& path) {
+  LONGS_EQUAL(digitizer_ScanEnd_SCAN_COMPLETED, capture_to(uri, request, path).done.reason);
   return dg::host::read_scan_file(path);
 }
 
@@ -139,15 +141,10 @@ TEST(SimScan, ABadSimulatorOptionIsAClearError) {
 TEST(SimScan, AFaultyGaugeStopsTheScanWithAFaultAndKeepsThePoints) {
   // A gauge that never answers: every read and retry times out.
   const std::string path = temp_path("fault.scan");
-  auto transport = dg::host::open_transport("sim:part=flat,mute=1");
-  dg::host::Session session(*transport);
-  const digitizer_Hello hello = session.hello(5000);
-  dg::host::ScanFileWriter file(path);
   digitizer_ScanRequest r = grid_41_by_31(digitizer_ScanPattern_PATTERN_RASTER);
   r.x.max_nm = 3000000;
   r.y.max_nm = 0;
-  const dg::host::CaptureResult result =
-      dg::host::capture_scan(session, hello, r, file, dg::host::CaptureOptions{});
+  const dg::host::CaptureResult result = capture_to("sim:part=flat,mute=1", r, path);
   std::remove(path.c_str());
   LONGS_EQUAL(digitizer_ScanEnd_SCAN_FAULTED, result.done.reason);
   LONGS_EQUAL(0, result.points);
@@ -156,14 +153,10 @@ TEST(SimScan, AFaultyGaugeStopsTheScanWithAFaultAndKeepsThePoints) {
 TEST(SimScan, ASilentDeviceIsNoticedWithinASecondAndThePointsAreKept) {
   // The line goes dead for 5 s after a few frames: the heartbeat finds the device silent.
   const std::string path = temp_path("silent.scan");
-  auto transport = dg::host::open_transport("fault:outages=1,outage_ms=5000,every=30;sim:part=flat");
-  dg::host::Session session(*transport);
-  const digitizer_Hello hello = session.hello(5000);
-  dg::host::ScanFileWriter file(path);
   const auto started = std::chrono::steady_clock::now();
   std::string error;
   try {
-    dg::host::capture_scan(session, hello, grid_41_by_31(digitizer_ScanPattern_PATTERN_RASTER), file, dg::host::CaptureOptions{});
+    capture_to("fault:outages=1,outage_ms=5000,every=30;sim:part=flat", grid_41_by_31(digitizer_ScanPattern_PATTERN_RASTER), path);
   } catch (const dg::host::DeviceError& e) {
     error = e.what();
   }
