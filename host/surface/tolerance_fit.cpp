@@ -46,11 +46,48 @@ int insert_midpoints(std::vector<double>& knots, const std::set<int>& spans, dou
 // the same number of points.
 double typical_spacing(size_t points) { return 1.0 / std::max(1.0, std::sqrt(static_cast<double>(points))); }
 
+// Large scans: the coarse nets at the start of the loop are determined by far fewer points than a
+// million, so the loop first runs on an evenly strided sample of the points and the full set starts
+// from the knots it reached. The full set then confirms (or refines further): the contract is
+// judged on every point as before. The sample has a quarter of options.sample_above points; lines
+// are left out of it, since its points are no longer neighbours along a line.
+ToleranceResult refine(const PointCloud& cloud, const Parameters& params, const std::vector<double>* weights,
+                       const ToleranceOptions& options, bool sample_first);
+
 }  // namespace
 
 ToleranceResult fit_to_tolerance(const PointCloud& cloud, const Parameters& params, const std::vector<double>* weights,
                                  const ToleranceOptions& options) {
+  return refine(cloud, params, weights, options, true);
+}
+
+namespace {
+
+ToleranceResult refine(const PointCloud& cloud, const Parameters& params, const std::vector<double>* weights,
+                       const ToleranceOptions& options, bool sample_first) {
   if (!(options.tolerance_mm > 0)) throw FitError("the tolerance must be a positive number of mm");
+  std::vector<double> sampled_knots_u, sampled_knots_v;
+  int sampled_iterations = 0;
+  if (sample_first && options.sample_above >= 4 && cloud.points.size() > options.sample_above) {
+    const size_t stride = cloud.points.size() / (options.sample_above / 4);
+    PointCloud sample;
+    Parameters sample_params = params;
+    sample_params.uv.clear();
+    std::vector<double> sample_weights;
+    for (size_t k = 0; k < cloud.points.size(); k += stride) {
+      sample.points.push_back(cloud.points[k]);
+      sample_params.uv.push_back(params.uv[k]);
+      if (weights) sample_weights.push_back((*weights)[k]);
+    }
+    try {
+      const ToleranceResult coarse = refine(sample, sample_params, weights ? &sample_weights : nullptr, options, false);
+      sampled_knots_u = coarse.surface.knots_u;
+      sampled_knots_v = coarse.surface.knots_v;
+      sampled_iterations = coarse.iterations;
+    } catch (const FitError&) {
+      // The sample could not carry a fit: start from the coarse net with every point.
+    }
+  }
   ToleranceResult best;
   best.max_distance_mm = HUGE_VAL;
   const double noise = estimate_noise(cloud, params);
@@ -63,6 +100,10 @@ ToleranceResult fit_to_tolerance(const PointCloud& cloud, const Parameters& para
                              options.extra_knots_u);
   spec.knots_v = start_knots(options.start_count_v > 0 ? options.start_count_v : options.degree_v + 1, options.degree_v,
                              options.extra_knots_v);
+  if (!sampled_knots_u.empty()) {
+    spec.knots_u = sampled_knots_u;
+    spec.knots_v = sampled_knots_v;
+  }
   const double min_width = typical_spacing(points.size());
   double previous_rms = HUGE_VAL;
   std::string refusal;
@@ -107,7 +148,7 @@ ToleranceResult fit_to_tolerance(const PointCloud& cloud, const Parameters& para
     if (spans_u.empty() || worst < best.max_distance_mm) {
       best.surface = surface;
       best.max_distance_mm = worst;  // an upper bound until the exact distances at the end
-      best.iterations = iteration;
+      best.iterations = sampled_iterations + iteration;
     }
     if (spans_u.empty()) {
       best.kept = true;
@@ -156,5 +197,7 @@ ToleranceResult fit_to_tolerance(const PointCloud& cloud, const Parameters& para
   }
   return best;
 }
+
+}  // namespace
 
 }  // namespace dg::host

@@ -14,6 +14,10 @@ struct ToleranceOptions {
   int start_count_u = 0, start_count_v = 0;  // 0: degree + 1 (one Bezier patch)
   int max_iterations = 24;
   std::vector<double> extra_knots_u, extra_knots_v;  // knots that must stay (creases), parameters
+  // Above this many points the loop first refines on an evenly strided sample of a quarter as many
+  // and continues from its knots with every point (coarse nets need few points; the contract is
+  // still judged on all of them).
+  size_t sample_above = 400000;
 };
 
 struct ToleranceResult {

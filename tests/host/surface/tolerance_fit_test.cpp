@@ -44,6 +44,25 @@ TEST(ToleranceFit, KeepsATightToleranceOnNoiseFreeData) {
   CHECK(r.max_distance_mm <= o.tolerance_mm);
 }
 
+TEST(ToleranceFit, ASampledStartKeepsTheSameContractOnEveryPoint) {
+  // 4,941 points, sampled above 2,000: the loop starts on 500 of them, then judges all.
+  const PointCloud c = scan(0.0, 1);
+  const Parameters p = parameterize(c, Parameterization::kTableXy);
+  ToleranceOptions whole, sampled;
+  whole.tolerance_mm = sampled.tolerance_mm = 0.002;
+  whole.sample_above = 0;
+  sampled.sample_above = 2000;
+  const ToleranceResult a = fit_to_tolerance(c, p, nullptr, whole);
+  const ToleranceResult b = fit_to_tolerance(c, p, nullptr, sampled);
+  CHECK_TEXT(a.kept, a.reason.c_str());
+  CHECK_TEXT(b.kept, b.reason.c_str());
+  LONGS_EQUAL(c.points.size(), b.distances.size());
+  for (double d : b.distances) CHECK(std::fabs(d) <= sampled.tolerance_mm);
+  // The same refinement rule from the same start: the same net.
+  LONGS_EQUAL(a.surface.count_u, b.surface.count_u);
+  LONGS_EQUAL(a.surface.count_v, b.surface.count_v);
+}
+
 TEST(ToleranceFit, NoiseOfTwoMicrometresStopsAtTheNoiseFloorWithFewPoles) {
   const PointCloud c = scan(0.002, 2);
   const Parameters p = parameterize(c, Parameterization::kTableXy);
