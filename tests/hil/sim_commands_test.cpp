@@ -1,5 +1,5 @@
-// Device commands end to end through the simulated device: status, a jog and its soft limit,
-// and a command the firmware does not have yet.
+// Device commands end to end through the simulated device: status, a jog and its soft limit, a
+// command the firmware does not have yet, and where a jog leaves the table.
 #include <CppUTest/TestHarness.h>
 
 #include <string>
@@ -38,8 +38,18 @@ TEST(SimCommands, StatusJogAndRefusalsCarryTheDevicesWords) {
   const digitizer_Envelope reply = dg::host::request(session, status, 5000);
   LONGS_EQUAL(digitizer_Envelope_status_tag, reply.which_body);
   LONGS_EQUAL(digitizer_DeviceState_STATE_IDLE, reply.body.status.state);
-  digitizer_Envelope jog = command(digitizer_CommandKind_CMD_JOG, 5000000);
-  LONGS_EQUAL(digitizer_Envelope_accepted_tag, dg::host::request(session, jog, 5000).which_body);
+  // Refusals first: a jog that is still moving would make any later command "busy".
   STRCMP_CONTAINS("soft limit", refusal(session, command(digitizer_CommandKind_CMD_JOG, 900000000)).c_str());
   STRCMP_CONTAINS("unsupported", refusal(session, command(digitizer_CommandKind_CMD_HOME)).c_str());
+  digitizer_Envelope jog = command(digitizer_CommandKind_CMD_JOG, 5000000);
+  LONGS_EQUAL(digitizer_Envelope_accepted_tag, dg::host::request(session, jog, 5000).which_body);
+  // The table ends where the jog sent it.
+  digitizer_Envelope after = digitizer_Envelope_init_zero;
+  for (int tries = 0; tries < 200; ++tries) {
+    digitizer_Envelope ask = command(digitizer_CommandKind_CMD_STATUS);
+    after = dg::host::request(session, ask, 5000);
+    if (after.body.status.state == digitizer_DeviceState_STATE_IDLE) break;
+  }
+  LONGS_EQUAL(digitizer_DeviceState_STATE_IDLE, after.body.status.state);
+  LONGS_EQUAL(5000000, after.body.status.x_nm);
 }
