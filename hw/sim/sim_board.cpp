@@ -102,9 +102,9 @@ bool SimBoard::wait(uint64_t deadline_us) {
     if (link_ != nullptr && next == deadline_ns && timer_next_ns_ == kNever && gauge_ns == kNever) {
       // Only the firmware's own deadline is pending: a retransmission timer while it waits for
       // the host. Virtual time stands still while the host answers (so a scan stays the same
-      // whatever the machine's load); only a host silent for 50 ms of real time (a lost
+      // whatever the machine's load); only a host silent for 250 ms of real time (a lost
       // frame) lets the timer run out, however long the timer is in virtual time.
-      if (link_->wait_readable(50)) {
+      if (link_->wait_readable(250)) {
         link_hint_ = true;
         return true;
       }
