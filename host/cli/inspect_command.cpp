@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "host/scan/file_name.h"
 #include "host/scan/point_reader.h"
 #include <ctime>
 
@@ -33,11 +34,6 @@ CLI::App* add_inspect_command(CLI::App& app, InspectArgs& a) {
 }
 
 namespace {
-
-bool ends_with(const std::string& text, const char* suffix) {
-  const std::string s = suffix;
-  return text.size() >= s.size() && text.compare(text.size() - s.size(), s.size(), s) == 0;
-}
 
 // What a scan file says about how the points were measured.
 std::vector<std::string> scan_facts(const std::string& path) {

@@ -16,6 +16,7 @@
 #include "host/cli/units.h"
 #include "host/device/capture.h"
 #include "host/device/pull_fit.h"
+#include "host/scan/file_name.h"
 #include "host/scan/lts_filter.h"
 #include "host/scan/point_export.h"
 #include "host/scan/point_reader.h"
@@ -172,11 +173,6 @@ int run_scan(const ScanArgs& a) {
   return kExitOk;
 }
 
-bool ends_with(const std::string& text, const char* suffix) {
-  const std::string s = suffix;
-  return text.size() >= s.size() && text.compare(text.size() - s.size(), s.size(), s) == 0;
-}
-
 // A surface file to CAD (IGES 5.3 entity 128, STEP AP214) or a mesh (STL, OBJ, PLY), in millimetres.
 int run_export_surface(const std::string& input, const std::string& output, double chord_mm, bool edges) {
   const SurfaceFile surface = read_surface_json(input);
@@ -195,22 +191,19 @@ int run_export_surface(const std::string& input, const std::string& output, doub
   if (edges) {
     // The four edges as curves: IGES entity 126 or a STEP curve set, for trimming or sketching in CAD.
     const std::vector<BSplineCurve> curves = boundary_curves(clamp_ends(surface.surface));
-    const size_t slash_at = output.find_last_of('/');
-    const std::string file = slash_at == std::string::npos ? output : output.substr(slash_at + 1);
     if (iges) {
       IgesOptions options;
-      options.file_name = file;
+      options.file_name = base_name(output);
       write_iges_curves(output, curves, options);
     } else {
       StepOptions options;
-      options.file_name = file;
+      options.file_name = base_name(output);
       write_step_curves(output, curves, options);
     }
     std::printf("wrote the surface's 4 edges as B-spline curves to %s\n", output.c_str());
     return kExitOk;
   }
-  const size_t slash = output.find_last_of('/');
-  const std::string name = slash == std::string::npos ? output : output.substr(slash + 1);
+  const std::string name = base_name(output);
   const std::time_t now = std::time(nullptr);
   char stamp[32];
   if (iges) {

@@ -35,8 +35,6 @@ class Session {
   // acknowledgements go out while it waits.
   bool receive(digitizer_Envelope* message, int timeout_ms);
 
-  const LinkCounters& link_counters() const { return link_.counters(); }
-
   uint64_t bytes_received() const { return bytes_in_; }
   uint64_t bytes_sent() const { return bytes_out_; }
   const FrameDecoder::Counters& frame_counters() const { return decoder_.counters(); }

@@ -12,6 +12,7 @@
 #include <sstream>
 #include <tuple>
 
+#include "host/scan/file_name.h"
 #include "host/scan/ply_reader.h"
 #include "host/scan/scan_file.h"
 
@@ -160,11 +161,7 @@ PointCloud parse_xyz_points(const std::string& text, const std::string& name) {
 }
 
 PointCloud read_points(const std::string& path) {
-  auto ends_with = [&](const char* suffix) {
-    const size_t n = std::strlen(suffix);
-    return path.size() >= n && path.compare(path.size() - n, n, suffix) == 0;
-  };
-  if (ends_with(".scan")) {
+  if (ends_with(path, ".scan")) {
     const ScanData data = read_scan_file(path);
     PointCloud cloud;
     cloud.line.emplace();
@@ -178,9 +175,9 @@ PointCloud read_points(const std::string& path) {
   if (!in) throw PointFileError(path + ": cannot open: " + std::strerror(errno));
   std::stringstream buffer;
   buffer << in.rdbuf();
-  if (ends_with(".csv")) return parse_csv_points(buffer.str(), path);
-  if (ends_with(".xyz") || ends_with(".txt")) return parse_xyz_points(buffer.str(), path);
-  if (ends_with(".ply")) {
+  if (ends_with(path, ".csv")) return parse_csv_points(buffer.str(), path);
+  if (ends_with(path, ".xyz") || ends_with(path, ".txt")) return parse_xyz_points(buffer.str(), path);
+  if (ends_with(path, ".ply")) {
     const std::string bytes = buffer.str();
     return parse_ply_points(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), path);
   }

@@ -6,6 +6,7 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "host/scan/file_name.h"
 #include "host/surface/atomic_file.h"
 #include "host/surface/vec3.h"
 
@@ -21,11 +22,6 @@ void put_f32(std::string& out, double value) {
   uint32_t bits;
   std::memcpy(&bits, &f, sizeof bits);
   put_u32(out, bits);
-}
-
-bool ends_with(const std::string& s, const char* suffix) {
-  const size_t n = std::strlen(suffix);
-  return s.size() >= n && s.compare(s.size() - n, n, suffix) == 0;
 }
 
 }  // namespace

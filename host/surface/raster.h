@@ -15,13 +15,11 @@ class Raster {
   Raster(int width, int height, Rgb background);
   int width() const { return width_; }
   int height() const { return height_; }
-  Rgb at(int x, int y) const { return pixels_[static_cast<size_t>(y) * width_ + x]; }
   // Fills [x0, x1) x [y0, y1), clipped to the picture.
   void fill(int x0, int y0, int x1, int y1, Rgb colour);
   // Text in a 5 x 7 pixel font scaled by `scale`: digits, '.', '-', '+', 'm', ' ' (what axis and
   // colour-bar labels in millimetres need). Other characters are left blank.
   void text(int x, int y, const std::string& s, Rgb colour, int scale = 2);
-  static int text_width(const std::string& s, int scale = 2) { return static_cast<int>(s.size()) * 6 * scale; }
   // The picture as a PNG file's bytes (8-bit RGB). Throws std::runtime_error if libpng fails.
   std::string png() const;
 

@@ -16,6 +16,7 @@
 #include <unistd.h>
 
 #include "host/surface/iges_writer.h"
+#include "tests/host/cad/occt_compare.h"
 #include "tests/support/sample_surfaces.h"
 
 using namespace dg::host;
@@ -44,19 +45,7 @@ void check_round_trip(const BSplineSurface& ours) {
   std::remove(path.c_str());
   LONGS_EQUAL(ours.degree_u, theirs->UDegree());
   LONGS_EQUAL(ours.degree_v, theirs->VDegree());
-  double scale = 0;
-  for (const Point3& p : ours.control) scale = std::fmax(scale, std::fmax(std::fabs(p.x), std::fmax(std::fabs(p.y), std::fabs(p.z))));
-  for (int a = 0; a <= 20; ++a) {
-    for (int b = 0; b <= 20; ++b) {
-      const double u = ours.u_min() + (ours.u_max() - ours.u_min()) * a / 20.0;
-      const double v = ours.v_min() + (ours.v_max() - ours.v_min()) * b / 20.0;
-      const Point3 p = ours.evaluate(u, v);
-      const gp_Pnt q = theirs->Value(u, v);
-      DOUBLES_EQUAL(p.x, q.X(), 1e-9 * scale);
-      DOUBLES_EQUAL(p.y, q.Y(), 1e-9 * scale);
-      DOUBLES_EQUAL(p.z, q.Z(), 1e-9 * scale);
-    }
-  }
+  dg::test::check_evaluates_alike(ours, theirs);
 }
 
 }  // namespace

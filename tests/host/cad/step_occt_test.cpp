@@ -23,6 +23,7 @@
 
 #include "host/surface/step_reader.h"
 #include "host/surface/step_writer.h"
+#include "tests/host/cad/occt_compare.h"
 #include "tests/support/sample_surfaces.h"
 
 using namespace dg::host;
@@ -43,20 +44,7 @@ void check_round_trip(const BSplineSurface& ours) {
     theirs = Handle(Geom_BSplineSurface)::DownCast(BRep_Tool::Surface(TopoDS::Face(it.Current())));
   }
   LONGS_EQUAL(1, faces);
-  CHECK(!theirs.IsNull());
-  double scale = 0;
-  for (const Point3& p : ours.control) scale = std::fmax(scale, std::fmax(std::fabs(p.x), std::fmax(std::fabs(p.y), std::fabs(p.z))));
-  for (int a = 0; a <= 20; ++a) {
-    for (int b = 0; b <= 20; ++b) {
-      const double u = ours.u_min() + (ours.u_max() - ours.u_min()) * a / 20.0;
-      const double v = ours.v_min() + (ours.v_max() - ours.v_min()) * b / 20.0;
-      const Point3 p = ours.evaluate(u, v);
-      const gp_Pnt q = theirs->Value(u, v);
-      DOUBLES_EQUAL(p.x, q.X(), 1e-9 * scale);
-      DOUBLES_EQUAL(p.y, q.Y(), 1e-9 * scale);
-      DOUBLES_EQUAL(p.z, q.Z(), 1e-9 * scale);
-    }
-  }
+  dg::test::check_evaluates_alike(ours, theirs);
 }
 
 }  // namespace
@@ -76,32 +64,32 @@ TEST(StepOcct, OurReaderReadsAStepFileOpenCascadeWrote) {
   TColgp_Array2OfPnt poles(1, ours.count_u, 1, ours.count_v);
   for (int i = 0; i < ours.count_u; ++i)
     for (int j = 0; j < ours.count_v; ++j) poles.SetValue(i + 1, j + 1, gp_Pnt(ours.at(i, j).x, ours.at(i, j).y, ours.at(i, j).z));
-  auto distinct = [](const std::vector<double>& knots, TColStd_Array1OfReal*& values, TColStd_Array1OfInteger*& mults) {
-    std::vector<double> v;
-    std::vector<int> m;
+  // OCCT takes distinct knots and their multiplicities.
+  auto distinct = [](const std::vector<double>& knots, std::vector<double>& values, std::vector<int>& mults) {
     for (double k : knots) {
-      if (!v.empty() && v.back() == k) ++m.back();
-      else {
-        v.push_back(k);
-        m.push_back(1);
+      if (!values.empty() && values.back() == k) {
+        ++mults.back();
+      } else {
+        values.push_back(k);
+        mults.push_back(1);
       }
     }
-    values = new TColStd_Array1OfReal(1, static_cast<int>(v.size()));
-    mults = new TColStd_Array1OfInteger(1, static_cast<int>(v.size()));
-    for (size_t k = 0; k < v.size(); ++k) {
-      values->SetValue(static_cast<int>(k) + 1, v[k]);
-      mults->SetValue(static_cast<int>(k) + 1, m[k]);
-    }
   };
-  TColStd_Array1OfReal *uk = nullptr, *vk = nullptr;
-  TColStd_Array1OfInteger *um = nullptr, *vm = nullptr;
-  distinct(ours.knots_u, uk, um);
-  distinct(ours.knots_v, vk, vm);
-  const Handle(Geom_BSplineSurface) surface = new Geom_BSplineSurface(poles, *uk, *vk, *um, *vm, ours.degree_u, ours.degree_v);
-  delete uk;
-  delete vk;
-  delete um;
-  delete vm;
+  std::vector<double> u_values, v_values;
+  std::vector<int> u_mults, v_mults;
+  distinct(ours.knots_u, u_values, u_mults);
+  distinct(ours.knots_v, v_values, v_mults);
+  TColStd_Array1OfReal uk(1, static_cast<int>(u_values.size())), vk(1, static_cast<int>(v_values.size()));
+  TColStd_Array1OfInteger um(1, static_cast<int>(u_mults.size())), vm(1, static_cast<int>(v_mults.size()));
+  for (size_t k = 0; k < u_values.size(); ++k) {
+    uk.SetValue(static_cast<int>(k) + 1, u_values[k]);
+    um.SetValue(static_cast<int>(k) + 1, u_mults[k]);
+  }
+  for (size_t k = 0; k < v_values.size(); ++k) {
+    vk.SetValue(static_cast<int>(k) + 1, v_values[k]);
+    vm.SetValue(static_cast<int>(k) + 1, v_mults[k]);
+  }
+  const Handle(Geom_BSplineSurface) surface = new Geom_BSplineSurface(poles, uk, vk, um, vm, ours.degree_u, ours.degree_v);
   const TopoDS_Face face = BRepBuilderAPI_MakeFace(surface, 1e-7);
   STEPControl_Writer writer;
   CHECK_EQUAL(IFSelect_RetDone, writer.Transfer(face, STEPControl_AsIs));
