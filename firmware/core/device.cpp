@@ -51,7 +51,25 @@ uint64_t Device::next_deadline_us() const {
     const uint64_t due = ring_.at(offset).t_us + kBatchMaxAgeUs;
     if (due < deadline) deadline = due;
   }
-  return deadline;
+  const uint64_t silence = host_silence_deadline_us();
+  return silence < deadline ? silence : deadline;
+}
+
+uint64_t Device::host_silence_deadline_us() const {
+  if (config_.host_silence_us == 0 || config_.on_host_silence == HostSilence::kContinue) return UINT64_MAX;
+  if (!scan_.active() || scan_.paused()) return UINT64_MAX;
+  return host_heard_us_ + config_.host_silence_us;
+}
+
+void Device::watch_host() {
+  if (board_.now_us() < host_silence_deadline_us()) return;
+  if (config_.on_host_silence == HostSilence::kAbort) {
+    scan_.abort();
+    motion_.stop();
+    return;
+  }
+  scan_.set_paused(true);
+  silence_paused_ = true;
 }
 
 bool Device::accept(const PointSample& point) {
@@ -65,6 +83,7 @@ bool Device::accept(const PointSample& point) {
 
 void Device::poll() {
   receive();
+  watch_host();
   if (jogging_ && !motion_.busy()) jogging_ = false;
   scan_.poll(*this);
   transmit();
@@ -82,6 +101,12 @@ void Device::receive() {
       offset += used;
       if (status == Status::kNeedMore) break;
       if (status != Status::kOk) continue;  // damaged frame: counted and skipped
+      // A host is there again: a scan paused for its silence goes on.
+      host_heard_us_ = board_.now_us();
+      if (silence_paused_) {
+        silence_paused_ = false;
+        scan_.set_paused(false);
+      }
       const bool deliver = link_.receive(decoder_.header());
       if (link_.take_restart()) restart_session();
       if (!deliver) continue;  // an ack, a duplicate, or a frame after a gap (it will come again)
@@ -100,10 +125,12 @@ void Device::handle(const digitizer_Envelope& message) {
   switch (message.which_body) {
     case digitizer_Envelope_host_hello_tag: {
       const digitizer_HostHello& host = message.body.host_hello;
+      // The Hello still goes out after a fault, so the host can say what differs.
       if (host.protocol_version < digitizer_ProtocolVersion_PROTOCOL_VERSION ||
           host.min_protocol_version > digitizer_ProtocolVersion_PROTOCOL_VERSION) {
-        // The Hello still goes out so the host can say which versions differ.
         fault(id, digitizer_FaultCode_FAULT_VERSION, "protocol versions cannot talk");
+      } else if ((host.required_capabilities & ~config_.capabilities) != 0) {
+        fault(id, digitizer_FaultCode_FAULT_UNSUPPORTED, "this device lacks a capability the host needs");
       }
       queue({Reply::kHello, id, digitizer_FaultCode_FAULT_NONE, nullptr});
       return;
@@ -117,12 +144,15 @@ void Device::handle(const digitizer_Envelope& message) {
           scan_.start(message.body.scan_request, next_seq_, config_.default_feed_um_s, &reason);
       if (code != digitizer_FaultCode_FAULT_NONE) return fault(id, code, reason);
       line_first_seq_ = next_seq_;
+      resend_done_ = false;
       fit_.begin(message.body.scan_request);
       queue({Reply::kAccepted, id, digitizer_FaultCode_FAULT_NONE, nullptr});
       return;
     }
     case digitizer_Envelope_command_tag:
       return handle_command(id, message.body.command);
+    case digitizer_Envelope_resume_scan_tag:
+      return resume_scan(id, message.body.resume_scan);
     case digitizer_Envelope_point_ack_tag: {
       const uint32_t acked = message.body.point_ack.seq;
       // Never free what was not sent: a wrong ack must not lose points.
@@ -132,6 +162,32 @@ void Device::handle(const digitizer_Envelope& message) {
     default:
       return fault(id, digitizer_FaultCode_FAULT_UNSUPPORTED, "not a host message");
   }
+}
+
+void Device::resume_scan(uint32_t id, const digitizer_ResumeScan& request) {
+  const bool current = (scan_.active() || scan_.finished()) && scan_.scan_id() == request.scan_id;
+  const bool done = !scan_.active() && !scan_.finished() && have_last_done_ && last_done_.scan_id == request.scan_id;
+  if (request.scan_id == 0 || (!current && !done)) {
+    return fault(id, digitizer_FaultCode_FAULT_BAD_REQUEST, "no such scan on this device (was it restarted?)");
+  }
+  const uint32_t oldest = ring_.empty() ? next_seq_ : ring_.at(0).seq;
+  // 0: the host has none of the points yet.
+  const uint32_t next_seq = request.next_seq == 0 ? oldest : request.next_seq;
+  if (static_cast<int32_t>(next_seq - oldest) < 0) {
+    return fault(id, digitizer_FaultCode_FAULT_BAD_REQUEST, "points before the ring's oldest were acknowledged and freed");
+  }
+  if (static_cast<int32_t>(next_seq - next_seq_) > 0) {
+    return fault(id, digitizer_FaultCode_FAULT_BAD_REQUEST, "the host claims points not yet measured");
+  }
+  // The host has everything before next_seq: free it and send from there.
+  ring_.release_through(next_seq - 1);
+  next_send_seq_ = next_seq;
+  line_done_pending_ = false;
+  if (!ring_.empty()) line_first_seq_ = scan_.line_first_seq(ring_.at(0).line);
+  silence_paused_ = false;
+  if (scan_.active()) scan_.set_paused(false);
+  resend_done_ = done;
+  queue({Reply::kAccepted, id, digitizer_FaultCode_FAULT_NONE, nullptr});
 }
 
 void Device::handle_command(uint32_t id, const digitizer_Command& command) {
@@ -201,7 +257,8 @@ void Device::restart_session() {
   line_done_pending_ = false;
   // Everything the old host did not acknowledge with PointAck is still in the ring: send it again.
   next_send_seq_ = ring_.empty() ? next_seq_ : ring_.at(0).seq;
-  line_first_seq_ = next_send_seq_;
+  if (!ring_.empty()) line_first_seq_ = scan_.line_first_seq(ring_.at(0).line);
+  resend_done_ = false;
   tx_sent_ = tx_size_ = 0;
 }
 
@@ -341,7 +398,18 @@ void Device::transmit() {
         fault(0, scan_.fault(), "scan stopped by a fault");
       }
       if (!send(message)) return;
+      last_done_ = done;
+      have_last_done_ = true;
       scan_.acknowledge_finished();
+      continue;
+    }
+    // A resumed host that missed the ScanDone of a finished scan gets it again.
+    if (resend_done_ && next_send_seq_ == next_seq_) {
+      digitizer_Envelope message = digitizer_Envelope_init_zero;
+      message.which_body = digitizer_Envelope_scan_done_tag;
+      message.body.scan_done = last_done_;
+      if (!send(message)) return;
+      resend_done_ = false;
       continue;
     }
     return;

@@ -22,6 +22,14 @@ constexpr uint64_t kBatchMaxAgeUs = 1000000;
 // An unacknowledged frame is sent again after this long.
 constexpr uint32_t kRetransmitUs = 50000;
 
+// What a scan does when the host has sent nothing (not even an acknowledgement) for
+// DeviceConfig::host_silence_us. Points are never lost either way: a full ring stops the scan.
+enum class HostSilence : uint8_t {
+  kContinue,  // scan on until the ring is full
+  kPause,     // stop where it is; the next frame from a host continues the scan
+  kAbort,     // end the scan (ScanDone, SCAN_ABORTED) and leave the table where it is
+};
+
 struct DeviceConfig {
   MotionConfig motion{};
   DigimaticTiming gauge{};
@@ -37,6 +45,10 @@ struct DeviceConfig {
   // An unacknowledged frame is sent again after this long. The simulator's virtual time runs far
   // faster than the host's real time, so it sets a longer one.
   uint32_t retransmit_us = kRetransmitUs;
+  // A host that sends nothing for this long during a scan is taken as gone (0: never). The host
+  // sends at least a status request every 300 ms while it listens.
+  uint32_t host_silence_us = 2000000;
+  HostSilence on_host_silence = HostSilence::kPause;
 };
 
 class Device : private PointSink {
@@ -68,6 +80,11 @@ class Device : private PointSink {
   void receive();
   void handle(const digitizer_Envelope& message);
   void handle_command(uint32_t id, const digitizer_Command& command);
+  void resume_scan(uint32_t id, const digitizer_ResumeScan& request);
+  // Applies the host-silence policy to a running scan.
+  void watch_host();
+  // When watch_host() must next look (UINT64_MAX: not now).
+  uint64_t host_silence_deadline_us() const;
   void queue(Reply reply);
   void fault(uint32_t id, digitizer_FaultCode code, const char* detail) {
     queue({Reply::kFault, id, code, detail});
@@ -99,6 +116,12 @@ class Device : private PointSink {
   bool alarm_ = false;
   digitizer_FaultCode alarm_code_ = digitizer_FaultCode_FAULT_NONE;
   bool jogging_ = false;
+  uint64_t host_heard_us_ = 0;    // device time of the last good frame from a host
+  bool silence_paused_ = false;   // paused by watch_host(), not by CMD_PAUSE
+  // The last scan's ScanDone, sent again when a resumed host asks for a finished scan.
+  digitizer_ScanDone last_done_ = digitizer_ScanDone_init_zero;
+  bool have_last_done_ = false;
+  bool resend_done_ = false;
   // Four frames in flight: enough to keep a USB full-speed link busy, 2.2 KB of RAM.
   ReliableLink<4> link_;
   uint8_t tx_wire_[kFrameMaxWire] = {};

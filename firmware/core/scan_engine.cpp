@@ -59,7 +59,7 @@ digitizer_FaultCode ScanEngine::start(const digitizer_ScanRequest& request, uint
   rate_steps_s_ = static_cast<uint32_t>(static_cast<uint64_t>(feed) * 1000 / resolution);
   if (rate_steps_s_ == 0) rate_steps_s_ = 1;
   ix_ = iy_ = 0;
-  next_seq_ = first_seq;
+  next_seq_ = first_seq_ = first_seq;
   points_done_ = lines_done_ = 0;
   paused_ = abort_requested_ = false;
   end_ = digitizer_ScanEnd_SCAN_COMPLETED;

@@ -53,6 +53,8 @@ class ScanEngine {
   uint32_t points_done() const { return points_done_; }
   uint32_t points_total() const { return count_x_ * count_y_; }
   uint32_t lines_done() const { return lines_done_; }
+  // Sequence number of the first point of grid line `line` (every line has the same length).
+  uint32_t line_first_seq(uint32_t line) const { return first_seq_ + line * count_x_; }
   uint64_t duration_us() const { return finished_us_ - started_us_; }
   int32_t last_z_nm() const { return last_z_nm_; }
 
@@ -73,6 +75,7 @@ class ScanEngine {
   uint32_t ix_ = 0, iy_ = 0;  // grid index of the current point (ix along the line)
   uint32_t rate_steps_s_ = 0;
   uint32_t next_seq_ = 0;
+  uint32_t first_seq_ = 0;
   uint32_t points_done_ = 0, lines_done_ = 0;
   uint64_t settle_until_us_ = 0;
   uint64_t started_us_ = 0, finished_us_ = 0;

@@ -12,10 +12,8 @@
 #include "host/cli/device_commands.h"
 #include "host/cli/fit_command.h"
 #include "host/cli/inspect_command.h"
-#include "host/cli/progress.h"
+#include "host/cli/scan_command.h"
 #include "host/cli/units.h"
-#include "host/device/capture.h"
-#include "host/device/pull_fit.h"
 #include "host/scan/file_name.h"
 #include "host/scan/lts_filter.h"
 #include "host/scan/point_export.h"
@@ -24,7 +22,6 @@
 #include "host/scan/scan_file.h"
 #include "host/surface/bspline_curve.h"
 #include "host/surface/clamp.h"
-#include "host/surface/device_fit_surface.h"
 #include "host/surface/iges_writer.h"
 #include "host/surface/mesh_writer.h"
 #include "host/surface/step_writer.h"
@@ -39,139 +36,6 @@ using namespace dg::host;
 constexpr int kExitOk = 0;
 constexpr int kExitFailure = 1;  // device, transport or file error
 constexpr int kExitUsage = 2;
-
-struct ScanArgs {
-  std::string device = "sim:part=dome";
-  std::string x = "0:40", y = "0:30";
-  double step_mm = 1.0;
-  double step_y_mm = 0.0;
-  std::string pattern = "serpentine";
-  double feed_mm_s = 10.0;
-  unsigned samples = 1;
-  unsigned settle_ms = 0;
-  std::string output;
-  std::string device_fit;  // pull the device's fit into this SURF.json after the scan
-  std::string device_fit_model = "bezier";
-  bool quiet = false;
-};
-
-struct PullArgs {
-  std::string device = "sim:part=dome";
-  std::string model = "bezier";
-  std::string output;
-  bool quiet = false;
-};
-
-// Pulls the device's fit of its latest scan and writes it as SURF.json.
-void write_device_fit(Session& session, const digitizer_Hello& device, const std::string& model,
-                      const std::string& path, bool quiet) {
-  const digitizer_DeviceFitModel which =
-      model == "bspline" ? digitizer_DeviceFitModel_DEVICE_FIT_NET : digitizer_DeviceFitModel_DEVICE_FIT_BEZIER;
-  const digitizer_FitResult fit = pull_fit(session, device, which, 5000);
-  const std::string source = std::string("device ") + device.device_id + " scan " + std::to_string(fit.scan_id);
-  const SurfaceFile surface = surface_from_device_fit(fit, source);
-  write_surface_json(path, surface);
-  if (!quiet) {
-    std::printf("device fit: %s, %u x %u control points from %u points (%u rejected)%s\n", surface.model.c_str(),
-                fit.side, fit.side, fit.points, fit.rejected, fit.scan_finished ? "" : ", scan still running");
-    std::printf("wrote %s\n", path.c_str());
-  }
-}
-
-int run_pull(const PullArgs& a) {
-  auto transport = open_transport(a.device);
-  Session session(*transport);
-  const digitizer_Hello device = session.hello(5000);
-  write_device_fit(session, device, a.model, a.output, a.quiet);
-  return kExitOk;
-}
-
-void print_summary(const dg::host::ScanData& data, const char* prefix) {
-  if (data.points.empty()) {
-    std::printf("%s0 points\n", prefix);
-    return;
-  }
-  int32_t lo[3] = {INT32_MAX, INT32_MAX, INT32_MAX}, hi[3] = {INT32_MIN, INT32_MIN, INT32_MIN};
-  for (const auto& p : data.points) {
-    const int32_t v[3] = {p.x_nm, p.y_nm, p.z_nm};
-    for (int i = 0; i < 3; ++i) {
-      if (v[i] < lo[i]) lo[i] = v[i];
-      if (v[i] > hi[i]) hi[i] = v[i];
-    }
-  }
-  const uint32_t lines = data.points.back().line - data.points.front().line + 1;
-  std::printf("%s%zu points in %" PRIu32 " lines\n", prefix, data.points.size(), lines);
-  std::printf("%sextent x %.3f..%.3f  y %.3f..%.3f  z %.3f..%.3f mm\n", prefix, lo[0] * 1e-6,
-              hi[0] * 1e-6, lo[1] * 1e-6, hi[1] * 1e-6, lo[2] * 1e-6, hi[2] * 1e-6);
-  if (data.done) {
-    std::printf("%sdevice time %.1f s\n", prefix, static_cast<double>(data.done->duration_us) * 1e-6);
-  }
-  for (const auto& w : data.warnings) std::printf("%swarning: %s\n", prefix, w.c_str());
-}
-
-int run_scan(const ScanArgs& a) {
-  if (a.output.empty()) throw CLI::ValidationError("-o", "an output scan file is required");
-  digitizer_ScanRequest request = digitizer_ScanRequest_init_zero;
-  request.scan_id = 1;
-  request.has_x = request.has_y = true;
-  const RangeNm x = parse_range_mm(a.x, "--x");
-  const RangeNm y = parse_range_mm(a.y, "--y");
-  request.x.min_nm = x.min_nm;
-  request.x.max_nm = x.max_nm;
-  request.y.min_nm = y.min_nm;
-  request.y.max_nm = y.max_nm;
-  const int32_t step = mm_to_nm(a.step_mm, "--step");
-  const int32_t step_y = a.step_y_mm > 0 ? mm_to_nm(a.step_y_mm, "--step-y") : step;
-  if (step <= 0 || step_y <= 0) throw std::invalid_argument("--step must be > 0");
-  request.step_x_nm = static_cast<uint32_t>(step);
-  request.step_y_nm = static_cast<uint32_t>(step_y);
-  request.pattern = a.pattern == "raster" ? digitizer_ScanPattern_PATTERN_RASTER
-                                          : digitizer_ScanPattern_PATTERN_SERPENTINE;
-  request.feed_um_s = static_cast<uint32_t>(a.feed_mm_s * 1000.0);
-  request.probe = digitizer_ProbeType_PROBE_DIGIMATIC;
-  request.samples_per_point = a.samples;
-  request.settle_ms = a.settle_ms;
-
-  const auto started = std::chrono::steady_clock::now();
-  auto transport = open_transport(a.device);
-  Session session(*transport);
-  const digitizer_Hello device = session.hello(5000);
-  if (!a.quiet) {
-    std::printf("device %s (%s, firmware %s), table %.0f x %.0f mm, gauge %u nm\n",
-                device.device_id, device.board, device.firmware_version,
-                device.table.x.max_nm * 1e-6, device.table.y.max_nm * 1e-6,
-                device.gauge_resolution_nm);
-  }
-  ScanFileWriter file(a.output);
-  CaptureOptions options;
-  // A bar with rate and ETA on a terminal; a plain line every tenth of the scan otherwise.
-  ProgressPrinter progress(stdout, isatty(fileno(stdout)) != 0);
-  if (!a.quiet) {
-    options.progress = [&progress](const CaptureProgress& p) { progress.update(p.points, p.points_total); };
-  }
-  const CaptureResult result = capture_scan(session, device, request, file, options);
-  progress.finish();
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-  if (!a.quiet) {
-    const ScanData data = read_scan_file(a.output);
-    print_summary(data, "");
-    std::printf("wall time %.2f s (%.0f points/s), %.1f wire bytes per point\n", seconds,
-                static_cast<double>(result.points) / (seconds > 0 ? seconds : 1e-9),
-                result.points ? static_cast<double>(session.bytes_received()) / static_cast<double>(result.points) : 0.0);
-    std::printf("wrote %s\n", a.output.c_str());
-  }
-  // The device's fit of whatever it measured, even of a scan cut short.
-  if (!a.device_fit.empty()) write_device_fit(session, device, a.device_fit_model, a.device_fit, a.quiet);
-  if (result.done.reason != digitizer_ScanEnd_SCAN_COMPLETED) {
-    std::fprintf(stderr, "digitizer: scan %s after %u points%s%s; the points are in %s\n",
-                 result.done.reason == digitizer_ScanEnd_SCAN_ABORTED ? "aborted" : "stopped by a fault",
-                 result.points, result.faults ? ": " : "", result.last_fault_detail.c_str(),
-                 a.output.c_str());
-    return kExitFailure;
-  }
-  return kExitOk;
-}
 
 // A surface file to CAD (IGES 5.3 entity 128, STEP AP214) or a mesh (STL, OBJ, PLY), in millimetres.
 int run_export_surface(const std::string& input, const std::string& output, double chord_mm, bool edges) {
@@ -306,36 +170,9 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", DIGITIZER_VERSION);
 
   ScanArgs scan;
-  CLI::App* scan_cmd = app.add_subcommand("scan", "scan a grid on the device and store it");
-  scan_cmd->add_option("--device", scan.device, "device URI, e.g. sim:part=dome,seed=7")
-      ->capture_default_str();
-  scan_cmd->add_option("--x", scan.x, "x range MIN:MAX in mm")->capture_default_str();
-  scan_cmd->add_option("--y", scan.y, "y range MIN:MAX in mm")->capture_default_str();
-  scan_cmd->add_option("--step", scan.step_mm, "grid step along a line, mm")
-      ->capture_default_str()->check(CLI::PositiveNumber);
-  scan_cmd->add_option("--step-y", scan.step_y_mm, "grid step between lines, mm (default: --step)")
-      ->check(CLI::PositiveNumber);
-  scan_cmd->add_option("--pattern", scan.pattern, "raster or serpentine")
-      ->capture_default_str()->check(CLI::IsMember({"raster", "serpentine"}));
-  scan_cmd->add_option("--feed", scan.feed_mm_s, "table speed between points, mm/s")
-      ->capture_default_str()->check(CLI::Range(0.01, 200.0));
-  scan_cmd->add_option("--samples", scan.samples, "gauge readings averaged per point")
-      ->capture_default_str()->check(CLI::Range(1, 16));
-  scan_cmd->add_option("--settle-ms", scan.settle_ms, "wait after each move before reading")
-      ->capture_default_str()->check(CLI::Range(0, 10000));
-  scan_cmd->add_option("-o,--output", scan.output, "scan file to write")->required();
-  scan_cmd->add_option("--device-fit", scan.device_fit, "after the scan, pull the surface the device fitted while scanning into this SURF.json");
-  scan_cmd->add_option("--device-fit-model", scan.device_fit_model, "bezier (one bicubic patch) or bspline (5 x 5 cubic net)")
-      ->capture_default_str()->check(CLI::IsMember({"bezier", "bspline"}));
-  scan_cmd->add_flag("-q,--quiet", scan.quiet, "print nothing but errors");
-
+  CLI::App* scan_cmd = add_scan_command(app, scan);
   PullArgs pull;
-  CLI::App* pull_cmd = app.add_subcommand("pull", "fetch the surface the device fitted during its latest scan");
-  pull_cmd->add_option("--device", pull.device, "device URI")->capture_default_str();
-  pull_cmd->add_option("--model", pull.model, "bezier (one bicubic patch) or bspline (5 x 5 cubic net)")
-      ->capture_default_str()->check(CLI::IsMember({"bezier", "bspline"}));
-  pull_cmd->add_option("-o,--output", pull.output, "surface file (.json)")->required();
-  pull_cmd->add_flag("-q,--quiet", pull.quiet, "print nothing but errors");
+  CLI::App* pull_cmd = add_pull_command(app, pull);
 
   std::string export_in, export_out;
   CLI::App* export_cmd = app.add_subcommand("export", "write a scan's points as CSV or PLY, or a surface as IGES or STEP");

@@ -6,9 +6,9 @@
 
 namespace dg::host {
 
-std::string progress_text(uint32_t points, uint32_t total, double seconds, bool bar) {
+std::string progress_text(uint32_t points, uint32_t total, double seconds, bool bar, uint32_t first) {
   char text[160];
-  const double rate = seconds > 0 ? points / seconds : 0;
+  const double rate = seconds > 0 && points > first ? (points - first) / seconds : 0;
   const double share = total > 0 ? std::min(1.0, static_cast<double>(points) / total) : 0;
   std::string eta = "-";
   if (rate > 0 && total > points) {
@@ -37,7 +37,7 @@ void ProgressPrinter::update(uint32_t points, uint32_t total) {
   const double seconds = std::chrono::duration<double>(now - started_).count();
   if (terminal_) {
     if (drew_ && now - last_draw_ < std::chrono::milliseconds(100) && points < total) return;
-    std::fprintf(out_, "\r%s", progress_text(points, total, seconds, true).c_str());
+    std::fprintf(out_, "\r%s", progress_text(points, total, seconds, true, first_).c_str());
     std::fflush(out_);
     last_draw_ = now;
     drew_ = true;
@@ -46,7 +46,7 @@ void ProgressPrinter::update(uint32_t points, uint32_t total) {
   const int tenth = total > 0 ? static_cast<int>(10.0 * points / total) : 0;
   if (tenth == last_tenth_) return;
   last_tenth_ = tenth;
-  std::fprintf(out_, "scan: %s\n", progress_text(points, total, seconds, false).c_str());
+  std::fprintf(out_, "scan: %s\n", progress_text(points, total, seconds, false, first_).c_str());
 }
 
 void ProgressPrinter::finish() {

@@ -2,14 +2,256 @@
 #include "host/device/capture.h"
 
 #include <chrono>
+#include <thread>
 
 #include "common/proto/scan_grid.h"
 
 namespace dg::host {
 
-CaptureResult capture_scan(Session& session, const digitizer_Hello& device,
-                           digitizer_ScanRequest request, ScanFileWriter& file,
-                           const CaptureOptions& options) {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+int64_t ms_since(Clock::time_point t) {
+  return std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - t).count();
+}
+
+// Sequence numbers wrap at 2^32; compare them as a window.
+bool seq_before(uint32_t a, uint32_t b) { return static_cast<int32_t>(a - b) < 0; }
+
+class Capture {
+ public:
+  Capture(Session& session, ScanFileWriter& file, const CaptureOptions& options, const digitizer_ScanRequest& request)
+      : session_(session), file_(file), options_(options), scan_id_(request.scan_id) {
+    ScanGrid grid;
+    if (scan_grid(request, &grid)) progress_.points_total = static_cast<uint32_t>(grid.points());
+  }
+
+  // Continues after what the file holds: asks the device for the points after its last one.
+  CaptureResult resume(const ScanData& stored) {
+    result_.points = progress_.points = static_cast<uint32_t>(stored.points.size());
+    result_.lines = progress_.lines = static_cast<uint32_t>(stored.lines.size());
+    expected_seq_ = stored.points.empty() ? 0 : stored.points.back().seq + 1;
+    if (!stored.lines.empty()) {
+      have_last_line_ = true;
+      last_line_ = stored.lines.back().line;
+    }
+    if (!stored.points.empty()) complete_last_line(stored);
+    return run(send_resume(), true);
+  }
+
+  CaptureResult run(uint32_t request_id, bool resuming) {
+    request_id_ = request_id;
+    resuming_ = resuming;
+    auto last_heard = Clock::now();
+    digitizer_Envelope message;
+    for (;;) {
+      try {
+        if (stop_ == Stop::kNone && options_.stop_requested && options_.stop_requested()) request_pause();
+        if (stop_ == Stop::kPaused && ms_since(quiet_since_) >= 200) break;
+        if (stop_ != Stop::kNone && ms_since(stop_asked_) >= 2000) break;
+        if (!session_.receive(&message, stop_ == Stop::kNone ? options_.heartbeat_ms : 50)) {
+          if (stop_ != Stop::kNone) continue;
+          const int64_t silent_ms = ms_since(last_heard);
+          if (silent_ms >= options_.silence_timeout_ms) {
+            throw DeviceError(session_.device_name() + ": device silent for " + std::to_string(silent_ms) +
+                              " ms after " + std::to_string(result_.points) + " points; they are in " + file_.path());
+          }
+          // A slow scan (long settling, many samples) may have nothing to say: ask for a sign of life.
+          send_command(digitizer_CommandKind_CMD_STATUS);
+          continue;
+        }
+        last_heard = quiet_since_ = Clock::now();
+        if (handle(message)) return result_;
+      } catch (const TransportError& e) {
+        reconnect(e);
+        last_heard = Clock::now();
+      }
+    }
+    // Stopped on request: everything that arrived is stored and acknowledged.
+    file_.sync();
+    result_.interrupted = true;
+    return result_;
+  }
+
+ private:
+  enum class Stop { kNone, kAsked, kPaused };
+
+  uint32_t send_command(digitizer_CommandKind kind) {
+    digitizer_Envelope command = digitizer_Envelope_init_zero;
+    command.which_body = digitizer_Envelope_command_tag;
+    command.body.command.kind = kind;
+    return session_.send(command);
+  }
+
+  void request_pause() {
+    stop_ = Stop::kAsked;
+    stop_asked_ = Clock::now();
+    pause_id_ = send_command(digitizer_CommandKind_CMD_PAUSE);
+  }
+
+  // The host stopped between a line's last point and its LineDone: the device, asked for the
+  // points after it, will not send that LineDone again, so it is written from the points.
+  void complete_last_line(const ScanData& stored) {
+    const PointSample& last = stored.points.back();
+    if ((last.flags & digitizer_PointFlag_POINT_LINE_END) == 0) return;
+    if (have_last_line_ && !seq_before(last_line_, last.line)) return;
+    uint32_t in_line = 0;
+    for (auto p = stored.points.rbegin(); p != stored.points.rend() && p->line == last.line; ++p) ++in_line;
+    digitizer_Envelope done = digitizer_Envelope_init_zero;
+    done.which_body = digitizer_Envelope_line_done_tag;
+    done.body.line_done.line = last.line;
+    done.body.line_done.points = in_line;
+    done.body.line_done.last_seq = last.seq;
+    handle(done);
+  }
+
+  uint32_t send_resume() {
+    digitizer_Envelope resume = digitizer_Envelope_init_zero;
+    resume.which_body = digitizer_Envelope_resume_scan_tag;
+    resume.body.resume_scan.scan_id = scan_id_;
+    resume.body.resume_scan.next_seq = expected_seq_;
+    return session_.send(resume);
+  }
+
+  // The link broke: reach the device again and continue from the last stored point.
+  void reconnect(const TransportError& error) {
+    file_.sync();
+    const std::string stored = std::to_string(result_.points) + " points are in " + file_.path();
+    if (!session_.reconnectable() || options_.reconnect_timeout_ms <= 0) {
+      throw TransportError(std::string(error.what()) + "; " + stored);
+    }
+    if (options_.notice) options_.notice(std::string(error.what()) + "; reconnecting");
+    const auto started = Clock::now();
+    std::string last_error = error.what();
+    while (ms_since(started) < options_.reconnect_timeout_ms) {
+      try {
+        session_.reopen();
+        session_.hello(2000, digitizer_Capability_CAP_RESUME);
+        request_id_ = send_resume();
+        resuming_ = true;
+        accepted_ = false;
+        ++result_.reconnects;
+        if (options_.notice) options_.notice("reconnected; resuming at point " + std::to_string(expected_seq_));
+        if (stop_ != Stop::kNone) request_pause();
+        return;
+      } catch (const TransportError& e) {
+        last_error = e.what();
+      } catch (const DeviceError& e) {
+        last_error = e.what();
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(250));
+    }
+    throw TransportError(last_error + "; gave up reconnecting after " +
+                         std::to_string(options_.reconnect_timeout_ms / 1000) + " s; " + stored +
+                         " (continue with scan --resume)");
+  }
+
+  // Stores one message; true when the scan is over.
+  bool handle(const digitizer_Envelope& message) {
+    switch (message.which_body) {
+      case digitizer_Envelope_accepted_tag:
+        if (message.body.accepted.request_id == request_id_) accepted_ = true;
+        if (stop_ == Stop::kAsked && message.body.accepted.request_id == pause_id_) stop_ = Stop::kPaused;
+        return false;
+      case digitizer_Envelope_fault_tag: {
+        const digitizer_Fault& f = message.body.fault;
+        if (f.request_id == request_id_ && !accepted_) {
+          throw ScanRefused(session_.device_name() + (resuming_ ? ": cannot resume: " : ": scan refused (") +
+                            (resuming_ ? "" : std::string(fault_name(f.code)) + "): ") + f.detail +
+                            (resuming_ ? "; " + std::to_string(result_.points) + " points are in " + file_.path() : ""));
+        }
+        // A pause refused because the scan just ended: ScanDone follows.
+        if (f.request_id != 0 && f.request_id == pause_id_) return false;
+        file_.append(message);
+        ++result_.faults;
+        result_.last_fault = f.code;
+        result_.last_fault_detail = f.detail;
+        return false;
+      }
+      case digitizer_Envelope_points_tag:
+        store_points(message);
+        return false;
+      case digitizer_Envelope_line_done_tag:
+        // A line end sent again after a reconnect is stored once (lines only go up).
+        if (have_last_line_ && !seq_before(last_line_, message.body.line_done.line)) return false;
+        have_last_line_ = true;
+        last_line_ = message.body.line_done.line;
+        file_.append(message);
+        file_.sync();
+        ++result_.lines;
+        progress_.lines = result_.lines;
+        return false;
+      case digitizer_Envelope_scan_done_tag:
+        if (message.body.scan_done.scan_id != scan_id_) return false;
+        file_.append(message);
+        file_.sync();
+        result_.done = message.body.scan_done;
+        result_.finished = true;
+        return true;
+      default:
+        return false;
+    }
+  }
+
+  void store_points(const digitizer_Envelope& message) {
+    const digitizer_PointBatch& batch = message.body.points;
+    const uint32_t count = static_cast<uint32_t>(point_batch_size(batch));
+    if (count == 0) return;
+    if (expected_seq_ == 0) expected_seq_ = batch.first_seq;
+    if (!seq_before(expected_seq_, batch.first_seq + count)) return;  // all stored already
+    if (seq_before(expected_seq_, batch.first_seq)) {
+      throw DeviceError(session_.device_name() + ": points " + std::to_string(expected_seq_) + " to " +
+                        std::to_string(batch.first_seq - 1) + " never arrived; the rest is in " + file_.path());
+    }
+    if (batch.first_seq == expected_seq_) {
+      file_.append(message);
+    } else {
+      // Resent from before what the file has (a replay after a reconnect): store only the new tail.
+      PointSample points[kMaxPointsPerBatch];
+      size_t expanded = 0;
+      if (point_batch_expand(batch, points, &expanded) != Status::kOk) {
+        throw DeviceError(session_.device_name() + ": an inconsistent point batch at point " + std::to_string(batch.first_seq));
+      }
+      const size_t skip = expected_seq_ - batch.first_seq;
+      digitizer_Envelope tail = digitizer_Envelope_init_zero;
+      tail.which_body = digitizer_Envelope_points_tag;
+      point_batch_begin(&tail.body.points, points[skip].seq, points[skip].line);
+      for (size_t i = skip; i < expanded; ++i) point_batch_append(&tail.body.points, points[i]);
+      file_.append(tail);
+    }
+    const uint32_t added = batch.first_seq + count - expected_seq_;
+    expected_seq_ = batch.first_seq + count;
+    result_.points += added;
+    digitizer_Envelope ack = digitizer_Envelope_init_zero;
+    ack.which_body = digitizer_Envelope_point_ack_tag;
+    ack.body.point_ack.seq = expected_seq_ - 1;
+    session_.send(ack);
+    progress_.points = result_.points;
+    if (options_.progress) options_.progress(progress_);
+  }
+
+  Session& session_;
+  ScanFileWriter& file_;
+  const CaptureOptions& options_;
+  uint32_t scan_id_;
+  CaptureResult result_;
+  CaptureProgress progress_;
+  uint32_t request_id_ = 0;
+  bool resuming_ = false;
+  bool accepted_ = false;
+  uint32_t expected_seq_ = 0;  // 0: take the first batch's numbering
+  bool have_last_line_ = false;
+  uint32_t last_line_ = 0;
+  Stop stop_ = Stop::kNone;
+  uint32_t pause_id_ = 0;
+  Clock::time_point stop_asked_{}, quiet_since_{};
+};
+
+}  // namespace
+
+CaptureResult capture_scan(Session& session, const digitizer_Hello& device, digitizer_ScanRequest request,
+                           ScanFileWriter& file, const CaptureOptions& options) {
   digitizer_Envelope message = digitizer_Envelope_init_zero;
   message.which_body = digitizer_Envelope_hello_tag;
   message.body.hello = device;
@@ -21,81 +263,15 @@ CaptureResult capture_scan(Session& session, const digitizer_Hello& device,
   const uint32_t id = session.send(start);
   file.append(start);
   file.sync();
+  Capture capture(session, file, options, request);
+  return capture.run(id, false);
+}
 
-  CaptureResult result;
-  CaptureProgress progress;
-  ScanGrid grid;
-  if (scan_grid(request, &grid)) progress.points_total = static_cast<uint32_t>(grid.points());
-  bool accepted = false;
-  uint32_t expected_seq = 0;  // 0: take the first batch's numbering
-  auto last_heard = std::chrono::steady_clock::now();
-  for (;;) {
-    if (!session.receive(&message, options.heartbeat_ms)) {
-      const auto silent = std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - last_heard);
-      if (silent.count() >= options.silence_timeout_ms) {
-        throw DeviceError(session.device_name() + ": device silent for " + std::to_string(silent.count()) + " ms after " +
-                          std::to_string(result.points) + " points; they are in " + file.path());
-      }
-      // A slow scan (long settling, many samples) may have nothing to say: ask for a sign of life.
-      digitizer_Envelope probe = digitizer_Envelope_init_zero;
-      probe.which_body = digitizer_Envelope_command_tag;
-      probe.body.command.kind = digitizer_CommandKind_CMD_STATUS;
-      session.send(probe);
-      continue;
-    }
-    last_heard = std::chrono::steady_clock::now();
-    switch (message.which_body) {
-      case digitizer_Envelope_accepted_tag:
-        if (message.body.accepted.request_id == id) accepted = true;
-        break;
-      case digitizer_Envelope_fault_tag: {
-        const digitizer_Fault& f = message.body.fault;
-        if (f.request_id == id && !accepted) {
-          throw DeviceError(session.device_name() + ": scan refused (" + fault_name(f.code) +
-                            "): " + f.detail);
-        }
-        file.append(message);
-        ++result.faults;
-        result.last_fault = f.code;
-        result.last_fault_detail = f.detail;
-        break;
-      }
-      case digitizer_Envelope_points_tag: {
-        const digitizer_PointBatch& batch = message.body.points;
-        const uint32_t count = batch.dx_nm_count;
-        if (expected_seq == 0) expected_seq = batch.first_seq;
-        if (batch.first_seq + count <= expected_seq) break;  // a duplicate: already stored
-        if (batch.first_seq != expected_seq) {
-          throw DeviceError(session.device_name() + ": points " + std::to_string(expected_seq) +
-                            " to " + std::to_string(batch.first_seq - 1) +
-                            " never arrived; the rest is in " + file.path());
-        }
-        file.append(message);
-        expected_seq += count;
-        result.points += count;
-        digitizer_Envelope ack = digitizer_Envelope_init_zero;
-        ack.which_body = digitizer_Envelope_point_ack_tag;
-        ack.body.point_ack.seq = expected_seq - 1;
-        session.send(ack);
-        progress.points = result.points;
-        if (options.progress) options.progress(progress);
-        break;
-      }
-      case digitizer_Envelope_line_done_tag:
-        file.append(message);
-        file.sync();
-        ++result.lines;
-        progress.lines = result.lines;
-        break;
-      case digitizer_Envelope_scan_done_tag:
-        file.append(message);
-        file.sync();
-        result.done = message.body.scan_done;
-        return result;
-      default:
-        break;
-    }
-  }
+CaptureResult resume_capture(Session& session, const ScanData& stored, ScanFileWriter& file,
+                             const CaptureOptions& options) {
+  if (!stored.request) throw ScanFileError(file.path() + ": has no scan request; there is nothing to resume");
+  Capture capture(session, file, options, *stored.request);
+  return capture.resume(stored);
 }
 
 }  // namespace dg::host

@@ -26,6 +26,35 @@ const char* fault_name(digitizer_FaultCode code) {
   return "unknown fault";
 }
 
+std::string capability_names(uint32_t bits) {
+  static const struct {
+    uint32_t bit;
+    const char* name;
+  } kNames[] = {{digitizer_Capability_CAP_DIGIMATIC, "Digimatic gauge"},
+                {digitizer_Capability_CAP_CALIPER_24BIT, "24-bit caliper"},
+                {digitizer_Capability_CAP_TOUCH_PROBE, "touch probe"},
+                {digitizer_Capability_CAP_HOMING, "homing"},
+                {digitizer_Capability_CAP_DEVICE_FIT, "device fit"},
+                {digitizer_Capability_CAP_SIMULATED, "simulated"},
+                {digitizer_Capability_CAP_RESUME, "resume"}};
+  std::string names;
+  for (const auto& n : kNames) {
+    if ((bits & n.bit) == 0) continue;
+    if (!names.empty()) names += ", ";
+    names += n.name;
+    bits &= ~n.bit;
+  }
+  if (bits != 0) names += (names.empty() ? "" : ", ") + std::string("unknown bits ") + std::to_string(bits);
+  return names;
+}
+
+void Session::reopen() {
+  transport_.reconnect();
+  decoder_ = FrameDecoder{};
+  inbox_.clear();
+  pending_size_ = pending_offset_ = 0;
+}
+
 Session::Session(Transport& transport) : transport_(transport), name_(transport.describe()) {}
 
 namespace {
@@ -117,12 +146,13 @@ bool Session::receive(digitizer_Envelope* message, int timeout_ms) {
   }
 }
 
-digitizer_Hello Session::hello(int timeout_ms) {
+digitizer_Hello Session::hello(int timeout_ms, uint32_t required_capabilities) {
   digitizer_Envelope request = digitizer_Envelope_init_zero;
   request.which_body = digitizer_Envelope_host_hello_tag;
   request.body.host_hello.protocol_version = digitizer_ProtocolVersion_PROTOCOL_VERSION;
   request.body.host_hello.min_protocol_version = digitizer_ProtocolVersion_PROTOCOL_VERSION;
   set_string(request.body.host_hello.host_version, DIGITIZER_VERSION);
+  request.body.host_hello.required_capabilities = required_capabilities;
   inbox_.clear();
   const uint32_t id = queue(request, true);
   digitizer_Envelope reply;
@@ -134,9 +164,10 @@ digitizer_Hello Session::hello(int timeout_ms) {
                                           .count());
     if (!receive(&reply, left > 0 ? left : 1)) break;
     if (reply.id != id) continue;
-    if (reply.which_body == digitizer_Envelope_fault_tag &&
-        reply.body.fault.code == digitizer_FaultCode_FAULT_VERSION) {
-      version_fault = true;
+    if (reply.which_body == digitizer_Envelope_fault_tag) {
+      // A version fault comes before the Hello that says which versions the device speaks; a
+      // capability fault is judged from the Hello's capability bits.
+      version_fault = version_fault || reply.body.fault.code == digitizer_FaultCode_FAULT_VERSION;
       continue;
     }
     if (reply.which_body != digitizer_Envelope_hello_tag) continue;
@@ -150,6 +181,12 @@ digitizer_Hello Session::hello(int timeout_ms) {
                         (h.protocol_version < digitizer_ProtocolVersion_PROTOCOL_VERSION
                              ? "device firmware"
                              : "host software"));
+    }
+    const uint32_t missing = required_capabilities & ~h.capabilities;
+    if (missing != 0) {
+      throw DeviceError(name_ + ": device " + h.device_id + " (firmware " + h.firmware_version +
+                        ") cannot do what this command needs: " + capability_names(missing) +
+                        "; update the device firmware");
     }
     return h;
   }

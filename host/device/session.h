@@ -20,14 +20,21 @@ class DeviceError : public std::runtime_error {
 };
 
 const char* fault_name(digitizer_FaultCode code);
+// The names of the Capability bits in `bits`, comma-separated ("resume, device fit").
+std::string capability_names(uint32_t bits);
 
 class Session {
  public:
   explicit Session(Transport& transport);
 
   // Opens a link session (a sync frame with a fresh id) and identifies the device; throws
-  // DeviceError when versions cannot talk or it is silent.
-  digitizer_Hello hello(int timeout_ms);
+  // DeviceError when versions cannot talk, the device lacks a `required` Capability bit, or it is
+  // silent.
+  digitizer_Hello hello(int timeout_ms, uint32_t required_capabilities = 0);
+  // After a pulled cable: reconnects the transport (TransportError while the device is not back)
+  // and forgets the old link's bytes. Call hello() next.
+  void reopen();
+  bool reconnectable() const { return transport_.reconnectable(); }
   // Sends a message through the reliable link; gives it a fresh request id if it has none. Waits
   // (reading, and keeping what arrives) while the window is full. Returns the id.
   uint32_t send(digitizer_Envelope& message);

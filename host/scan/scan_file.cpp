@@ -26,6 +26,23 @@ ScanFileWriter::ScanFileWriter(const std::string& path) : path_(path) {
   if (fd_ < 0) throw ScanFileError(path + ": cannot create: " + std::strerror(errno));
 }
 
+ScanFileWriter ScanFileWriter::continue_file(const std::string& path, uint64_t keep_bytes) {
+  ScanFileWriter writer;
+  writer.path_ = path;
+  writer.fd_ = ::open(path.c_str(), O_WRONLY | O_APPEND | O_CLOEXEC);
+  if (writer.fd_ < 0) throw ScanFileError(path + ": cannot open to continue: " + std::strerror(errno));
+  if (ftruncate(writer.fd_, static_cast<off_t>(keep_bytes)) != 0) {
+    throw ScanFileError(path + ": cannot cut off the damaged end: " + std::strerror(errno));
+  }
+  writer.bytes_ = keep_bytes;
+  return writer;
+}
+
+ScanFileWriter::ScanFileWriter(ScanFileWriter&& other) noexcept
+    : path_(std::move(other.path_)), fd_(other.fd_), bytes_(other.bytes_) {
+  other.fd_ = -1;
+}
+
 ScanFileWriter::~ScanFileWriter() {
   if (fd_ >= 0) {
     fsync(fd_);
@@ -184,6 +201,7 @@ ScanData parse_scan_bytes(const uint8_t* bytes, size_t size, const std::string& 
     take(&data, message, where);
     ++data.records;
     offset += header + static_cast<size_t>(length);
+    data.complete_bytes = offset;
   }
   return data;
 }

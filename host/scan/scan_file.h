@@ -21,6 +21,10 @@ class ScanFileWriter {
  public:
   // Creates (or truncates) the file.
   explicit ScanFileWriter(const std::string& path);
+  // Opens an existing file to continue it: cuts it to its first `keep_bytes` (the whole records a
+  // reader found; a record cut off by a crash goes) and appends after them.
+  static ScanFileWriter continue_file(const std::string& path, uint64_t keep_bytes);
+  ScanFileWriter(ScanFileWriter&& other) noexcept;
   ~ScanFileWriter();
   ScanFileWriter(const ScanFileWriter&) = delete;
   ScanFileWriter& operator=(const ScanFileWriter&) = delete;
@@ -34,6 +38,7 @@ class ScanFileWriter {
   uint64_t bytes_written() const { return bytes_; }
 
  private:
+  ScanFileWriter() = default;
   std::string path_;
   int fd_ = -1;
   uint64_t bytes_ = 0;
@@ -49,6 +54,7 @@ struct ScanData {
   std::vector<digitizer_Fault> faults;
   std::vector<std::string> warnings;  // e.g. a cut-off last record
   uint64_t records = 0;
+  uint64_t complete_bytes = 0;  // length of the whole records (less than the file after a crash)
 };
 
 // Reads a whole scan file. A damaged record in the middle is an error naming the

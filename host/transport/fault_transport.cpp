@@ -29,22 +29,42 @@ FaultSpec parse_fault_spec(const std::string& text) {
     else if (key == "outages") spec.outages = static_cast<int>(v);
     else if (key == "outage_ms") spec.outage_ms = static_cast<int>(v);
     else if (key == "every") spec.outage_every = static_cast<int>(v);
+    else if (key == "disconnects") spec.disconnects = static_cast<int>(v);
     else if (key == "seed") spec.seed = static_cast<unsigned>(v);
-    else throw std::invalid_argument("unknown fault option '" + key + "' (corrupt, drop, dup, outages, outage_ms, every, seed)");
+    else throw std::invalid_argument("unknown fault option '" + key + "' (corrupt, drop, dup, outages, outage_ms, every, disconnects, seed)");
   }
   if (spec.corrupt > 1 || spec.drop > 1 || spec.duplicate > 1) throw std::invalid_argument("fault probabilities must be 0..1");
   return spec;
 }
 
 FaultTransport::FaultTransport(std::unique_ptr<Transport> inner, const FaultSpec& spec)
-    : inner_(std::move(inner)), spec_(spec), rng_(spec.seed), outages_left_(spec.outages) {}
+    : inner_(std::move(inner)), spec_(spec), rng_(spec.seed), outages_left_(spec.outages), disconnects_left_(spec.disconnects) {}
 
 bool FaultTransport::chance(double p) { return p > 0 && std::uniform_real_distribution<double>(0, 1)(rng_) < p; }
 
 bool FaultTransport::in_outage() { return std::chrono::steady_clock::now() < outage_end_; }
 
+void FaultTransport::disconnect() {
+  inner_->disconnect();
+  disconnected_ = true;
+}
+
+void FaultTransport::reconnect() {
+  inner_->reconnect();
+  disconnected_ = false;
+}
+
 void FaultTransport::write(const uint8_t* data, size_t size) {
+  if (disconnected_) throw TransportError(describe() + ": the cable is pulled (fault injection)");
   ++writes_;
+  // Disconnects fall halfway between outages.
+  const uint64_t every = static_cast<uint64_t>(spec_.outage_every);
+  if (disconnects_left_ > 0 && every > 0 && writes_ % every == every / 2) {
+    --disconnects_left_;
+    ++counters_.disconnects;
+    disconnect();
+    throw TransportError(describe() + ": cable pulled (fault injection)");
+  }
   if (outages_left_ > 0 && spec_.outage_every > 0 && writes_ % static_cast<uint64_t>(spec_.outage_every) == 0) {
     --outages_left_;
     ++counters_.outages;
@@ -69,6 +89,7 @@ void FaultTransport::write(const uint8_t* data, size_t size) {
 }
 
 size_t FaultTransport::read(uint8_t* data, size_t capacity, int timeout_ms) {
+  if (disconnected_) throw TransportError(describe() + ": the cable is pulled (fault injection)");
   const size_t n = inner_->read(data, capacity, timeout_ms);
   // During an outage the device's bytes are lost on the dead line.
   if (n > 0 && (in_outage() || chance(spec_.drop))) {

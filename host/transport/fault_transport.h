@@ -16,11 +16,12 @@ struct FaultSpec {
   double duplicate = 0;  // probability that a written frame goes out twice
   int outages = 0;       // how many times the line goes dead
   int outage_ms = 300;   // for how long
-  int outage_every = 400;  // writes between outages
+  int outage_every = 400;  // writes between outages, and between forced disconnects
+  int disconnects = 0;     // how many times the cable is pulled (the link closes; reconnect() restores it)
   unsigned seed = 1;
 };
 
-// Parses "corrupt=0.001,drop=0.01,dup=0.01,outages=3,outage_ms=300,every=400,seed=7"; throws
+// Parses "corrupt=0.001,drop=0.01,dup=0.01,outages=3,outage_ms=300,every=400,disconnects=3,seed=7"; throws
 // std::invalid_argument naming a bad key or value.
 FaultSpec parse_fault_spec(const std::string& text);
 
@@ -30,9 +31,12 @@ class FaultTransport final : public Transport {
   void write(const uint8_t* data, size_t size) override;
   size_t read(uint8_t* data, size_t capacity, int timeout_ms) override;
   std::string describe() const override;
+  bool reconnectable() const override { return inner_->reconnectable(); }
+  void reconnect() override;
+  void disconnect() override;
 
   struct Counters {
-    uint64_t corrupted = 0, dropped = 0, duplicated = 0, outages = 0;
+    uint64_t corrupted = 0, dropped = 0, duplicated = 0, outages = 0, disconnects = 0;
   };
   const Counters& counters() const { return counters_; }
 
@@ -46,6 +50,8 @@ class FaultTransport final : public Transport {
   Counters counters_;
   uint64_t writes_ = 0;
   int outages_left_;
+  int disconnects_left_;
+  bool disconnected_ = false;
   std::chrono::steady_clock::time_point outage_end_{};
 };
 

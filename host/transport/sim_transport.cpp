@@ -2,7 +2,6 @@
 #include "host/transport/sim_transport.h"
 
 #include <fcntl.h>
-#include <poll.h>
 #include <signal.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
@@ -30,7 +29,7 @@ std::string find_simulator() {
 }
 
 SimTransport::SimTransport(const std::string& uri, const std::vector<std::string>& options)
-    : uri_(uri) {
+    : FdTransport(uri) {
   // A device that dies must be an error message, not a SIGPIPE.
   signal(SIGPIPE, SIG_IGN);
   int sv[2];
@@ -62,7 +61,7 @@ SimTransport::SimTransport(const std::string& uri, const std::vector<std::string
     _exit(127);
   }
   close(sv[1]);
-  fd_ = sv[0];
+  adopt(sv[0]);
 }
 
 bool SimTransport::reap_child(int timeout_ms, int* status) {
@@ -78,7 +77,7 @@ bool SimTransport::reap_child(int timeout_ms, int* status) {
 }
 
 SimTransport::~SimTransport() {
-  if (fd_ >= 0) close(fd_);  // the simulator exits when its link closes
+  disconnect();  // the simulator exits when its link closes
   int status = 0;
   if (child_ > 0 && !reap_child(1000, &status)) {
     kill(child_, SIGKILL);
@@ -86,7 +85,7 @@ SimTransport::~SimTransport() {
   }
 }
 
-std::string SimTransport::child_exit_reason() {
+std::string SimTransport::closed_reason() {
   // The link closed because the simulator is exiting: wait for it to say how.
   int status = 0;
   if (reap_child(1000, &status)) {
@@ -94,38 +93,6 @@ std::string SimTransport::child_exit_reason() {
     if (WIFSIGNALED(status)) return "simulator killed by signal " + std::to_string(WTERMSIG(status));
   }
   return "device closed the link";
-}
-
-void SimTransport::write(const uint8_t* data, size_t size) {
-  size_t done = 0;
-  while (done < size) {
-    const ssize_t n = send(fd_, data + done, size - done, MSG_NOSIGNAL);
-    if (n > 0) {
-      done += static_cast<size_t>(n);
-      continue;
-    }
-    if (n < 0 && errno == EINTR) continue;
-    throw TransportError(uri_ + ": write failed: " +
-                         (errno == EPIPE || errno == ECONNRESET ? child_exit_reason()
-                                                                : std::strerror(errno)));
-  }
-}
-
-size_t SimTransport::read(uint8_t* data, size_t capacity, int timeout_ms) {
-  for (;;) {
-    pollfd p{fd_, POLLIN, 0};
-    const int r = poll(&p, 1, timeout_ms);
-    if (r < 0 && errno == EINTR) continue;
-    if (r < 0) throw TransportError(uri_ + ": poll failed: " + std::strerror(errno));
-    if (r == 0) return 0;
-    const ssize_t n = recv(fd_, data, capacity, 0);
-    if (n > 0) return static_cast<size_t>(n);
-    if (n < 0 && errno == EINTR) continue;
-    if (n == 0 || (n < 0 && errno == ECONNRESET)) {
-      throw TransportError(uri_ + ": " + child_exit_reason());
-    }
-    throw TransportError(uri_ + ": read failed: " + std::strerror(errno));
-  }
 }
 
 }  // namespace dg::host

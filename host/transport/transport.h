@@ -1,4 +1,4 @@
-// One interface for every way of reaching a device (sim:, later usb:, unix:, tcp:).
+// One interface for every way of reaching a device (sim:, usb:, unix:, tcp:, fault:).
 #pragma once
 #include <cstddef>
 #include <cstdint>
@@ -24,6 +24,14 @@ class Transport {
   virtual size_t read(uint8_t* data, size_t capacity, int timeout_ms) = 0;
   // The URI it was opened with, for messages.
   virtual std::string describe() const = 0;
+  // True when the device outlives this link (a USB device, a socket server), so that after a
+  // pulled cable reconnect() can reach the same device again; false for the sim: child process.
+  virtual bool reconnectable() const { return false; }
+  // Closes the link, if open, and opens it again; throws TransportError while the device is not
+  // back. Only for reconnectable() transports.
+  virtual void reconnect() { throw TransportError(describe() + ": this transport cannot reconnect"); }
+  // Closes the link as a pulled cable would (the device sees it go); reads and writes then throw.
+  virtual void disconnect() {}
 };
 
 // Opens a device URI. Throws std::invalid_argument for a URI it cannot parse and

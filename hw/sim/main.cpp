@@ -1,21 +1,29 @@
-// digitizer-sim: the device firmware on the simulated board, talking over an inherited fd.
+// digitizer-sim: the device firmware on the simulated board, talking over an inherited fd or
+// waiting for hosts on a socket (--listen).
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <string>
 
+#include <csignal>
+#include <memory>
+
 #include "firmware/core/device.h"
 #include "hw/sim/fd_link.h"
+#include "hw/sim/listen_link.h"
 #include "hw/sim/sim_options.h"
 
 namespace {
 
 void usage() {
   std::fprintf(stderr,
-               "usage: digitizer-sim [--fd N] [key=value ...]\n"
+               "usage: digitizer-sim [--fd N | --listen unix:PATH|tcp:[HOST:]PORT] [key=value ...]\n"
                "  --fd N      talk to the host over file descriptor N (default: stdin/stdout)\n"
+               "  --listen A  wait for hosts on a socket, one at a time, until SIGTERM; the device\n"
+               "              keeps its state between hosts (reach it with --device unix:PATH)\n"
                "  part=dome|saddle|canister|flat  seed=N  noise_um=X  outliers=RATE\n"
-               "  outlier_mm=X  inch=0|1  gauge_delay_us=N  mute=0|1  drop_edge=BIT  id=NAME\n");
+               "  outlier_mm=X  inch=0|1  gauge_delay_us=N  mute=0|1  drop_edge=BIT  id=NAME\n"
+               "  host_silence_s=N (virtual s, 0 never)  on_host_silence=pause|continue|abort\n");
 }
 
 }  // namespace
@@ -23,7 +31,12 @@ void usage() {
 int main(int argc, char** argv) {
   dg::sim::SimOptions options;
   int read_fd = 0, write_fd = 1;
+  std::string listen_at;
   for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--listen") == 0 && i + 1 < argc) {
+      listen_at = argv[++i];
+      continue;
+    }
     if (std::strcmp(argv[i], "--fd") == 0 && i + 1 < argc) {
       read_fd = write_fd = std::atoi(argv[++i]);
       continue;
@@ -39,20 +52,41 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  dg::sim::FdLink link(read_fd, write_fd);
-  dg::sim::SimBoard board(options.config, &link);
+  std::unique_ptr<dg::sim::LinkPort> link;
+  if (!listen_at.empty()) {
+    auto listener = std::make_unique<dg::sim::ListenLink>(listen_at);
+    if (!listener->listening()) {
+      std::fprintf(stderr, "digitizer-sim: %s\n", listener->error().c_str());
+      return 1;
+    }
+    std::signal(SIGTERM, [](int) { dg::sim::ListenLink::request_stop(); });
+    std::signal(SIGINT, [](int) { dg::sim::ListenLink::request_stop(); });
+    if (listener->port() != 0) {
+      std::printf("listening on tcp port %d\n", listener->port());
+    } else {
+      std::printf("listening on %s\n", listen_at.c_str());
+    }
+    std::fflush(stdout);
+    link = std::move(listener);
+  } else {
+    link = std::make_unique<dg::sim::FdLink>(read_fd, write_fd);
+  }
+  dg::sim::SimBoard board(options.config, link.get());
   dg::DeviceConfig device;
   device.motion.nm_per_step = options.config.nm_per_step;
   device.device_id = options.device_id.c_str();
   device.board = "sim";
   device.firmware_version = DIGITIZER_VERSION;
-  device.capabilities = digitizer_Capability_CAP_DIGIMATIC | digitizer_Capability_CAP_DEVICE_FIT | digitizer_Capability_CAP_SIMULATED;
+  device.capabilities = digitizer_Capability_CAP_DIGIMATIC | digitizer_Capability_CAP_DEVICE_FIT | digitizer_Capability_CAP_SIMULATED |
+                        digitizer_Capability_CAP_RESUME;
   device.gauge_resolution_nm = options.config.gauge.inch ? 2540 : 1000;
   // Virtual time runs hundreds of times faster than the host's clock during a scan: a 50 ms
   // retransmission timer would fire long before any host could answer (and resend frames the
   // host has, costing wire bytes). 5 s of virtual time is about 25 ms of real time during a scan;
   // lost frames are mostly resent sooner, on repeated acknowledgements.
   device.retransmit_us = 5000000;
+  device.host_silence_us = options.host_silence_s * 1000000u;
+  device.on_host_silence = options.on_host_silence;
   // The simulated gauge takes its time like a real one; allow for it.
   device.gauge.first_clock_timeout_us = options.config.gauge.request_to_clock_us + 100000;
   static dg::Device firmware(board, device);

@@ -68,6 +68,14 @@ std::string apply_sim_option(const std::string& pair, SimOptions* options) {
   } else if (key == "drop_edge") {
     if (!parse_u64(value, &u) || u >= 52) return "drop_edge is a bit index 0..51";
     c.gauge.drop_rising_edge = static_cast<int>(u);
+  } else if (key == "host_silence_s") {
+    if (!parse_u64(value, &u) || u > 4000) return "host_silence_s must be 0..4000 (virtual seconds)";
+    options->host_silence_s = static_cast<uint32_t>(u);
+  } else if (key == "on_host_silence") {
+    if (value == "pause") options->on_host_silence = dg::HostSilence::kPause;
+    else if (value == "continue") options->on_host_silence = dg::HostSilence::kContinue;
+    else if (value == "abort") options->on_host_silence = dg::HostSilence::kAbort;
+    else return "on_host_silence is pause, continue or abort, got '" + value + "'";
   } else if (key == "id") {
     if (value.empty() || value.size() > 23) return "id must be 1 to 23 characters";
     options->device_id = value;

@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <string>
 
+#include "firmware/core/device.h"
 #include "hw/sim/sim_board.h"
 
 namespace dg::sim {
@@ -10,11 +11,16 @@ namespace dg::sim {
 struct SimOptions {
   SimConfig config{};
   std::string device_id = "SIM-0001";
+  // Host silence in virtual seconds (0: never). Virtual time runs some hundred times faster than
+  // real time during a scan, so this is about a second of a silent host.
+  uint32_t host_silence_s = 300;
+  dg::HostSilence on_host_silence = dg::HostSilence::kPause;
 };
 
 // Applies one "key=value" pair: part, seed, noise_um, outliers, outlier_mm, inch,
 // gauge_delay_us, mute (gauge never answers), drop_edge (a CK pulse missing from
-// every frame), id. Returns an error message, or empty on success.
+// every frame), id, host_silence_s, on_host_silence (pause, continue, abort). Returns an error
+// message, or empty on success.
 std::string apply_sim_option(const std::string& pair, SimOptions* options);
 
 }  // namespace dg::sim

@@ -1,0 +1,230 @@
+// The scan command: identify, request (or resume), capture with progress, summarise.
+#include "host/cli/scan_command.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cinttypes>
+#include <csignal>
+#include <cstdio>
+#include <optional>
+#include <random>
+
+#include "host/cli/progress.h"
+#include "host/cli/units.h"
+#include "host/device/capture.h"
+#include "host/device/pull_fit.h"
+#include "host/surface/device_fit_surface.h"
+#include "host/surface/surface_json.h"
+#include "host/transport/transport.h"
+
+namespace dg::host {
+
+namespace {
+
+volatile std::sig_atomic_t g_interrupted = 0;
+
+void on_interrupt(int) { g_interrupted = 1; }
+
+// Pulls the device's fit of its latest scan and writes it as SURF.json.
+void write_device_fit(Session& session, const digitizer_Hello& device, const std::string& model,
+                      const std::string& path, bool quiet) {
+  const digitizer_DeviceFitModel which =
+      model == "bspline" ? digitizer_DeviceFitModel_DEVICE_FIT_NET : digitizer_DeviceFitModel_DEVICE_FIT_BEZIER;
+  const digitizer_FitResult fit = pull_fit(session, device, which, 5000);
+  const std::string source = std::string("device ") + device.device_id + " scan " + std::to_string(fit.scan_id);
+  const SurfaceFile surface = surface_from_device_fit(fit, source);
+  write_surface_json(path, surface);
+  if (!quiet) {
+    std::printf("device fit: %s, %u x %u control points from %u points (%u rejected)%s\n", surface.model.c_str(),
+                fit.side, fit.side, fit.points, fit.rejected, fit.scan_finished ? "" : ", scan still running");
+    std::printf("wrote %s\n", path.c_str());
+  }
+}
+
+digitizer_ScanRequest request_from(const ScanArgs& a) {
+  digitizer_ScanRequest request = digitizer_ScanRequest_init_zero;
+  // A scan id that another scan is unlikely to share, so a resume finds this scan and no other.
+  std::random_device entropy;
+  request.scan_id = (entropy() & 0x7fffffffu) | 1u;
+  request.has_x = request.has_y = true;
+  const RangeNm x = parse_range_mm(a.x, "--x");
+  const RangeNm y = parse_range_mm(a.y, "--y");
+  request.x.min_nm = x.min_nm;
+  request.x.max_nm = x.max_nm;
+  request.y.min_nm = y.min_nm;
+  request.y.max_nm = y.max_nm;
+  const int32_t step = mm_to_nm(a.step_mm, "--step");
+  const int32_t step_y = a.step_y_mm > 0 ? mm_to_nm(a.step_y_mm, "--step-y") : step;
+  if (step <= 0 || step_y <= 0) throw std::invalid_argument("--step must be > 0");
+  request.step_x_nm = static_cast<uint32_t>(step);
+  request.step_y_nm = static_cast<uint32_t>(step_y);
+  request.pattern = a.pattern == "raster" ? digitizer_ScanPattern_PATTERN_RASTER
+                                          : digitizer_ScanPattern_PATTERN_SERPENTINE;
+  request.feed_um_s = static_cast<uint32_t>(a.feed_mm_s * 1000.0);
+  request.probe = digitizer_ProbeType_PROBE_DIGIMATIC;
+  request.samples_per_point = a.samples;
+  request.settle_ms = a.settle_ms;
+  return request;
+}
+
+std::string resume_hint(const ScanArgs& a) {
+  return "continue with: digitizer scan --resume --device '" + a.device + "' -o " + a.output;
+}
+
+}  // namespace
+
+void print_summary(const ScanData& data, const char* prefix) {
+  if (data.points.empty()) {
+    std::printf("%s0 points\n", prefix);
+    return;
+  }
+  int32_t lo[3] = {INT32_MAX, INT32_MAX, INT32_MAX}, hi[3] = {INT32_MIN, INT32_MIN, INT32_MIN};
+  for (const auto& p : data.points) {
+    const int32_t v[3] = {p.x_nm, p.y_nm, p.z_nm};
+    for (int i = 0; i < 3; ++i) {
+      if (v[i] < lo[i]) lo[i] = v[i];
+      if (v[i] > hi[i]) hi[i] = v[i];
+    }
+  }
+  const uint32_t lines = data.points.back().line - data.points.front().line + 1;
+  std::printf("%s%zu points in %" PRIu32 " lines\n", prefix, data.points.size(), lines);
+  std::printf("%sextent x %.3f..%.3f  y %.3f..%.3f  z %.3f..%.3f mm\n", prefix, lo[0] * 1e-6,
+              hi[0] * 1e-6, lo[1] * 1e-6, hi[1] * 1e-6, lo[2] * 1e-6, hi[2] * 1e-6);
+  if (data.done) {
+    std::printf("%sdevice time %.1f s\n", prefix, static_cast<double>(data.done->duration_us) * 1e-6);
+  }
+  for (const auto& w : data.warnings) std::printf("%swarning: %s\n", prefix, w.c_str());
+}
+
+CLI::App* add_scan_command(CLI::App& app, ScanArgs& scan) {
+  CLI::App* cmd = app.add_subcommand("scan", "scan a grid on the device and store it, or --resume a scan");
+  cmd->add_option("--device", scan.device, "device URI: sim:part=dome,seed=7, usb:, unix:PATH, tcp:HOST:PORT")
+      ->capture_default_str();
+  cmd->add_option("--x", scan.x, "x range MIN:MAX in mm")->capture_default_str();
+  cmd->add_option("--y", scan.y, "y range MIN:MAX in mm")->capture_default_str();
+  cmd->add_option("--step", scan.step_mm, "grid step along a line, mm")->capture_default_str()->check(CLI::PositiveNumber);
+  cmd->add_option("--step-y", scan.step_y_mm, "grid step between lines, mm (default: --step)")->check(CLI::PositiveNumber);
+  cmd->add_option("--pattern", scan.pattern, "raster or serpentine")
+      ->capture_default_str()->check(CLI::IsMember({"raster", "serpentine"}));
+  cmd->add_option("--feed", scan.feed_mm_s, "table speed between points, mm/s")->capture_default_str()->check(CLI::Range(0.01, 200.0));
+  cmd->add_option("--samples", scan.samples, "gauge readings averaged per point")->capture_default_str()->check(CLI::Range(1, 16));
+  cmd->add_option("--settle-ms", scan.settle_ms, "wait after each move before reading")->capture_default_str()->check(CLI::Range(0, 10000));
+  cmd->add_option("-o,--output", scan.output, "scan file to write (with --resume: to continue)")->required();
+  cmd->add_flag("--resume", scan.resume, "continue the scan in -o after Ctrl-C, a crash or a pulled cable; the grid comes from the file");
+  cmd->add_option("--reconnect-s", scan.reconnect_s, "after a pulled cable, try this long to reach the device again (0: give up at once)")
+      ->capture_default_str()->check(CLI::Range(0, 3600));
+  cmd->add_option("--device-fit", scan.device_fit, "after the scan, pull the surface the device fitted while scanning into this SURF.json");
+  cmd->add_option("--device-fit-model", scan.device_fit_model, "bezier (one bicubic patch) or bspline (5 x 5 cubic net)")
+      ->capture_default_str()->check(CLI::IsMember({"bezier", "bspline"}));
+  cmd->add_flag("-q,--quiet", scan.quiet, "print nothing but errors");
+  return cmd;
+}
+
+CLI::App* add_pull_command(CLI::App& app, PullArgs& pull) {
+  CLI::App* cmd = app.add_subcommand("pull", "fetch the surface the device fitted during its latest scan");
+  cmd->add_option("--device", pull.device, "device URI")->capture_default_str();
+  cmd->add_option("--model", pull.model, "bezier (one bicubic patch) or bspline (5 x 5 cubic net)")
+      ->capture_default_str()->check(CLI::IsMember({"bezier", "bspline"}));
+  cmd->add_option("-o,--output", pull.output, "SURF.json to write")->required();
+  cmd->add_flag("-q,--quiet", pull.quiet, "print nothing but errors");
+  return cmd;
+}
+
+int run_pull(const PullArgs& a) {
+  auto transport = open_transport(a.device);
+  Session session(*transport);
+  const digitizer_Hello device = session.hello(5000, digitizer_Capability_CAP_DEVICE_FIT);
+  write_device_fit(session, device, a.model, a.output, a.quiet);
+  return 0;
+}
+
+int run_scan(const ScanArgs& a) {
+  std::optional<ScanData> stored;
+  digitizer_ScanRequest request = digitizer_ScanRequest_init_zero;
+  if (a.resume) {
+    stored = read_scan_file(a.output);
+    if (!stored->request) throw ScanFileError(a.output + ": has no scan request; there is nothing to resume");
+    if (stored->done) {
+      if (!a.quiet) std::printf("%s: the scan finished already (%zu points); nothing to resume\n", a.output.c_str(), stored->points.size());
+      return 0;
+    }
+    request = *stored->request;
+  } else {
+    request = request_from(a);
+  }
+  uint32_t required = a.device_fit.empty() ? 0 : digitizer_Capability_CAP_DEVICE_FIT;
+  if (a.resume) required |= digitizer_Capability_CAP_RESUME;
+
+  const auto started = std::chrono::steady_clock::now();
+  auto transport = open_transport(a.device);
+  Session session(*transport);
+  const digitizer_Hello device = session.hello(5000, required);
+  if (!a.quiet) {
+    std::printf("device %s (%s, firmware %s), table %.0f x %.0f mm, gauge %u nm\n", device.device_id, device.board,
+                device.firmware_version, device.table.x.max_nm * 1e-6, device.table.y.max_nm * 1e-6,
+                device.gauge_resolution_nm);
+    if (stored) std::printf("resuming %s after %zu points\n", a.output.c_str(), stored->points.size());
+  }
+  ScanFileWriter file = stored ? ScanFileWriter::continue_file(a.output, stored->complete_bytes) : ScanFileWriter(a.output);
+  CaptureOptions options;
+  options.reconnect_timeout_ms = a.reconnect_s * 1000;
+  // A bar with rate and ETA on a terminal; a plain line every tenth of the scan otherwise.
+  ProgressPrinter progress(stdout, isatty(fileno(stdout)) != 0);
+  const uint32_t stored_points = stored ? static_cast<uint32_t>(stored->points.size()) : 0;
+  progress.start_at(stored_points);
+  if (!a.quiet) {
+    options.progress = [&progress](const CaptureProgress& p) { progress.update(p.points, p.points_total); };
+  }
+  options.notice = [](const std::string& text) { std::fprintf(stderr, "digitizer: %s\n", text.c_str()); };
+  // Ctrl-C pauses the device's scan and stops after storing what is in flight.
+  g_interrupted = 0;
+  struct sigaction action {};
+  action.sa_handler = on_interrupt;
+  sigemptyset(&action.sa_mask);
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+  options.stop_requested = [] { return g_interrupted != 0; };
+
+  CaptureResult result;
+  try {
+    result = stored ? resume_capture(session, *stored, file, options)
+                    : capture_scan(session, device, request, file, options);
+  } catch (const ScanRefused&) {
+    throw;
+  } catch (const TransportError& e) {
+    throw TransportError(std::string(e.what()) + "\n" + resume_hint(a));
+  } catch (const DeviceError& e) {
+    throw DeviceError(std::string(e.what()) + "\n" + resume_hint(a));
+  }
+  progress.finish();
+  signal(SIGINT, SIG_DFL);
+  signal(SIGTERM, SIG_DFL);
+  if (result.interrupted) {
+    std::fprintf(stderr, "digitizer: stopped after %u points; the device has paused the scan and the points are in %s\n%s\n",
+                 result.points, a.output.c_str(), resume_hint(a).c_str());
+    return kExitInterrupted;
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  if (!a.quiet) {
+    const ScanData data = read_scan_file(a.output);
+    print_summary(data, "");
+    const double received = static_cast<double>(result.points - stored_points);
+    std::printf("wall time %.2f s (%.0f points/s), %.1f wire bytes per point%s\n", seconds,
+                received / (seconds > 0 ? seconds : 1e-9),
+                received > 0 ? static_cast<double>(session.bytes_received()) / received : 0.0,
+                result.reconnects ? (", " + std::to_string(result.reconnects) + " reconnects").c_str() : "");
+    std::printf("wrote %s\n", a.output.c_str());
+  }
+  // The device's fit of whatever it measured, even of a scan cut short.
+  if (!a.device_fit.empty()) write_device_fit(session, device, a.device_fit_model, a.device_fit, a.quiet);
+  if (result.done.reason != digitizer_ScanEnd_SCAN_COMPLETED) {
+    std::fprintf(stderr, "digitizer: scan %s after %u points%s%s; the points are in %s\n",
+                 result.done.reason == digitizer_ScanEnd_SCAN_ABORTED ? "aborted" : "stopped by a fault", result.points,
+                 result.faults ? ": " : "", result.last_fault_detail.c_str(), a.output.c_str());
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace dg::host

@@ -1,0 +1,46 @@
+// `digitizer scan` (new or --resume) and `digitizer pull`: capturing from a device.
+#pragma once
+#include <CLI/CLI.hpp>
+#include <string>
+
+#include "host/scan/scan_file.h"
+
+namespace dg::host {
+
+struct ScanArgs {
+  std::string device = "sim:part=dome";
+  std::string x = "0:40", y = "0:30";
+  double step_mm = 1.0;
+  double step_y_mm = 0.0;
+  std::string pattern = "serpentine";
+  double feed_mm_s = 10.0;
+  unsigned samples = 1;
+  unsigned settle_ms = 0;
+  std::string output;
+  bool resume = false;     // continue the scan in `output` instead of starting one
+  int reconnect_s = 30;    // how long to try to reach a device again after a pulled cable
+  std::string device_fit;  // pull the device's fit into this SURF.json after the scan
+  std::string device_fit_model = "bezier";
+  bool quiet = false;
+};
+
+struct PullArgs {
+  std::string device = "sim:part=dome";
+  std::string model = "bezier";
+  std::string output;
+  bool quiet = false;
+};
+
+CLI::App* add_scan_command(CLI::App& app, ScanArgs& args);
+CLI::App* add_pull_command(CLI::App& app, PullArgs& args);
+// Exit codes: 0 done, 1 device/transport/file failure or a scan that ended early,
+// kExitInterrupted after Ctrl-C (the scan is paused on the device and resumable).
+int run_scan(const ScanArgs& args);
+int run_pull(const PullArgs& args);
+
+// Points, lines, extent and device time of a scan file, each line after `prefix`.
+void print_summary(const ScanData& data, const char* prefix);
+
+constexpr int kExitInterrupted = 130;
+
+}  // namespace dg::host
