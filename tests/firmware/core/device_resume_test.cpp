@@ -1,0 +1,305 @@
+// The device's side of resuming and of a silent host, on the simulated board with an in-memory
+// link and a scripted host: a host that vanishes mid-scan, comes back and states what it stored.
+#include "firmware/core/device.h"
+
+#include <CppUTest/TestHarness.h>
+
+#include <deque>
+#include <vector>
+
+#include "common/proto/messages.h"
+#include "hw/sim/sim_board.h"
+#include "tests/support/scan_request.h"
+
+namespace {
+
+// The wire as bytes in memory; a pulled cable loses what the device writes.
+class MemoryLink final : public dg::sim::LinkPort {
+ public:
+  size_t write(const uint8_t* data, size_t size) override {
+    if (connected) to_host.insert(to_host.end(), data, data + size);
+    return size;
+  }
+  size_t read(uint8_t* data, size_t capacity) override {
+    size_t n = 0;
+    while (n < capacity && !to_device.empty()) {
+      data[n++] = to_device.front();
+      to_device.pop_front();
+    }
+    return n;
+  }
+  bool wait_readable(int) override { return !to_device.empty(); }
+  bool closed() const override { return false; }
+
+  bool connected = true;
+  std::deque<uint8_t> to_device;
+  std::vector<uint8_t> to_host;
+};
+
+// A host: the common reliable link, a store of points that keeps each once, in order.
+struct ScriptedHost {
+  explicit ScriptedHost(MemoryLink& wire) : wire(wire) {}
+
+  void send(digitizer_Envelope message, bool sync = false, uint16_t session = 1) {
+    uint8_t payload[dg::kFrameMaxPayload];
+    size_t size = 0;
+    CHECK(dg::encode_envelope(message, payload, sizeof(payload), &size) == dg::Status::kOk);
+    if (sync) {
+      link.send_sync(payload, size, now_us, session);
+    } else {
+      CHECK(link.send(payload, size, now_us) == dg::Status::kOk);
+    }
+  }
+  // Reads what the device wrote, stores and acknowledges points, writes due frames.
+  void exchange() {
+    size_t offset = 0;
+    while (offset < wire.to_host.size()) {
+      size_t used = 0;
+      const dg::Status status = decoder.feed(wire.to_host.data() + offset, wire.to_host.size() - offset, &used);
+      offset += used;
+      if (status != dg::Status::kOk) continue;
+      if (!link.receive(decoder.header())) continue;
+      digitizer_Envelope message;
+      CHECK(dg::decode_envelope(decoder.payload(), decoder.payload_size(), &message) == dg::Status::kOk);
+      handle(message);
+    }
+    wire.to_host.clear();
+    uint8_t frame[dg::kFrameMaxWire];
+    size_t size = 0;
+    while (link.next_frame(now_us, frame, sizeof(frame), &size)) wire.to_device.insert(wire.to_device.end(), frame, frame + size);
+  }
+  void handle(const digitizer_Envelope& message) {
+    received.push_back(message);
+    if (message.which_body == digitizer_Envelope_scan_done_tag) done = message.body.scan_done;
+    if (message.which_body != digitizer_Envelope_points_tag) return;
+    dg::PointSample batch[dg::kMaxPointsPerBatch];
+    size_t count = 0;
+    CHECK(dg::point_batch_expand(message.body.points, batch, &count) == dg::Status::kOk);
+    for (size_t i = 0; i < count; ++i) {
+      if (!stored.empty() && batch[i].seq <= stored.back().seq) continue;  // resent: have it
+      if (!stored.empty()) LONGS_EQUAL(stored.back().seq + 1, batch[i].seq);  // never a gap
+      stored.push_back(batch[i]);
+    }
+    if (!acking || stored.empty()) return;
+    digitizer_Envelope ack = digitizer_Envelope_init_zero;
+    ack.which_body = digitizer_Envelope_point_ack_tag;
+    ack.body.point_ack.seq = stored.back().seq;
+    send(ack);
+  }
+  const digitizer_Envelope* last(pb_size_t tag) const {
+    for (auto m = received.rbegin(); m != received.rend(); ++m) {
+      if (m->which_body == tag) return &*m;
+    }
+    return nullptr;
+  }
+
+  MemoryLink& wire;
+  dg::ReliableLink<8> link{50000};
+  dg::FrameDecoder decoder;
+  uint64_t now_us = 0;
+  bool acking = true;
+  std::vector<dg::PointSample> stored;
+  std::vector<digitizer_Envelope> received;
+  digitizer_ScanDone done = digitizer_ScanDone_init_zero;
+};
+
+dg::DeviceConfig device_config(dg::HostSilence on_silence) {
+  dg::DeviceConfig c;
+  c.motion.nm_per_step = 2500;
+  c.capabilities = digitizer_Capability_CAP_DIGIMATIC | digitizer_Capability_CAP_RESUME;
+  c.gauge.first_clock_timeout_us = 200000;
+  c.host_silence_us = 2000000;
+  c.on_host_silence = on_silence;
+  return c;
+}
+
+struct Bench {
+  explicit Bench(dg::HostSilence on_silence = dg::HostSilence::kPause)
+      : board(sim_config(), &wire), device(board, device_config(on_silence)), host(wire) {
+    device.begin();
+  }
+  static dg::sim::SimConfig sim_config() {
+    dg::sim::SimConfig c;
+    c.part.kind = dg::sim::PartKind::kDome;
+    return c;
+  }
+  // Runs device and host for `us` of device time, or until nothing more can happen.
+  void run_for(uint64_t us) {
+    const uint64_t until = board.now_us() + us;
+    int idle_rounds = 0;
+    while (board.now_us() < until && idle_rounds < 1000) {
+      const uint64_t before = board.now_us();
+      device.poll();
+      if (wire.connected) {
+        host.now_us = board.now_us();
+        host.exchange();
+      }
+      const uint64_t deadline = device.next_deadline_us();
+      if (!board.wait(deadline < until ? deadline : until) && wire.to_device.empty()) return;
+      idle_rounds = board.now_us() == before ? idle_rounds + 1 : 0;
+    }
+  }
+  void run_until_done(uint64_t limit_us) {
+    const uint64_t until = board.now_us() + limit_us;
+    while (board.now_us() < until && host.last(digitizer_Envelope_scan_done_tag) == nullptr) run_for(100000);
+  }
+  void hello(uint16_t session, uint32_t required = 0) {
+    digitizer_Envelope m = digitizer_Envelope_init_zero;
+    m.id = 100 + session;
+    m.which_body = digitizer_Envelope_host_hello_tag;
+    m.body.host_hello.protocol_version = digitizer_ProtocolVersion_PROTOCOL_VERSION;
+    m.body.host_hello.min_protocol_version = digitizer_ProtocolVersion_PROTOCOL_VERSION;
+    m.body.host_hello.required_capabilities = required;
+    host.send(m, true, session);
+  }
+  void start_scan() {
+    digitizer_Envelope m = digitizer_Envelope_init_zero;
+    m.id = 1;
+    m.which_body = digitizer_Envelope_scan_request_tag;
+    m.body.scan_request = request;
+    host.send(m);
+  }
+  void resume(uint32_t scan_id, uint32_t next_seq) {
+    digitizer_Envelope m = digitizer_Envelope_init_zero;
+    m.id = 2;
+    m.which_body = digitizer_Envelope_resume_scan_tag;
+    m.body.resume_scan.scan_id = scan_id;
+    m.body.resume_scan.next_seq = next_seq;
+    host.send(m);
+  }
+  // A host process that died: its link state is gone with it; the cable is plugged back.
+  void new_host() {
+    host.link.reset();
+    host.decoder = dg::FrameDecoder{};
+    wire.to_device.clear();
+    wire.to_host.clear();
+    wire.connected = true;
+  }
+
+  // 41 x 11 points at 1 mm: longer than the 128-point ring.
+  digitizer_ScanRequest request = dg::test::grid_request(77, 0, 40000000, 10000000, 1000000, digitizer_ScanPattern_PATTERN_SERPENTINE);
+  MemoryLink wire;
+  dg::sim::SimBoard board;
+  dg::Device device;
+  ScriptedHost host;
+};
+
+void check_every_point_once(const std::vector<dg::PointSample>& stored, size_t expected) {
+  LONGS_EQUAL(expected, stored.size());
+  for (size_t i = 0; i < stored.size(); ++i) LONGS_EQUAL(stored.front().seq + i, stored[i].seq);
+}
+
+}  // namespace
+
+TEST_GROUP(DeviceResume){};
+
+TEST(DeviceResume, PausesWhenTheHostFallsSilentAndResumesFromTheLastStoredPoint) {
+  Bench bench;
+  bench.hello(1);
+  bench.start_scan();
+  bench.run_for(3000000);
+  const size_t before = bench.host.stored.size();
+  CHECK(before > 0);
+  CHECK(before < 41 * 11);
+  // The cable is pulled: the device keeps scanning into its ring until the host's silence
+  // pauses it.
+  bench.wire.connected = false;
+  bench.run_for(30000000);
+  LONGS_EQUAL(digitizer_DeviceState_STATE_PAUSED, bench.device.state());
+  CHECK(bench.device.ring_used() < 128);
+  // A new host process: a fresh session, then the point it needs next.
+  bench.new_host();
+  bench.hello(2);
+  bench.resume(77, bench.host.stored.back().seq + 1);
+  bench.run_until_done(600000000);
+  check_every_point_once(bench.host.stored, 41 * 11);
+  LONGS_EQUAL(digitizer_ScanEnd_SCAN_COMPLETED, bench.host.done.reason);
+  LONGS_EQUAL(41 * 11, bench.host.done.points);
+}
+
+TEST(DeviceResume, AFullRingStopsTheScanWhileNoPointIsAcknowledged) {
+  Bench bench(dg::HostSilence::kContinue);
+  bench.hello(1);
+  bench.start_scan();
+  bench.run_for(1000);
+  bench.wire.connected = false;
+  bench.run_for(120000000);
+  // Nothing lost, nothing dropped: the scan waits with a full ring.
+  LONGS_EQUAL(128, bench.device.ring_used());
+  LONGS_EQUAL(digitizer_DeviceState_STATE_SCANNING, bench.device.state());
+  bench.new_host();
+  bench.hello(2);
+  bench.resume(77, 0);  // this host has none of the points
+  bench.run_until_done(600000000);
+  check_every_point_once(bench.host.stored, 41 * 11);
+  LONGS_EQUAL(1, bench.host.stored.front().seq);
+}
+
+TEST(DeviceResume, AbortsOnASilentHostWhenConfiguredTo) {
+  Bench bench(dg::HostSilence::kAbort);
+  bench.hello(1);
+  bench.start_scan();
+  bench.run_for(3000000);
+  bench.wire.connected = false;
+  bench.run_for(10000000);
+  LONGS_EQUAL(digitizer_DeviceState_STATE_IDLE, bench.device.state());
+  // The points measured before the abort are still there for the next host.
+  bench.new_host();
+  bench.hello(2);
+  bench.resume(77, bench.host.stored.back().seq + 1);
+  bench.run_until_done(60000000);
+  LONGS_EQUAL(digitizer_ScanEnd_SCAN_ABORTED, bench.host.done.reason);
+  check_every_point_once(bench.host.stored, bench.host.done.points);
+}
+
+TEST(DeviceResume, SendsTheScanDoneAgainForAFinishedScan) {
+  Bench bench;
+  bench.hello(1);
+  bench.start_scan();
+  bench.run_until_done(600000000);
+  const uint32_t last = bench.host.stored.back().seq;
+  bench.new_host();
+  bench.host.received.clear();
+  bench.hello(2);
+  bench.resume(77, last + 1);
+  bench.run_for(2000000);
+  const digitizer_Envelope* done = bench.host.last(digitizer_Envelope_scan_done_tag);
+  CHECK(done != nullptr);
+  LONGS_EQUAL(77, done->body.scan_done.scan_id);
+  LONGS_EQUAL(41 * 11, done->body.scan_done.points);
+}
+
+TEST(DeviceResume, RefusesAnUnknownScanAndPointsItNoLongerHas) {
+  Bench bench;
+  bench.hello(1);
+  bench.start_scan();
+  bench.run_for(3000000);
+  bench.resume(78, 1);
+  bench.run_for(100000);
+  const digitizer_Envelope* fault = bench.host.last(digitizer_Envelope_fault_tag);
+  CHECK(fault != nullptr);
+  LONGS_EQUAL(digitizer_FaultCode_FAULT_BAD_REQUEST, fault->body.fault.code);
+  STRCMP_CONTAINS("no such scan", fault->body.fault.detail);
+  // Point 1 was acknowledged and freed long ago.
+  bench.resume(77, 1);
+  bench.run_for(100000);
+  fault = bench.host.last(digitizer_Envelope_fault_tag);
+  STRCMP_CONTAINS("freed", fault->body.fault.detail);
+  // The host claims points the device has not measured.
+  bench.resume(77, 100000);
+  bench.run_for(100000);
+  fault = bench.host.last(digitizer_Envelope_fault_tag);
+  STRCMP_CONTAINS("not yet measured", fault->body.fault.detail);
+}
+
+TEST(DeviceResume, SaysWhenItLacksACapabilityTheHostNeedsAndStillIdentifies) {
+  Bench bench;
+  bench.hello(1, digitizer_Capability_CAP_DEVICE_FIT | digitizer_Capability_CAP_RESUME);
+  bench.run_for(100000);
+  const digitizer_Envelope* fault = bench.host.last(digitizer_Envelope_fault_tag);
+  CHECK(fault != nullptr);
+  LONGS_EQUAL(digitizer_FaultCode_FAULT_UNSUPPORTED, fault->body.fault.code);
+  const digitizer_Envelope* hello = bench.host.last(digitizer_Envelope_hello_tag);
+  CHECK(hello != nullptr);
+  LONGS_EQUAL(digitizer_Capability_CAP_DIGIMATIC | digitizer_Capability_CAP_RESUME, hello->body.hello.capabilities);
+}
