@@ -15,8 +15,11 @@ class Loopback final : public Transport {
   void write(const uint8_t* data, size_t size) override { bytes.insert(bytes.end(), data, data + size); ++writes; }
   size_t read(uint8_t*, size_t, int) override { return 0; }
   std::string describe() const override { return "loopback"; }
+  bool reconnectable() const override { return true; }
+  void reconnect() override { ++reconnects; }
+  void disconnect() override { ++disconnects; }
   std::vector<uint8_t> bytes;
-  int writes = 0;
+  int writes = 0, reconnects = 0, disconnects = 0;
 };
 
 }  // namespace
@@ -46,4 +49,30 @@ TEST(FaultTransport, DropsAndRepeatsFramesAtTheirRates) {
   CHECK(faulty.counters().dropped > 800 && faulty.counters().dropped < 1200);
   CHECK(faulty.counters().duplicated > 700 && faulty.counters().duplicated < 1100);
   LONGS_EQUAL(10000 - faulty.counters().dropped + faulty.counters().duplicated, line->writes);
+}
+
+TEST(FaultTransport, PullsTheCableAndLetsItBePluggedBackIn) {
+  auto inner = std::make_unique<Loopback>();
+  Loopback* line = inner.get();
+  FaultTransport faulty(std::move(inner), parse_fault_spec("disconnects=2,every=10"));
+  const uint8_t frame[4] = {1, 2, 3, 0};
+  int pulled = 0;
+  for (int k = 0; k < 100; ++k) {
+    try {
+      faulty.write(frame, sizeof frame);
+    } catch (const TransportError& e) {
+      ++pulled;
+      STRCMP_CONTAINS("cable pulled", e.what());
+      // Dead until plugged back in, as a real pulled cable.
+      uint8_t buffer[4];
+      CHECK_THROWS(TransportError, faulty.read(buffer, sizeof buffer, 0));
+      CHECK_THROWS(TransportError, faulty.write(frame, sizeof frame));
+      CHECK(faulty.reconnectable());
+      faulty.reconnect();
+    }
+  }
+  LONGS_EQUAL(2, pulled);
+  LONGS_EQUAL(2, line->disconnects);
+  LONGS_EQUAL(2, line->reconnects);
+  LONGS_EQUAL(2, faulty.counters().disconnects);
 }

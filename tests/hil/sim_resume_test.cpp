@@ -1,0 +1,220 @@
+// Resuming for real: a simulated device listening on a socket outlives its hosts; a host process is
+// killed with SIGKILL mid-scan, another resumes over a line that corrupts, drops, repeats and has
+// its cable pulled three times, and the scan file ends with every point once, in order.
+#include <CppUTest/TestHarness.h>
+
+#include <signal.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <string>
+#include <thread>
+
+#include "host/device/capture.h"
+#include "host/device/request.h"
+#include "host/device/session.h"
+#include "host/scan/scan_file.h"
+#include "host/transport/sim_transport.h"
+#include "host/transport/transport.h"
+#include "tests/support/scan_request.h"
+
+namespace {
+
+std::string temp_path(const std::string& name) {
+  return std::string(P_tmpdir) + "/dg_resume_" + std::to_string(getpid()) + "_" + name;
+}
+
+// digitizer-sim --listen ADDRESS as a child process, stopped with SIGTERM at the end.
+class ListeningSim {
+ public:
+  explicit ListeningSim(const std::string& address) {
+    int out[2];
+    CHECK(pipe(out) == 0);
+    pid_ = fork();
+    if (pid_ == 0) {
+      dup2(out[1], 1);
+      close(out[0]);
+      const std::string program = dg::host::find_simulator();
+      execl(program.c_str(), program.c_str(), "--listen", address.c_str(), "part=dome", "seed=5", static_cast<char*>(nullptr));
+      _exit(127);
+    }
+    close(out[1]);
+    // It says where it listens once the socket is ready.
+    char line[128] = {};
+    size_t used = 0;
+    while (used < sizeof(line) - 1) {
+      const ssize_t n = read(out[0], line + used, 1);
+      if (n <= 0 || line[used] == '\n') break;
+      ++used;
+    }
+    close(out[0]);
+    said_ = line;
+    CHECK_TEXT(!said_.empty(), "digitizer-sim did not start listening");
+  }
+  ~ListeningSim() {
+    kill(pid_, SIGTERM);
+    int status = 0;
+    waitpid(pid_, &status, 0);
+  }
+  const std::string& said() const { return said_; }
+
+ private:
+  pid_t pid_ = -1;
+  std::string said_;
+};
+
+// 161 x 61 points at 0.5 mm, serpentine.
+digitizer_ScanRequest long_scan() {
+  return dg::test::grid_request(4242, 0, 80000000, 30000000, 500000, digitizer_ScanPattern_PATTERN_SERPENTINE);
+}
+
+void check_complete(const dg::host::ScanData& data, const digitizer_ScanRequest& request) {
+  const uint32_t per_line = (request.x.max_nm - request.x.min_nm) / request.step_x_nm + 1;
+  const uint32_t lines = (request.y.max_nm - request.y.min_nm) / request.step_y_nm + 1;
+  LONGS_EQUAL(per_line * lines, data.points.size());
+  LONGS_EQUAL(0, data.warnings.size());
+  CHECK(data.done.has_value());
+  LONGS_EQUAL(digitizer_ScanEnd_SCAN_COMPLETED, data.done->reason);
+  LONGS_EQUAL(lines, data.lines.size());
+  for (size_t i = 0; i < data.points.size(); ++i) {
+    const dg::PointSample& p = data.points[i];
+    LONGS_EQUAL(data.points.front().seq + i, p.seq);  // every point once, in order
+    const uint32_t line = static_cast<uint32_t>(i / per_line);
+    const uint32_t along = static_cast<uint32_t>(i % per_line);
+    const uint32_t ix = line % 2 == 0 ? along : per_line - 1 - along;
+    LONGS_EQUAL(line, p.line);
+    LONGS_EQUAL(static_cast<int32_t>(request.x.min_nm + ix * request.step_x_nm), p.x_nm);
+    LONGS_EQUAL(static_cast<int32_t>(request.y.min_nm + line * request.step_y_nm), p.y_nm);
+  }
+  for (size_t i = 0; i < data.lines.size(); ++i) LONGS_EQUAL(i, data.lines[i].line);
+}
+
+off_t file_size(const std::string& path) {
+  struct stat st {};
+  return stat(path.c_str(), &st) == 0 ? st.st_size : 0;
+}
+
+dg::host::CaptureResult resume(const std::string& uri, const std::string& path) {
+  auto transport = dg::host::open_transport(uri);
+  dg::host::Session session(*transport);
+  session.hello(5000, digitizer_Capability_CAP_RESUME);
+  const dg::host::ScanData stored = dg::host::read_scan_file(path);
+  dg::host::ScanFileWriter file = dg::host::ScanFileWriter::continue_file(path, stored.complete_bytes);
+  return dg::host::resume_capture(session, stored, file, dg::host::CaptureOptions{});
+}
+
+}  // namespace
+
+TEST_GROUP(SimResume){};
+
+TEST(SimResume, EveryPointOnceAfterAKilledHostAndAFaultyLineWithThreePulledCables) {
+  const std::string socket_path = temp_path("kill.sock"), path = temp_path("kill.scan");
+  ListeningSim sim("unix:" + socket_path);
+  const std::string uri = "unix:" + socket_path;
+  const digitizer_ScanRequest request = long_scan();
+  const pid_t host = fork();
+  if (host == 0) {
+    // The first host: scans until it is killed.
+    try {
+      auto transport = dg::host::open_transport(uri);
+      dg::host::Session session(*transport);
+      const digitizer_Hello hello = session.hello(5000);
+      dg::host::ScanFileWriter file(path);
+      dg::host::capture_scan(session, hello, request, file, dg::host::CaptureOptions{});
+    } catch (...) {
+    }
+    _exit(0);
+  }
+  // Killed once a fifth of the points or so are stored (about 10 bytes a point).
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (file_size(path) < 20000 && std::chrono::steady_clock::now() < give_up) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  kill(host, SIGKILL);
+  int status = 0;
+  waitpid(host, &status, 0);
+  CHECK(WIFSIGNALED(status));
+  const dg::host::ScanData before = dg::host::read_scan_file(path);
+  CHECK(!before.done.has_value());
+  CHECK(!before.points.empty());
+
+  const dg::host::CaptureResult result =
+      resume("fault:corrupt=0.001,drop=0.01,dup=0.01,disconnects=3,every=300,seed=11;" + uri, path);
+  LONGS_EQUAL(3, result.reconnects);
+  CHECK(result.finished);
+  check_complete(dg::host::read_scan_file(path), request);
+  std::remove(path.c_str());
+}
+
+TEST(SimResume, AStopOnRequestPausesTheDeviceAndTheScanResumesLater) {
+  const std::string socket_path = temp_path("stop.sock"), path = temp_path("stop.scan");
+  ListeningSim sim("unix:" + socket_path);
+  const std::string uri = "unix:" + socket_path;
+  const digitizer_ScanRequest request = long_scan();
+  {
+    auto transport = dg::host::open_transport(uri);
+    dg::host::Session session(*transport);
+    const digitizer_Hello hello = session.hello(5000);
+    dg::host::ScanFileWriter file(path);
+    dg::host::CaptureOptions options;
+    uint32_t seen = 0;
+    options.progress = [&seen](const dg::host::CaptureProgress& p) { seen = p.points; };
+    options.stop_requested = [&seen] { return seen >= 2000; };
+    const dg::host::CaptureResult result = dg::host::capture_scan(session, hello, request, file, options);
+    CHECK(result.interrupted);
+    CHECK(!result.finished);
+    // The device waits, paused, for the host to come back.
+    digitizer_Envelope status = digitizer_Envelope_init_zero;
+    status.which_body = digitizer_Envelope_command_tag;
+    status.body.command.kind = digitizer_CommandKind_CMD_STATUS;
+    const digitizer_Envelope reply = dg::host::request(session, status, 2000);
+    LONGS_EQUAL(digitizer_Envelope_status_tag, reply.which_body);
+    LONGS_EQUAL(digitizer_DeviceState_STATE_PAUSED, reply.body.status.state);
+  }
+  const dg::host::CaptureResult result = resume(uri, path);
+  CHECK(result.finished);
+  check_complete(dg::host::read_scan_file(path), request);
+  std::remove(path.c_str());
+}
+
+TEST(SimResume, ScansOverTcp) {
+  ListeningSim sim("tcp:0");
+  int port = 0;
+  CHECK(std::sscanf(sim.said().c_str(), "listening on tcp port %d", &port) == 1);
+  const std::string path = temp_path("tcp.scan");
+  const digitizer_ScanRequest request = dg::test::grid_request(5, 0, 20000000, 10000000, 1000000, digitizer_ScanPattern_PATTERN_RASTER);
+  auto transport = dg::host::open_transport("tcp:127.0.0.1:" + std::to_string(port));
+  dg::host::Session session(*transport);
+  const digitizer_Hello hello = session.hello(5000);
+  {
+    dg::host::ScanFileWriter file(path);
+    CHECK(dg::host::capture_scan(session, hello, request, file, dg::host::CaptureOptions{}).finished);
+  }
+  const dg::host::ScanData data = dg::host::read_scan_file(path);
+  LONGS_EQUAL(21 * 11, data.points.size());
+  std::remove(path.c_str());
+}
+
+TEST(SimResume, ResumingAScanTheDeviceDoesNotHaveIsAClearError) {
+  const std::string socket_path = temp_path("none.sock"), path = temp_path("none.scan");
+  ListeningSim sim("unix:" + socket_path);
+  {
+    dg::host::ScanFileWriter file(path);
+    digitizer_Envelope start = digitizer_Envelope_init_zero;
+    start.which_body = digitizer_Envelope_scan_request_tag;
+    start.body.scan_request = long_scan();
+    file.append(start);
+  }
+  std::string error;
+  try {
+    resume("unix:" + socket_path, path);
+  } catch (const dg::host::ScanRefused& e) {
+    error = e.what();
+  }
+  STRCMP_CONTAINS("cannot resume", error.c_str());
+  STRCMP_CONTAINS("no such scan", error.c_str());
+  std::remove(path.c_str());
+}
