@@ -7,6 +7,7 @@
 #include "host/cli/units.h"
 #include "host/device/request.h"
 #include "host/transport/transport.h"
+#include "host/transport/usb_transport.h"
 
 namespace dg::host {
 namespace {
@@ -88,12 +89,29 @@ void add_device_commands(CLI::App& app, DeviceArgs& a) {
   jog->add_option("--feed", a.feed_mm_s, "mm/s (default: the device's)")->check(CLI::Range(0.0, 200.0));
 }
 
+// The USB devices that answer to our IDs, then the other ways to reach a device.
+static int list_devices() {
+  const UsbSelector ids = parse_usb_uri("usb:");
+  try {
+    const std::vector<UsbDeviceInfo> found = list_usb_devices(ids);
+    if (found.empty()) std::printf("usb:   no device %04x:%04x is connected\n", ids.vendor, ids.product);
+    for (const UsbDeviceInfo& d : found) {
+      std::printf("usb:%04x:%04x%s%s  bus %u address %u  %s%s\n", d.vendor, d.product, d.serial.empty() ? "" : ",serial=",
+                  d.serial.c_str(), d.bus, d.address, d.product_name.c_str(), d.problem.empty() ? "" : ("  " + d.problem).c_str());
+    }
+  } catch (const TransportError& e) {
+    std::printf("usb:   %s\n", e.what());
+  }
+  std::printf("sim:   the simulated table and gauge (always here), e.g. sim:part=dome,seed=7\n");
+  std::printf("unix:  a device behind a unix socket, e.g. unix:/tmp/bench.sock (digitizer-sim --listen)\n");
+  std::printf("tcp:   a device behind a TCP port, e.g. tcp:bench.local:5555\n");
+  std::printf("fault: any device behind a damaged line, e.g. fault:drop=0.01;sim:part=dome\n");
+  return 0;
+}
+
 int run_device_command(const CLI::App& app, const DeviceArgs& a) {
   if (app.got_subcommand("devices")) {
-    std::printf("sim:   the simulated table and gauge (always here), e.g. sim:part=dome,seed=7\n");
-    std::printf("fault: any device behind a damaged line, e.g. fault:drop=0.01;sim:part=dome\n");
-    std::printf("usb:   not in this build yet\n");
-    return 0;
+    return list_devices();
   }
   if (app.got_subcommand("status")) return run_status(a);
   if (app.got_subcommand("home")) return run_simple(a, digitizer_CommandKind_CMD_HOME, "homed");

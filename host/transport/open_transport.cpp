@@ -5,6 +5,7 @@
 #include "host/transport/fault_transport.h"
 #include "host/transport/sim_transport.h"
 #include "host/transport/socket_transport.h"
+#include "host/transport/usb_transport.h"
 #include "host/transport/transport.h"
 
 namespace dg::host {
@@ -43,8 +44,9 @@ std::unique_ptr<Transport> open_transport(const std::string& uri) {
     return std::make_unique<SimTransport>(uri, options);
   }
   if (scheme == "unix" || scheme == "tcp") return std::make_unique<SocketTransport>(uri);
+  if (scheme == "usb") return std::make_unique<UsbTransport>(uri);
   throw std::invalid_argument("device URI '" + uri + "': unknown scheme '" + scheme +
-                              "' (this build knows sim:, unix:, tcp: and fault:)");
+                              "' (this build knows sim:, usb:, unix:, tcp: and fault:)");
 }
 
 }  // namespace dg::host
