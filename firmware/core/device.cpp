@@ -382,34 +382,31 @@ void Device::transmit() {
       continue;
     }
     if (send_points()) continue;
-    // ScanDone once every point of the scan is on the wire.
-    if (scan_.finished() && next_send_seq_ == next_seq_) {
-      digitizer_Envelope message = digitizer_Envelope_init_zero;
-      message.which_body = digitizer_Envelope_scan_done_tag;
-      digitizer_ScanDone& done = message.body.scan_done;
-      done.scan_id = scan_.scan_id();
-      done.reason = scan_.end_reason();
-      done.points = scan_.points_done();
-      done.lines = scan_.lines_done();
-      done.duration_us = scan_.duration_us();
+    // A scan that ended: its ScanDone once every point is on the wire (after its fault, if any).
+    if (scan_.finished() && next_send_seq_ == next_seq_ && !resend_done_) {
+      last_done_ = digitizer_ScanDone_init_zero;
+      last_done_.scan_id = scan_.scan_id();
+      last_done_.reason = scan_.end_reason();
+      last_done_.points = scan_.points_done();
+      last_done_.lines = scan_.lines_done();
+      last_done_.duration_us = scan_.duration_us();
+      have_last_done_ = true;
       if (scan_.end_reason() == digitizer_ScanEnd_SCAN_FAULTED) {
         alarm_ = true;
         alarm_code_ = scan_.fault();
         fault(0, scan_.fault(), "scan stopped by a fault");
       }
-      if (!send(message)) return;
-      last_done_ = done;
-      have_last_done_ = true;
-      scan_.acknowledge_finished();
+      resend_done_ = true;  // sent below, once the queued fault is out
       continue;
     }
-    // A resumed host that missed the ScanDone of a finished scan gets it again.
+    // ScanDone of the scan that just ended, or again for a resumed host that missed it.
     if (resend_done_ && next_send_seq_ == next_seq_) {
       digitizer_Envelope message = digitizer_Envelope_init_zero;
       message.which_body = digitizer_Envelope_scan_done_tag;
       message.body.scan_done = last_done_;
       if (!send(message)) return;
       resend_done_ = false;
+      if (scan_.finished()) scan_.acknowledge_finished();
       continue;
     }
     return;

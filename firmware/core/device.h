@@ -118,10 +118,10 @@ class Device : private PointSink {
   bool jogging_ = false;
   uint64_t host_heard_us_ = 0;    // device time of the last good frame from a host
   bool silence_paused_ = false;   // paused by watch_host(), not by CMD_PAUSE
-  // The last scan's ScanDone, sent again when a resumed host asks for a finished scan.
+  // The last scan's ScanDone, kept to be sent again when a resumed host asks for a finished scan.
   digitizer_ScanDone last_done_ = digitizer_ScanDone_init_zero;
   bool have_last_done_ = false;
-  bool resend_done_ = false;
+  bool resend_done_ = false;  // last_done_ is due on the wire
   // Four frames in flight: enough to keep a USB full-speed link busy, 2.2 KB of RAM.
   ReliableLink<4> link_;
   uint8_t tx_wire_[kFrameMaxWire] = {};

@@ -167,6 +167,14 @@ struct Bench {
     m.body.resume_scan.next_seq = next_seq;
     host.send(m);
   }
+  // Starts the scan, lets it run for `us`, then pulls the cable and lets `silent_us` pass.
+  void scan_then_lose_host(uint64_t us, uint64_t silent_us) {
+    hello(1);
+    start_scan();
+    run_for(us);
+    wire.connected = false;
+    run_for(silent_us);
+  }
   // A host process that died: its link state is gone with it; the cable is plugged back.
   void new_host() {
     host.link.reset();
@@ -219,11 +227,7 @@ TEST(DeviceResume, PausesWhenTheHostFallsSilentAndResumesFromTheLastStoredPoint)
 
 TEST(DeviceResume, AFullRingStopsTheScanWhileNoPointIsAcknowledged) {
   Bench bench(dg::HostSilence::kContinue);
-  bench.hello(1);
-  bench.start_scan();
-  bench.run_for(1000);
-  bench.wire.connected = false;
-  bench.run_for(120000000);
+  bench.scan_then_lose_host(1000, 120000000);
   // Nothing lost, nothing dropped: the scan waits with a full ring.
   LONGS_EQUAL(128, bench.device.ring_used());
   LONGS_EQUAL(digitizer_DeviceState_STATE_SCANNING, bench.device.state());
@@ -237,11 +241,7 @@ TEST(DeviceResume, AFullRingStopsTheScanWhileNoPointIsAcknowledged) {
 
 TEST(DeviceResume, AbortsOnASilentHostWhenConfiguredTo) {
   Bench bench(dg::HostSilence::kAbort);
-  bench.hello(1);
-  bench.start_scan();
-  bench.run_for(3000000);
-  bench.wire.connected = false;
-  bench.run_for(10000000);
+  bench.scan_then_lose_host(3000000, 10000000);
   LONGS_EQUAL(digitizer_DeviceState_STATE_IDLE, bench.device.state());
   // The points measured before the abort are still there for the next host.
   bench.new_host();
