@@ -146,7 +146,9 @@ void Device::handle(const digitizer_Envelope& message) {
       line_first_seq_ = next_seq_;
       resend_done_ = false;
       fit_.begin(message.body.scan_request);
-      queue({Reply::kAccepted, id, digitizer_FaultCode_FAULT_NONE, nullptr});
+      Reply accepted{Reply::kAccepted, id, digitizer_FaultCode_FAULT_NONE, nullptr};
+      accepted.first_seq = next_seq_;
+      queue(accepted);
       return;
     }
     case digitizer_Envelope_command_tag:
@@ -171,8 +173,8 @@ void Device::resume_scan(uint32_t id, const digitizer_ResumeScan& request) {
     return fault(id, digitizer_FaultCode_FAULT_BAD_REQUEST, "no such scan on this device (was it restarted?)");
   }
   const uint32_t oldest = ring_.empty() ? next_seq_ : ring_.at(0).seq;
-  // 0: the host has none of the points yet.
-  const uint32_t next_seq = request.next_seq == 0 ? oldest : request.next_seq;
+  // 0: the host has none of this scan's points yet.
+  const uint32_t next_seq = request.next_seq == 0 ? scan_.line_first_seq(0) : request.next_seq;
   if (static_cast<int32_t>(next_seq - oldest) < 0) {
     return fault(id, digitizer_FaultCode_FAULT_BAD_REQUEST, "points before the ring's oldest were acknowledged and freed");
   }
@@ -187,7 +189,9 @@ void Device::resume_scan(uint32_t id, const digitizer_ResumeScan& request) {
   silence_paused_ = false;
   if (scan_.active()) scan_.set_paused(false);
   resend_done_ = done;
-  queue({Reply::kAccepted, id, digitizer_FaultCode_FAULT_NONE, nullptr});
+  Reply accepted{Reply::kAccepted, id, digitizer_FaultCode_FAULT_NONE, nullptr};
+  accepted.first_seq = next_seq;
+  queue(accepted);
 }
 
 void Device::handle_command(uint32_t id, const digitizer_Command& command) {
@@ -316,6 +320,7 @@ bool Device::send_reply(const Reply& reply) {
     case Reply::kAccepted:
       message.which_body = digitizer_Envelope_accepted_tag;
       message.body.accepted.request_id = reply.request_id;
+      message.body.accepted.first_seq = reply.first_seq;
       break;
     case Reply::kFitResult:
       // Solved when it is sent, from every point stored so far.

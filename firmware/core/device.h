@@ -74,6 +74,7 @@ class Device : private PointSink {
     digitizer_FaultCode code;
     const char* detail;
     digitizer_DeviceFitModel fit_model = digitizer_DeviceFitModel_DEVICE_FIT_BEZIER;  // kFitResult
+    uint32_t first_seq = 0;  // kAccepted of a scan or resume: its first point
   };
 
   bool accept(const PointSample& point) override;

@@ -70,6 +70,7 @@ class Capture {
     }
     // Stopped on request: everything that arrived is stored and acknowledged.
     file_.sync();
+    session_.flush(1000);
     result_.interrupted = true;
     return result_;
   }
@@ -151,7 +152,10 @@ class Capture {
   bool handle(const digitizer_Envelope& message) {
     switch (message.which_body) {
       case digitizer_Envelope_accepted_tag:
-        if (message.body.accepted.request_id == request_id_) accepted_ = true;
+        if (message.body.accepted.request_id == request_id_) {
+          accepted_ = true;
+          if (expected_seq_ == 0) expected_seq_ = message.body.accepted.first_seq;
+        }
         if (stop_ == Stop::kAsked && message.body.accepted.request_id == pause_id_) stop_ = Stop::kPaused;
         return false;
       case digitizer_Envelope_fault_tag: {
@@ -173,7 +177,9 @@ class Capture {
         store_points(message);
         return false;
       case digitizer_Envelope_line_done_tag:
-        // A line end sent again after a reconnect is stored once (lines only go up).
+        // A line end sent again after a reconnect is stored once (lines only go up); one before
+        // the Accepted belongs to a replay, like the points before it.
+        if (!accepted_) return false;
         if (have_last_line_ && !seq_before(last_line_, message.body.line_done.line)) return false;
         have_last_line_ = true;
         last_line_ = message.body.line_done.line;
@@ -188,6 +194,7 @@ class Capture {
         file_.sync();
         result_.done = message.body.scan_done;
         result_.finished = true;
+        session_.flush(1000);
         return true;
       default:
         return false;
@@ -195,6 +202,10 @@ class Capture {
   }
 
   void store_points(const digitizer_Envelope& message) {
+    // Before the device accepted this scan or resume, points are a replay of the ring from an
+    // earlier session (another scan's unacknowledged tail, or ours before ResumeScan took
+    // effect); after the Accepted the device sends from where it said.
+    if (!accepted_) return;
     const digitizer_PointBatch& batch = message.body.points;
     const uint32_t count = static_cast<uint32_t>(point_batch_size(batch));
     if (count == 0) return;

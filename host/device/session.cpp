@@ -146,6 +146,13 @@ bool Session::receive(digitizer_Envelope* message, int timeout_ms) {
   }
 }
 
+bool Session::flush(int timeout_ms) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
+  while (!link_.all_acknowledged() && std::chrono::steady_clock::now() < deadline) pump(5);
+  transmit();
+  return link_.all_acknowledged();
+}
+
 digitizer_Hello Session::hello(int timeout_ms, uint32_t required_capabilities) {
   digitizer_Envelope request = digitizer_Envelope_init_zero;
   request.which_body = digitizer_Envelope_host_hello_tag;

@@ -42,6 +42,11 @@ class Session {
   // acknowledgements go out while it waits.
   bool receive(digitizer_Envelope* message, int timeout_ms);
 
+  // Waits up to timeout_ms until the device has acknowledged every frame sent; true when it has.
+  // A host that ends a scan calls it so its last PointAck arrives (else the device keeps those
+  // points in its ring and offers them to the next session).
+  bool flush(int timeout_ms);
+
   uint64_t bytes_received() const { return bytes_in_; }
   uint64_t bytes_sent() const { return bytes_out_; }
   const FrameDecoder::Counters& frame_counters() const { return decoder_.counters(); }

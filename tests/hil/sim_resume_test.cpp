@@ -218,3 +218,44 @@ TEST(SimResume, ResumingAScanTheDeviceDoesNotHaveIsAClearError) {
   STRCMP_CONTAINS("no such scan", error.c_str());
   std::remove(path.c_str());
 }
+
+TEST(SimResume, ANewScanKeepsNoneOfTheLastScansUnacknowledgedPoints) {
+  const std::string socket_path = temp_path("tail.sock"), path = temp_path("tail.scan");
+  ListeningSim sim("unix:" + socket_path);
+  const std::string uri = "unix:" + socket_path;
+  const digitizer_ScanRequest first = dg::test::grid_request(1, 0, 20000000, 10000000, 1000000, digitizer_ScanPattern_PATTERN_RASTER);
+  {
+    // A host that never acknowledges the last line (its final PointAck lost, say): those points
+    // stay in the device's ring and are replayed to the next host.
+    auto transport = dg::host::open_transport(uri);
+    dg::host::Session session(*transport);
+    session.hello(5000);
+    digitizer_Envelope start = digitizer_Envelope_init_zero;
+    start.which_body = digitizer_Envelope_scan_request_tag;
+    start.body.scan_request = first;
+    session.send(start);
+    digitizer_Envelope message;
+    bool done = false;
+    while (!done && session.receive(&message, 5000)) {
+      done = message.which_body == digitizer_Envelope_scan_done_tag;
+      if (message.which_body != digitizer_Envelope_points_tag || message.body.points.line == 10) continue;
+      digitizer_Envelope ack = digitizer_Envelope_init_zero;
+      ack.which_body = digitizer_Envelope_point_ack_tag;
+      ack.body.point_ack.seq = message.body.points.first_seq + message.body.points.dx_nm_count - 1;
+      session.send(ack);
+    }
+    CHECK(done);
+  }
+  const digitizer_ScanRequest second = long_scan();
+  auto transport = dg::host::open_transport(uri);
+  dg::host::Session session(*transport);
+  const digitizer_Hello hello = session.hello(5000);
+  {
+    dg::host::ScanFileWriter file(path);
+    CHECK(dg::host::capture_scan(session, hello, second, file, dg::host::CaptureOptions{}).finished);
+  }
+  const dg::host::ScanData data = dg::host::read_scan_file(path);
+  check_complete(data, second);
+  LONGS_EQUAL(21 * 11 + 1, data.points.front().seq);  // the first scan had seqs 1..231
+  std::remove(path.c_str());
+}
