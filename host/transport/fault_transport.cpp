@@ -29,11 +29,13 @@ FaultSpec parse_fault_spec(const std::string& text) {
     else if (key == "outages") spec.outages = static_cast<int>(v);
     else if (key == "outage_ms") spec.outage_ms = static_cast<int>(v);
     else if (key == "every") spec.outage_every = static_cast<int>(v);
+    else if (key == "delay") spec.delay = v;
+    else if (key == "delay_ms") spec.delay_ms = static_cast<int>(v);
     else if (key == "disconnects") spec.disconnects = static_cast<int>(v);
     else if (key == "seed") spec.seed = static_cast<unsigned>(v);
-    else throw std::invalid_argument("unknown fault option '" + key + "' (corrupt, drop, dup, outages, outage_ms, every, disconnects, seed)");
+    else throw std::invalid_argument("unknown fault option '" + key + "' (corrupt, drop, dup, delay, delay_ms, outages, outage_ms, every, disconnects, seed)");
   }
-  if (spec.corrupt > 1 || spec.drop > 1 || spec.duplicate > 1) throw std::invalid_argument("fault probabilities must be 0..1");
+  if (spec.corrupt > 1 || spec.drop > 1 || spec.duplicate > 1 || spec.delay > 1) throw std::invalid_argument("fault probabilities must be 0..1");
   return spec;
 }
 
@@ -73,6 +75,10 @@ void FaultTransport::write(const uint8_t* data, size_t size) {
   if (in_outage() || chance(spec_.drop)) {
     ++counters_.dropped;
     return;
+  }
+  if (chance(spec_.delay)) {
+    ++counters_.delayed;
+    std::this_thread::sleep_for(std::chrono::milliseconds(spec_.delay_ms));
   }
   std::vector<uint8_t> bytes(data, data + size);
   for (uint8_t& b : bytes) {

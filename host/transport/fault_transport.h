@@ -17,11 +17,14 @@ struct FaultSpec {
   int outages = 0;       // how many times the line goes dead
   int outage_ms = 300;   // for how long
   int outage_every = 400;  // writes between outages, and between forced disconnects
+  double delay = 0;      // probability that a written frame is held back (a busy bus, a slow hub)
+  int delay_ms = 20;     // for how long
   int disconnects = 0;     // how many times the cable is pulled (the link closes; reconnect() restores it)
   unsigned seed = 1;
 };
 
-// Parses "corrupt=0.001,drop=0.01,dup=0.01,outages=3,outage_ms=300,every=400,disconnects=3,seed=7"; throws
+// Parses "corrupt=0.001,drop=0.01,dup=0.01,delay=0.01,delay_ms=20,outages=3,outage_ms=300,every=400,
+// disconnects=3,seed=7"; throws
 // std::invalid_argument naming a bad key or value.
 FaultSpec parse_fault_spec(const std::string& text);
 
@@ -36,7 +39,7 @@ class FaultTransport final : public Transport {
   void disconnect() override;
 
   struct Counters {
-    uint64_t corrupted = 0, dropped = 0, duplicated = 0, outages = 0, disconnects = 0;
+    uint64_t corrupted = 0, dropped = 0, duplicated = 0, delayed = 0, outages = 0, disconnects = 0;
   };
   const Counters& counters() const { return counters_; }
 

@@ -3,6 +3,7 @@
 
 #include <CppUTest/TestHarness.h>
 
+#include <chrono>
 #include <vector>
 
 using namespace dg::host;
@@ -75,4 +76,17 @@ TEST(FaultTransport, PullsTheCableAndLetsItBePluggedBackIn) {
   LONGS_EQUAL(2, line->disconnects);
   LONGS_EQUAL(2, line->reconnects);
   LONGS_EQUAL(2, faulty.counters().disconnects);
+}
+
+TEST(FaultTransport, HoldsBackSomeFramesForAWhile) {
+  auto inner = std::make_unique<Loopback>();
+  Loopback* line = inner.get();
+  FaultTransport faulty(std::move(inner), parse_fault_spec("delay=0.5,delay_ms=2"));
+  const uint8_t frame[4] = {1, 2, 3, 0};
+  const auto started = std::chrono::steady_clock::now();
+  for (int k = 0; k < 40; ++k) faulty.write(frame, sizeof frame);
+  const auto spent = std::chrono::steady_clock::now() - started;
+  CHECK(faulty.counters().delayed > 10 && faulty.counters().delayed < 30);
+  CHECK(spent >= std::chrono::milliseconds(2 * faulty.counters().delayed));
+  LONGS_EQUAL(40, line->writes);  // late, never lost
 }
