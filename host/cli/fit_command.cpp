@@ -10,6 +10,7 @@
 #include "host/surface/crease_detect.h"
 #include "host/surface/noise_estimate.h"
 #include "host/surface/fit_error.h"
+#include "host/surface/hermite_fit.h"
 #include "host/surface/surface_json.h"
 #include "host/surface/tolerance_fit.h"
 
@@ -88,13 +89,44 @@ int run_fit_ips(const FitArgs& a, const PointCloud& cloud) {
   return 0;
 }
 
+// Seed 002: interpolates a grid of points with normals; the distances are those of the points to
+// the surface (zero up to rounding: it passes through them) and the normal constraints' residual.
+int run_fit_hermite(const FitArgs& a, const PointCloud& cloud) {
+  if (a.tolerance_mm > 0) throw std::invalid_argument("--tolerance does not apply to Hermite surfaces: they pass through every point");
+  if (!a.ctrl.empty()) throw std::invalid_argument("a Hermite surface has one patch per grid cell: --ctrl does not apply");
+  const HermiteGrid grid = hermite_grid(cloud, a.input);
+  const HermiteResult r = fit_hermite(grid);
+  SurfaceFile out;
+  out.model = "hermite";
+  out.method = "normals";
+  out.parameterization = "chord";
+  out.height_field = false;
+  out.has_fit = true;
+  out.source = a.input;
+  out.surface = r.surface;
+  Parameters params;
+  params.kind = Parameterization::kChordLength;
+  for (int row = 0; row < grid.rows; ++row) {
+    for (int c = 0; c < grid.cols; ++c) params.uv.push_back({r.u[static_cast<size_t>(c)], r.v[static_cast<size_t>(row)]});
+  }
+  out.distance = distance_stats(orthogonal_distances(out.surface, grid.points, params));
+  write_surface_json(a.output, out);
+  if (!a.quiet) {
+    std::printf("hermite through a %d x %d grid (%d x %d patches), largest |n . t| / |t| %.2g\n", grid.cols, grid.rows,
+                grid.cols - 1, grid.rows - 1, r.normal_residual_max);
+  }
+  print_summary(a, out);
+  return 0;
+}
+
 }  // namespace
 
 CLI::App* add_fit_command(CLI::App& app, FitArgs& a) {
   CLI::App* cmd = app.add_subcommand("fit", "fit a B-spline or Bezier surface to points (mm) and write SURF.json");
   cmd->add_option("input", a.input, ".csv, .xyz, .ply or .scan points in mm")->required()->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", a.output, "surface file (.json)")->required();
-  cmd->add_option("--model", a.model, "bspline or bezier")->capture_default_str()->check(CLI::IsMember({"bspline", "bezier"}));
+  cmd->add_option("--model", a.model, "bspline, bezier, or hermite (seed 002: a grid of points with nx,ny,nz normals)")
+      ->capture_default_str()->check(CLI::IsMember({"bspline", "bezier", "hermite"}));
   cmd->add_option("--method", a.method, "lsq (least squares) or ips (seed 000's inverse progressive search; bezier only, needs scan lines)")
       ->capture_default_str()->check(CLI::IsMember({"lsq", "ips"}));
   cmd->add_option("--degree", a.degree, "B-spline degree in both directions")->capture_default_str()->check(CLI::Range(1, 7));
@@ -112,6 +144,7 @@ CLI::App* add_fit_command(CLI::App& app, FitArgs& a) {
 int run_fit(const FitArgs& a) {
   const PointCloud cloud = read_points(a.input);
   if (a.method == "ips") return run_fit_ips(a, cloud);
+  if (a.model == "hermite") return run_fit_hermite(a, cloud);
   const Parameters params = parameterize(cloud, parse_parameterization(a.param));
   std::vector<double> weights;
   if (cloud.sigma && !a.ignore_sigma) {

@@ -16,6 +16,7 @@
 #include <cmath>
 #include <string>
 
+#include "host/scan/segment.h"
 #include "host/surface/fit_error.h"
 #include "host/surface/vec3.h"
 
@@ -165,6 +166,37 @@ std::vector<Point3> constrained_tangents(const std::vector<Point3>& p, const std
   std::vector<Point3> d(n);
   for (size_t k = 0; k < n; ++k) d[k] = e.a[k] + e.b[k] * d0 + e.c[k] * d1;
   return d;
+}
+
+HermiteGrid hermite_grid(const PointCloud& cloud, const std::string& name) {
+  if (!cloud.normal) throw FitError(name + ": a Hermite surface needs normals: give nx,ny,nz columns");
+  const std::vector<uint32_t> lines = cloud.line ? *cloud.line : segment_lines(cloud.points);
+  HermiteGrid g;
+  size_t start = 0;
+  Point3 first_direction;
+  while (start < cloud.points.size()) {
+    size_t end = start;
+    while (end < cloud.points.size() && lines[end] == lines[start]) ++end;
+    const int length = static_cast<int>(end - start);
+    if (g.rows > 0 && length != g.cols) {
+      throw FitError(name + ": line " + std::to_string(g.rows) + " has " + std::to_string(length) + " points, line 0 has " +
+                     std::to_string(g.cols) + "; a Hermite surface needs a grid (every line the same length)");
+    }
+    const Point3 direction = cloud.points[end - 1] - cloud.points[start];
+    if (g.rows == 0) {
+      g.cols = length;
+      first_direction = direction;
+    }
+    const bool reversed = dot(direction, first_direction) < 0;
+    for (int k = 0; k < length; ++k) {
+      const size_t at = reversed ? end - 1 - static_cast<size_t>(k) : start + static_cast<size_t>(k);
+      g.points.push_back(cloud.points[at]);
+      g.normals.push_back((*cloud.normal)[at]);
+    }
+    ++g.rows;
+    start = end;
+  }
+  return g;
 }
 
 HermiteResult fit_hermite(const HermiteGrid& g) {

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "host/scan/point3.h"
+#include "host/scan/point_reader.h"
 #include "host/surface/bspline_surface.h"
 
 namespace dg::host {
@@ -20,6 +21,11 @@ struct HermiteResult {
   double normal_residual_max = 0;    // largest |n . t| / |t| over all tangents: 0 = every constraint met
   bool closed_u = false;             // rows that end where they start, joined C2 (seed 002's cylinder)
 };
+
+// The grid of a point cloud with normals: its scan lines (the `line` column, or lines found by
+// segmentation) are the rows, each turned to run the way the first does (a serpentine scan).
+// Throws FitError naming `name` when normals are missing or the lines differ in length.
+HermiteGrid hermite_grid(const PointCloud& cloud, const std::string& name);
 
 // Throws FitError for a grid smaller than 3 x 3, rows of different lengths, a normal of zero
 // length, a non-finite value or two grid points in one place.

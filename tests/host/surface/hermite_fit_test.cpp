@@ -159,3 +159,35 @@ TEST(HermiteFit, RefusesDegenerateGrids) {
   }
   STRCMP_CONTAINS("row 1, point 1 has zero length", error.c_str());
 }
+
+TEST(HermiteFit, TakesTheGridFromAScanWithNormalsTurningSerpentineLines) {
+  PointCloud cloud;
+  cloud.line = std::vector<uint32_t>{};
+  cloud.normal = std::vector<Point3>{};
+  const HermiteGrid sphere = sphere_grid();
+  for (int row = 0; row < 4; ++row) {
+    for (int k = 0; k < 4; ++k) {
+      const int c = row % 2 == 0 ? k : 3 - k;  // odd lines run backwards
+      cloud.points.push_back(sphere.points[static_cast<size_t>(row) * 4 + c]);
+      cloud.normal->push_back(sphere.normals[static_cast<size_t>(row) * 4 + c]);
+      cloud.line->push_back(static_cast<uint32_t>(row));
+    }
+  }
+  const HermiteGrid g = hermite_grid(cloud, "sphere.csv");
+  LONGS_EQUAL(4, g.rows);
+  LONGS_EQUAL(4, g.cols);
+  for (size_t k = 0; k < g.points.size(); ++k) DOUBLES_EQUAL(0.0, norm(g.points[k] - sphere.points[k]), 0);
+  // A short line, or no normals, is an error naming the file.
+  cloud.points.pop_back();
+  cloud.normal->pop_back();
+  cloud.line->pop_back();
+  std::string error;
+  try {
+    hermite_grid(cloud, "sphere.csv");
+  } catch (const FitError& e) {
+    error = e.what();
+  }
+  STRCMP_CONTAINS("sphere.csv: line 3 has 3 points", error.c_str());
+  cloud.normal.reset();
+  CHECK_THROWS(FitError, hermite_grid(cloud, "sphere.csv"));
+}
