@@ -9,6 +9,7 @@
 
 #include <unistd.h>
 
+#include "host/cli/curve_command.h"
 #include "host/cli/device_commands.h"
 #include "host/cli/fit_command.h"
 #include "host/cli/inspect_command.h"
@@ -173,6 +174,8 @@ int main(int argc, char** argv) {
   CLI::App* scan_cmd = add_scan_command(app, scan);
   PullArgs pull;
   CLI::App* pull_cmd = add_pull_command(app, pull);
+  CurveArgs curve;
+  CLI::App* curve_cmd = add_curve_command(app, curve);
 
   std::string export_in, export_out;
   CLI::App* export_cmd = app.add_subcommand("export", "write a scan's points as CSV or PLY, or a surface as IGES or STEP");
@@ -230,6 +233,7 @@ int main(int argc, char** argv) {
     if (*scan_cmd) return run_scan(scan);
     if (*export_cmd) return run_export(export_in, export_out, export_chord_mm, export_edges);
     if (*pull_cmd) return run_pull(pull);
+    if (*curve_cmd) return run_curve(curve);
     if (*info_cmd) return run_info(info_in);
     if (*segment_cmd) return run_segment(segment_in, segment_out, segment_ratio, segment_turn);
     if (*fit_cmd) return run_fit(fit);

@@ -1,0 +1,19 @@
+// `digitizer curve`: a planar profile as a clamped cubic B-spline (seed 003), to JSON, IGES or STEP.
+#pragma once
+#include <CLI/CLI.hpp>
+#include <string>
+
+namespace dg::host {
+
+struct CurveArgs {
+  std::string input, output;
+  std::string method = "ce";  // ce | interpolate | approximate | polygon
+  double distance_mm = 0.0003;  // ce: the probe's uncertainty
+  int control_count = 0;        // approximate: control points (0: a third of the points, at least 4)
+  bool quiet = false;
+};
+
+CLI::App* add_curve_command(CLI::App& app, CurveArgs& args);
+int run_curve(const CurveArgs& args);
+
+}  // namespace dg::host
