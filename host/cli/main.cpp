@@ -14,6 +14,7 @@
 #include "host/cli/fit_command.h"
 #include "host/cli/inspect_command.h"
 #include "host/cli/scan_command.h"
+#include "host/cli/superquadric_command.h"
 #include "host/cli/units.h"
 #include "host/scan/file_name.h"
 #include "host/scan/lts_filter.h"
@@ -176,6 +177,8 @@ int main(int argc, char** argv) {
   CLI::App* pull_cmd = add_pull_command(app, pull);
   CurveArgs curve;
   CLI::App* curve_cmd = add_curve_command(app, curve);
+  SuperquadricArgs superquadric;
+  CLI::App* superquadric_cmd = add_superquadric_command(app, superquadric);
 
   std::string export_in, export_out;
   CLI::App* export_cmd = app.add_subcommand("export", "write a scan's points as CSV or PLY, or a surface as IGES or STEP");
@@ -234,6 +237,7 @@ int main(int argc, char** argv) {
     if (*export_cmd) return run_export(export_in, export_out, export_chord_mm, export_edges);
     if (*pull_cmd) return run_pull(pull);
     if (*curve_cmd) return run_curve(curve);
+    if (*superquadric_cmd) return run_superquadric(superquadric);
     if (*info_cmd) return run_info(info_in);
     if (*segment_cmd) return run_segment(segment_in, segment_out, segment_ratio, segment_turn);
     if (*fit_cmd) return run_fit(fit);

@@ -1,0 +1,17 @@
+// `digitizer superquadric`: the part's volumetric description (seed 004 section 5.5) to JSON.
+#pragma once
+#include <CLI/CLI.hpp>
+#include <string>
+
+namespace dg::host {
+
+struct SuperquadricArgs {
+  std::string input, output;
+  int slices = 10;  // for the rotational check
+  bool quiet = false;
+};
+
+CLI::App* add_superquadric_command(CLI::App& app, SuperquadricArgs& args);
+int run_superquadric(const SuperquadricArgs& args);
+
+}  // namespace dg::host
