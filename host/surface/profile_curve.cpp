@@ -8,7 +8,9 @@
 #include <Eigen/Sparse>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <string>
+#include <unordered_map>
 
 #include "common/fit/bspline_basis.h"
 #include "host/surface/fit_error.h"
@@ -190,8 +192,9 @@ CeCurve curve_within_uncertainty(const std::vector<Point3>& p, double distance_m
 }
 
 std::vector<double> curve_distances(const BSplineCurve& c, const std::vector<Point3>& points) {
-  // Starts from the nearest of a dense sampling (16 per knot span), then Gauss-Newton on the
-  // foot-point condition (C(t) - q) . C'(t) = 0, kept within the curve.
+  // Starts from the nearest of a dense sampling (16 per knot span), found through a bucket grid in
+  // the profile's plane (x, z), then Gauss-Newton on the foot-point condition
+  // (C(t) - q) . C'(t) = 0, kept within the curve.
   std::vector<double> samples;
   const std::vector<double> spans = distinct_knots(c.knots, c.t_min(), c.t_max());
   for (size_t s = 0; s + 1 < spans.size(); ++s) {
@@ -199,12 +202,40 @@ std::vector<double> curve_distances(const BSplineCurve& c, const std::vector<Poi
   }
   samples.push_back(c.t_max());
   std::vector<Point3> at;
-  for (double t : samples) at.push_back(c.evaluate(t));
+  double length = 0;
+  for (double t : samples) {
+    at.push_back(c.evaluate(t));
+    if (at.size() > 1) length += norm(at.back() - at[at.size() - 2]);
+  }
+  const double cell = std::max(4 * length / static_cast<double>(at.size()), 1e-9);
+  auto key = [cell](double x, double z) {
+    return (static_cast<int64_t>(std::floor(x / cell)) << 32) ^ (static_cast<int64_t>(std::floor(z / cell)) & 0xffffffff);
+  };
+  std::unordered_map<int64_t, std::vector<size_t>> buckets;
+  for (size_t k = 0; k < at.size(); ++k) buckets[key(at[k].x, at[k].z)].push_back(k);
   std::vector<double> out;
   for (const Point3& q : points) {
+    // Rings of cells around q until the best sample found is nearer than the ring's inner edge.
     size_t best = 0;
-    for (size_t k = 1; k < at.size(); ++k) {
-      if (norm(at[k] - q) < norm(at[best] - q)) best = k;
+    double best_distance = 1e300;
+    const double qx = std::floor(q.x / cell), qz = std::floor(q.z / cell);
+    for (int ring = 0; ring < 1 << 20; ++ring) {
+      for (int dx = -ring; dx <= ring; ++dx) {
+        for (int dz = -ring; dz <= ring; ++dz) {
+          if (std::abs(dx) != ring && std::abs(dz) != ring) continue;
+          const auto found = buckets.find(key((qx + dx + 0.5) * cell, (qz + dz + 0.5) * cell));
+          if (found == buckets.end()) continue;
+          for (size_t k : found->second) {
+            const double d = norm(at[k] - q);
+            if (d < best_distance) {
+              best_distance = d;
+              best = k;
+            }
+          }
+        }
+      }
+      if (best_distance <= ring * cell) break;
+      if (ring > 0 && static_cast<size_t>(ring) * static_cast<size_t>(ring) > 4 * at.size() && best_distance < 1e300) break;
     }
     double t = samples[best];
     for (int iteration = 0; iteration < 50; ++iteration) {

@@ -85,6 +85,58 @@ const char* shape_name(SuperquadricShape shape) {
   return "other";
 }
 
+namespace {
+
+// Levenberg-Marquardt from x on `points`; returns the iterations taken and leaves the cost.
+int levenberg_marquardt(Vector& x, const Eigen::Matrix3d& start_axes, const std::vector<Point3>& points, double scale,
+                        int max_iterations, double* final_cost) {
+  int iterations = 0;
+  Eigen::VectorXd r = residuals(x, start_axes, points);
+  double cost = r.squaredNorm();
+  double lambda = 1e-3;
+  bool converged = false;
+  for (iterations = 0; iterations < max_iterations && !converged; ++iterations) {
+    Eigen::MatrixXd jacobian(r.size(), kParameters);
+    for (int k = 0; k < kParameters; ++k) {
+      Vector step = x;
+      const double h = (k < 3 || (k >= 5 && k < 8) ? 1e-7 * scale : 1e-7) * (1 + std::fabs(x(k)));
+      step(k) += h;
+      jacobian.col(k) = (residuals(step, start_axes, points) - r) / h;
+    }
+    const Eigen::Matrix<double, kParameters, kParameters> jtj = jacobian.transpose() * jacobian;
+    const Vector jtr = jacobian.transpose() * r;
+    bool improved = false;
+    for (int attempt = 0; attempt < 12 && !improved; ++attempt) {
+      Eigen::Matrix<double, kParameters, kParameters> damped = jtj;
+      for (int k = 0; k < kParameters; ++k) damped(k, k) += lambda * std::max(jtj(k, k), 1e-12);
+      Vector candidate = x - damped.ldlt().solve(jtr);
+      clamp_parameters(candidate, scale);
+      const Eigen::VectorXd r_candidate = residuals(candidate, start_axes, points);
+      const double candidate_cost = r_candidate.squaredNorm();
+      if (std::isfinite(candidate_cost) && candidate_cost < cost) {
+        const double gain = cost - candidate_cost;
+        // Sizes and the centre in units of the part, the rest as they are.
+        Vector change = candidate - x;
+        for (int k : {0, 1, 2, 5, 6, 7}) change(k) /= scale;
+        const bool settled = change.norm() < 1e-9;
+        x = candidate;
+        r = r_candidate;
+        cost = candidate_cost;
+        lambda = std::max(lambda / 10, 1e-12);
+        improved = true;
+        converged = settled || gain <= 1e-10 * cost + 1e-300;
+      } else {
+        lambda *= 10;
+      }
+    }
+    if (!improved) break;
+  }
+  *final_cost = cost;
+  return iterations;
+}
+
+}  // namespace
+
 SuperquadricFit fit_superquadric(const std::vector<Point3>& points, const SuperquadricOptions& options) {
   if (points.size() < kParameters) {
     throw FitError("a superquadric has 11 parameters and needs at least 11 points; got " + std::to_string(points.size()));
@@ -135,42 +187,19 @@ SuperquadricFit fit_superquadric(const std::vector<Point3>& points, const Superq
   x(6) = mean(1);
   x(7) = mean(2);
 
+  // Large scans: most iterations on an evenly strided sample of at most 20,000 points, then a few
+  // on all of them (each iteration evaluates every point twelve times).
   SuperquadricFit fit;
-  Eigen::VectorXd r = residuals(x, start_axes, points);
-  double cost = r.squaredNorm();
-  double lambda = 1e-3;
-  bool converged = false;
-  for (fit.iterations = 0; fit.iterations < options.max_iterations && !converged; ++fit.iterations) {
-    Eigen::MatrixXd jacobian(r.size(), kParameters);
-    for (int k = 0; k < kParameters; ++k) {
-      Vector step = x;
-      const double h = (k < 3 || (k >= 5 && k < 8) ? 1e-7 * scale : 1e-7) * (1 + std::fabs(x(k)));
-      step(k) += h;
-      jacobian.col(k) = (residuals(step, start_axes, points) - r) / h;
-    }
-    const Eigen::Matrix<double, kParameters, kParameters> jtj = jacobian.transpose() * jacobian;
-    const Vector jtr = jacobian.transpose() * r;
-    bool improved = false;
-    for (int attempt = 0; attempt < 12 && !improved; ++attempt) {
-      Eigen::Matrix<double, kParameters, kParameters> damped = jtj;
-      for (int k = 0; k < kParameters; ++k) damped(k, k) += lambda * std::max(jtj(k, k), 1e-12);
-      Vector candidate = x - damped.ldlt().solve(jtr);
-      clamp_parameters(candidate, scale);
-      const Eigen::VectorXd r_candidate = residuals(candidate, start_axes, points);
-      const double candidate_cost = r_candidate.squaredNorm();
-      if (std::isfinite(candidate_cost) && candidate_cost < cost) {
-        const double gain = cost - candidate_cost;
-        x = candidate;
-        r = r_candidate;
-        cost = candidate_cost;
-        lambda = std::max(lambda / 10, 1e-12);
-        improved = true;
-        converged = gain <= 1e-15 * (1 + cost);
-      } else {
-        lambda *= 10;
-      }
-    }
-    if (!improved) break;
+  double cost = 0;
+  constexpr size_t kSample = 20000;
+  if (points.size() > 2 * kSample) {
+    std::vector<Point3> sample;
+    const double stride = static_cast<double>(points.size()) / kSample;
+    for (size_t k = 0; k < kSample; ++k) sample.push_back(points[static_cast<size_t>(static_cast<double>(k) * stride)]);
+    fit.iterations = levenberg_marquardt(x, start_axes, sample, scale, options.max_iterations, &cost);
+    fit.iterations += levenberg_marquardt(x, start_axes, points, scale, 10, &cost);
+  } else {
+    fit.iterations = levenberg_marquardt(x, start_axes, points, scale, options.max_iterations, &cost);
   }
   fit.model = model_of(x, start_axes);
   fit.objective = cost;
@@ -178,7 +207,9 @@ SuperquadricFit fit_superquadric(const std::vector<Point3>& points, const Superq
   double radial = 0;
   for (const Point3& p : points) {
     const double f = fit.model.inside_outside(p);
-    const double d = norm(p - fit.model.center) * std::fabs(1 - std::pow(f, -fit.model.e1 / 2));
+    // f (eq. 9) grows as the (2 / e1)-th power along a ray from the centre, so F = f^e1 as its
+    // square: the surface point on the ray through p is p / sqrt(F).
+    const double d = norm(p - fit.model.center) * std::fabs(1 - 1 / std::sqrt(f));
     radial += d * d;
   }
   fit.rms_radial_mm = std::sqrt(radial / static_cast<double>(points.size()));

@@ -28,7 +28,7 @@ struct SuperquadricFit {
   int iterations = 0;
   double objective = 0;           // eq. 10 at the solution
   double goodness = 0;            // eq. 10 divided by the number of points (seed 004 Table 2's measure)
-  double rms_radial_mm = 0;       // RMS of |p - c| * |1 - F^(-e1/2)|: a distance along the ray from the centre
+  double rms_radial_mm = 0;       // RMS of |p - c| * |1 - F^(-1/2)|: the distance along the ray from the centre
   SuperquadricShape shape = SuperquadricShape::kOther;
   bool rotationally_symmetric = false;  // e2 ~ 1 and a1 ~ a2: a surface of revolution about the z axis
   std::string description;        // "cylinder (rotationally symmetric about ...)", for people
