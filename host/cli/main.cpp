@@ -9,6 +9,7 @@
 
 #include <unistd.h>
 
+#include "host/cli/characterize_command.h"
 #include "host/cli/curve_command.h"
 #include "host/cli/device_commands.h"
 #include "host/cli/fit_command.h"
@@ -177,6 +178,8 @@ int main(int argc, char** argv) {
   CLI::App* pull_cmd = add_pull_command(app, pull);
   CurveArgs curve;
   CLI::App* curve_cmd = add_curve_command(app, curve);
+  CharacterizeArgs characterize_args;
+  CLI::App* characterize_cmd = add_characterize_command(app, characterize_args);
   SuperquadricArgs superquadric;
   CLI::App* superquadric_cmd = add_superquadric_command(app, superquadric);
 
@@ -238,6 +241,7 @@ int main(int argc, char** argv) {
     if (*pull_cmd) return run_pull(pull);
     if (*curve_cmd) return run_curve(curve);
     if (*superquadric_cmd) return run_superquadric(superquadric);
+    if (*characterize_cmd) return run_characterize(characterize_args);
     if (*info_cmd) return run_info(info_in);
     if (*segment_cmd) return run_segment(segment_in, segment_out, segment_ratio, segment_turn);
     if (*fit_cmd) return run_fit(fit);

@@ -209,9 +209,11 @@ std::vector<double> curve_distances(const BSplineCurve& c, const std::vector<Poi
   }
   const double cell = std::max(4 * length / static_cast<double>(at.size()), 1e-9);
   auto key = [cell](double x, double z) {
-    return (static_cast<int64_t>(std::floor(x / cell)) << 32) ^ (static_cast<int64_t>(std::floor(z / cell)) & 0xffffffff);
+    // Two's-complement bits of the cell indices side by side (shifting a negative value is undefined).
+    return (static_cast<uint64_t>(static_cast<int64_t>(std::floor(x / cell))) << 32) ^
+           (static_cast<uint64_t>(static_cast<int64_t>(std::floor(z / cell))) & 0xffffffffu);
   };
-  std::unordered_map<int64_t, std::vector<size_t>> buckets;
+  std::unordered_map<uint64_t, std::vector<size_t>> buckets;
   for (size_t k = 0; k < at.size(); ++k) buckets[key(at[k].x, at[k].z)].push_back(k);
   std::vector<double> out;
   for (const Point3& q : points) {
