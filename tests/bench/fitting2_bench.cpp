@@ -1,10 +1,11 @@
 // Fitting core II benchmarks on 1e4 and 1e5 points: Hermite surfaces through a grid with normals,
-// seed 003's curves, superquadric recovery; one core, wall time with steady_clock.
+// seed 003's curves, superquadric recovery, characterization; one core, wall time with steady_clock.
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <random>
 
+#include "host/surface/characterize.h"
 #include "host/surface/hermite_fit.h"
 #include "host/surface/profile_curve.h"
 #include "host/surface/superquadric.h"
@@ -88,6 +89,19 @@ int main() {
     std::printf("superquadric %zu points: %.3f s, %d iterations, %s, e1 %.3f e2 %.3f, rms radial %.4f mm\n", n,
                 seconds_since(t0), fit.iterations, fit.description.substr(0, fit.description.find(',')).c_str(), fit.model.e1,
                 fit.model.e2, fit.rms_radial_mm);
+  }
+  for (int side : {100, 316}) {
+    PointCloud cloud;
+    for (int r = 0; r < side; ++r) {
+      for (int c = 0; c < side; ++c) {
+        const double x = 60.0 * c / (side - 1), y = 60.0 * r / (side - 1);
+        cloud.points.push_back({x, y, 5 * std::sin(x / 9) * std::cos(y / 7)});
+      }
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    const Characterization ch = characterize(cloud);
+    std::printf("characterize %zu points: %.3f s, %u regions, suggested net %dx%d\n", cloud.points.size(), seconds_since(t0),
+                ch.significant_regions, ch.suggested_control_x, ch.suggested_control_y);
   }
   return 0;
 }
