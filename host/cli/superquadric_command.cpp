@@ -7,6 +7,7 @@
 #include "host/scan/point_reader.h"
 #include "host/surface/atomic_file.h"
 #include "host/surface/superquadric.h"
+#include "host/surface/surface_json.h"
 
 namespace dg::host {
 
@@ -21,6 +22,7 @@ CLI::App* add_superquadric_command(CLI::App& app, SuperquadricArgs& a) {
   cmd->add_option("input", a.input, ".csv, .xyz, .ply or .scan points in mm")->required()->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", a.output, "OUT.json")->required();
   cmd->add_option("--slices", a.slices, "slices across the axis for the rotational check")->capture_default_str()->check(CLI::Range(2, 1000));
+  cmd->add_option("--revolution", a.revolution, "for a rotationally symmetric part: its surface of revolution as SURF.json (export takes it to CAD)");
   cmd->add_flag("-q,--quiet", a.quiet, "print nothing but errors");
   return cmd;
 }
@@ -64,6 +66,21 @@ int run_superquadric(const SuperquadricArgs& a) {
                   rev.axis_direction.z, rev.slices.size(), rev.rms_mm);
       for (const RevolutionSlice& s : rev.slices) std::printf("  at %.3f mm along the axis: radius %.4f mm (RMS %.4f)\n", s.s_mm, s.radius_mm, s.rms_mm);
     }
+    if (!a.revolution.empty()) {
+      SurfaceFile surface;
+      surface.model = "revolution";
+      surface.method = "superquadric";
+      surface.parameterization = "axis";
+      surface.height_field = false;
+      surface.source = a.input;
+      surface.surface = revolution_surface(rev);
+      write_surface_json(a.revolution, surface);
+      if (!a.quiet) std::printf("wrote the surface of revolution to %s\n", a.revolution.c_str());
+    }
+  } else if (!a.revolution.empty()) {
+    std::fprintf(stderr, "digitizer: the part is not rotationally symmetric (e2 %.3f, a1 %.3f, a2 %.3f): no surface of revolution written\n",
+                 m.e2, m.a[0], m.a[1]);
+    return 1;
   }
   write_file_atomically(a.output, j.dump(1) + "\n");
   if (!a.quiet) std::printf("wrote %s\n", a.output.c_str());

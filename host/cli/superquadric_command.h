@@ -8,6 +8,7 @@ namespace dg::host {
 struct SuperquadricArgs {
   std::string input, output;
   int slices = 10;  // for the rotational check
+  std::string revolution;  // SURF.json for the surface of revolution of a rotational part
   bool quiet = false;
 };
 

@@ -9,7 +9,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "host/surface/clamp.h"
 #include "host/surface/fit_error.h"
+#include "host/surface/profile_curve.h"
 #include "host/surface/vec3.h"
 
 namespace dg::host {
@@ -324,6 +326,52 @@ RevolutionFit fit_revolution(const std::vector<Point3>& points, const Superquadr
     if (moved < 1e-12) break;
   }
   return fit;
+}
+
+BSplineSurface revolution_surface(const RevolutionFit& fit, int angular_controls) {
+  if (fit.slices.size() < 2) throw FitError("a surface of revolution needs at least 2 slice circles");
+  // The profile: (position along the axis, radius) as the x and z of a planar curve.
+  std::vector<RevolutionSlice> slices = fit.slices;
+  std::sort(slices.begin(), slices.end(), [](const RevolutionSlice& a, const RevolutionSlice& b) { return a.s_mm < b.s_mm; });
+  const Point3 d = fit.axis_direction;
+  std::vector<Point3> profile;
+  for (const RevolutionSlice& slice : slices) {
+    // The slice centre's position along the refined axis (its s_mm was along the first guess).
+    profile.push_back({dot(slice.center - fit.axis_point, d), 0, slice.radius_mm});
+  }
+  BSplineCurve curve;
+  if (profile.size() >= 3) {
+    curve = interpolate_natural(profile);
+  } else {
+    curve.degree = 1;
+    curve.control = profile;
+    curve.knots = {0, 0, 1, 1};
+  }
+  // The circle: control points at radius rho so that the knot points (P[k-1] + 4 P[k] + P[k+1]) / 6
+  // lie on the unit circle; three repeated at the end close it.
+  const int n = std::max(angular_controls, 8);
+  const double rho = 6 / (4 + 2 * std::cos(2 * M_PI / n));
+  Point3 e1 = cross(d, Point3{1, 0, 0});
+  if (norm(e1) < 0.5) e1 = cross(d, Point3{0, 1, 0});
+  e1 = (1.0 / norm(e1)) * e1;
+  const Point3 e2 = cross(d, e1);
+  std::vector<Point3> circle;
+  for (int k = 0; k < n + 3; ++k) {
+    const double a = 2 * M_PI * (k % n) / n;
+    circle.push_back(rho * (std::cos(a) * e1 + std::sin(a) * e2));
+  }
+  BSplineSurface s;
+  s.degree_u = curve.degree;
+  s.degree_v = 3;
+  s.count_u = static_cast<int>(curve.control.size());
+  s.count_v = n + 3;
+  s.knots_u = curve.knots;
+  for (int k = 0; k < n + 7; ++k) s.knots_v.push_back(static_cast<double>(k - 3) / n);
+  for (const Point3& c : curve.control) {
+    // x along the axis, z the radius: the control point's ring.
+    for (const Point3& q : circle) s.control.push_back(fit.axis_point + c.x * d + c.z * q);
+  }
+  return clamp_ends(s);
 }
 
 }  // namespace dg::host
