@@ -231,26 +231,21 @@ HermiteResult fit_hermite(const HermiteGrid& g) {
     if (!(sum > 0)) throw FitError("rows " + std::to_string(row - 1) + " and " + std::to_string(row) + " of the grid are the same points");
     r.v[row] = r.v[row - 1] + sum / g.cols;
   }
-  // Steps 1-2: tangents along every row (u) and every column (v).
+  // Steps 1-2: tangents along every row (u) and every column (v). A line is `length` grid points
+  // from `first`, `stride` apart.
   std::vector<Point3> tu(count), tv(count);
-  for (int row = 0; row < g.rows; ++row) {
+  auto line_tangents = [&](size_t first, size_t stride, int length, const std::vector<double>& t, std::vector<Point3>& out) {
     std::vector<Point3> p, n;
-    for (int c = 0; c < g.cols; ++c) {
-      p.push_back(at(g.points, row, c));
-      n.push_back(at(g.normals, row, c));
+    for (int k = 0; k < length; ++k) {
+      p.push_back(g.points[first + static_cast<size_t>(k) * stride]);
+      n.push_back(g.normals[first + static_cast<size_t>(k) * stride]);
     }
-    const std::vector<Point3> d = constrained_tangents(p, n, r.u);
-    for (int c = 0; c < g.cols; ++c) tu[static_cast<size_t>(row) * g.cols + c] = d[static_cast<size_t>(c)];
-  }
-  for (int c = 0; c < g.cols; ++c) {
-    std::vector<Point3> p, n;
-    for (int row = 0; row < g.rows; ++row) {
-      p.push_back(at(g.points, row, c));
-      n.push_back(at(g.normals, row, c));
-    }
-    const std::vector<Point3> d = constrained_tangents(p, n, r.v);
-    for (int row = 0; row < g.rows; ++row) tv[static_cast<size_t>(row) * g.cols + c] = d[static_cast<size_t>(row)];
-  }
+    const std::vector<Point3> d = constrained_tangents(p, n, t);
+    for (int k = 0; k < length; ++k) out[first + static_cast<size_t>(k) * stride] = d[static_cast<size_t>(k)];
+  };
+  const size_t cols = static_cast<size_t>(g.cols);
+  for (int row = 0; row < g.rows; ++row) line_tangents(static_cast<size_t>(row) * cols, 1, g.cols, r.u, tu);
+  for (int c = 0; c < g.cols; ++c) line_tangents(static_cast<size_t>(c), cols, g.rows, r.v, tv);
   for (size_t k = 0; k < count; ++k) {
     const Point3 n = unit(g.normals[k]);
     for (const Point3& t : {tu[k], tv[k]}) {
