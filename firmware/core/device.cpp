@@ -11,6 +11,7 @@ Device::Device(hal::Board& board, const DeviceConfig& config)
       motion_(board, config.motion),
       gauge_(board, config.gauge),
       scan_(board, motion_, gauge_, config.scan),
+      homing_(motion_),
       link_(config.retransmit_us) {}
 
 void Device::begin() {
@@ -31,6 +32,7 @@ digitizer_DeviceState Device::state() const {
   if (scan_.active()) {
     return scan_.paused() ? digitizer_DeviceState_STATE_PAUSED : digitizer_DeviceState_STATE_SCANNING;
   }
+  if (homing_.active()) return digitizer_DeviceState_STATE_HOMING;
   if (jogging_) return digitizer_DeviceState_STATE_JOGGING;
   return digitizer_DeviceState_STATE_IDLE;
 }
@@ -83,10 +85,43 @@ bool Device::accept(const PointSample& point) {
 
 void Device::poll() {
   receive();
+  watch_motion();
   watch_host();
   if (jogging_ && !motion_.busy()) jogging_ = false;
   scan_.poll(*this);
   transmit();
+}
+
+void Device::raise_alarm(digitizer_FaultCode code, const char* detail) {
+  motion_.stop();
+  homing_.cancel();
+  jogging_ = false;
+  scan_.stop_faulted(code);
+  // The position may no longer be where the steps say: home again after unlocking.
+  homed_ = false;
+  if (alarm_ && alarm_code_ == code) return;
+  alarm_ = true;
+  alarm_code_ = code;
+  fault(0, code, detail);
+}
+
+void Device::watch_motion() {
+  if (board_.read_pin(hal::Pin::kEstop)) return raise_alarm(digitizer_FaultCode_FAULT_ESTOP, "e-stop pressed");
+  const Trip trip = motion_.trip();
+  if (trip == Trip::kEstop) return raise_alarm(digitizer_FaultCode_FAULT_ESTOP, "e-stop pressed");
+  if (homing_.active()) {
+    homing_.poll();
+    if (homing_.done()) homed_ = true;
+    if (homing_.failed()) {
+      raise_alarm(digitizer_FaultCode_FAULT_NOT_HOMED, homing_.failure());
+      homing_.cancel();
+    }
+    return;
+  }
+  if (trip == Trip::kLimitX || trip == Trip::kLimitY) {
+    motion_.clear_trip();
+    raise_alarm(digitizer_FaultCode_FAULT_HARD_LIMIT, trip == Trip::kLimitX ? "x min limit switch closed" : "y min limit switch closed");
+  }
 }
 
 void Device::receive() {
@@ -137,7 +172,8 @@ void Device::handle(const digitizer_Envelope& message) {
     }
     case digitizer_Envelope_scan_request_tag: {
       if (alarm_) return fault(id, digitizer_FaultCode_FAULT_ALARM_LOCKED, "in alarm: unlock first");
-      if (jogging_) return fault(id, digitizer_FaultCode_FAULT_BUSY, "jog in progress");
+      if (jogging_ || homing_.active()) return fault(id, digitizer_FaultCode_FAULT_BUSY, "the table is moving");
+      if (config_.require_homing && !homed_) return fault(id, digitizer_FaultCode_FAULT_NOT_HOMED, "home the axes first");
       if (scan_.finished()) scan_.acknowledge_finished();
       const char* reason = "";
       const digitizer_FaultCode code =
@@ -209,12 +245,15 @@ void Device::handle_command(uint32_t id, const digitizer_Command& command) {
       scan_.set_paused(command.kind == digitizer_CommandKind_CMD_PAUSE);
       return queue({Reply::kAccepted, id, digitizer_FaultCode_FAULT_NONE, nullptr});
     case digitizer_CommandKind_CMD_UNLOCK:
+      if (board_.read_pin(hal::Pin::kEstop)) return fault(id, digitizer_FaultCode_FAULT_ESTOP, "the e-stop is still pressed");
+      motion_.clear_trip();
       alarm_ = false;
       alarm_code_ = digitizer_FaultCode_FAULT_NONE;
       return queue({Reply::kAccepted, id, digitizer_FaultCode_FAULT_NONE, nullptr});
     case digitizer_CommandKind_CMD_JOG: {
       if (alarm_) return fault(id, digitizer_FaultCode_FAULT_ALARM_LOCKED, "in alarm: unlock first");
-      if (scan_.active() || motion_.busy()) return fault(id, digitizer_FaultCode_FAULT_BUSY, "busy");
+      if (scan_.active() || motion_.busy() || homing_.active()) return fault(id, digitizer_FaultCode_FAULT_BUSY, "busy");
+      if (config_.require_homing && !homed_) return fault(id, digitizer_FaultCode_FAULT_NOT_HOMED, "home the axes first");
       const int64_t per = config_.motion.nm_per_step;
       const int64_t tx = motion_.x_steps() + command.dx_nm / per;
       const int64_t ty = motion_.y_steps() + command.dy_nm / per;
@@ -232,7 +271,15 @@ void Device::handle_command(uint32_t id, const digitizer_Command& command) {
       return queue(reply);
     }
     case digitizer_CommandKind_CMD_HOME:
-      return fault(id, digitizer_FaultCode_FAULT_UNSUPPORTED, "homing is not in this firmware yet");
+      // Allowed in alarm (homing is how a machine recovers its position), not with the e-stop.
+      if (board_.read_pin(hal::Pin::kEstop)) return fault(id, digitizer_FaultCode_FAULT_ESTOP, "the e-stop is pressed");
+      if (scan_.active() || motion_.busy() || homing_.active()) return fault(id, digitizer_FaultCode_FAULT_BUSY, "busy");
+      alarm_ = false;
+      alarm_code_ = digitizer_FaultCode_FAULT_NONE;
+      homed_ = false;
+      motion_.clear_trip();
+      homing_.start();
+      return queue({Reply::kAccepted, id, digitizer_FaultCode_FAULT_NONE, nullptr});
     default:
       return fault(id, digitizer_FaultCode_FAULT_UNSUPPORTED, "unknown command");
   }
@@ -315,6 +362,7 @@ bool Device::send_reply(const Reply& reply) {
       s.points_total = scan_.points_total();
       s.ring_used = static_cast<uint32_t>(ring_.size());
       s.alarm = alarm_code_;
+      s.homed = homed_;
       break;
     }
     case Reply::kAccepted:
@@ -396,7 +444,7 @@ void Device::transmit() {
       last_done_.lines = scan_.lines_done();
       last_done_.duration_us = scan_.duration_us();
       have_last_done_ = true;
-      if (scan_.end_reason() == digitizer_ScanEnd_SCAN_FAULTED) {
+      if (scan_.end_reason() == digitizer_ScanEnd_SCAN_FAULTED && !alarm_) {
         alarm_ = true;
         alarm_code_ = scan_.fault();
         fault(0, scan_.fault(), "scan stopped by a fault");

@@ -9,6 +9,7 @@
 #include "digitizer.pb.h"
 #include "firmware/core/device_fit.h"
 #include "firmware/core/digimatic_reader.h"
+#include "firmware/core/homing.h"
 #include "firmware/core/point_ring.h"
 #include "firmware/core/scan_engine.h"
 #include "firmware/core/step_generator.h"
@@ -49,6 +50,9 @@ struct DeviceConfig {
   // sends at least a status request every 300 ms while it listens.
   uint32_t host_silence_us = 2000000;
   HostSilence on_host_silence = HostSilence::kPause;
+  // Refuse scans and jogs until the axes are homed (a real machine; the simulator's table starts
+  // at its origin).
+  bool require_homing = false;
 };
 
 class Device : private PointSink {
@@ -82,6 +86,9 @@ class Device : private PointSink {
   void handle(const digitizer_Envelope& message);
   void handle_command(uint32_t id, const digitizer_Command& command);
   void resume_scan(uint32_t id, const digitizer_ResumeScan& request);
+  // Safety: the e-stop input, tripped limit switches and homing's end.
+  void watch_motion();
+  void raise_alarm(digitizer_FaultCode code, const char* detail);
   // Applies the host-silence policy to a running scan.
   void watch_host();
   // When watch_host() must next look (UINT64_MAX: not now).
@@ -117,6 +124,8 @@ class Device : private PointSink {
   bool alarm_ = false;
   digitizer_FaultCode alarm_code_ = digitizer_FaultCode_FAULT_NONE;
   bool jogging_ = false;
+  Homing homing_;
+  bool homed_ = false;
   uint64_t host_heard_us_ = 0;    // device time of the last good frame from a host
   bool silence_paused_ = false;   // paused by watch_host(), not by CMD_PAUSE
   // The last scan's ScanDone, kept to be sent again when a resumed host asks for a finished scan.

@@ -41,6 +41,10 @@ class ScanEngine {
   uint64_t deadline_us() const;
 
   void abort();
+  // Ends a running scan at once as faulted (a hard limit, the e-stop): no further move or reading.
+  void stop_faulted(digitizer_FaultCode code) {
+    if (active()) finish(digitizer_ScanEnd_SCAN_FAULTED, code);
+  }
   void set_paused(bool paused) { paused_ = paused; }
   bool paused() const { return paused_; }
 

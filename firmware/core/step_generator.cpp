@@ -34,9 +34,17 @@ Status StepGenerator::move_to(int32_t x_steps, int32_t y_steps, uint32_t rate_st
       y_steps > config_.y_max_steps) {
     return Status::kInvalidArgument;
   }
-  const int64_t dx = static_cast<int64_t>(x_steps) - x_;
-  const int64_t dy = static_cast<int64_t>(y_steps) - y_;
+  return start(static_cast<int64_t>(x_steps) - x_, static_cast<int64_t>(y_steps) - y_, rate_steps_s);
+}
+
+Status StepGenerator::move_by_unchecked(int32_t dx_steps, int32_t dy_steps, uint32_t rate_steps_s) {
+  if (busy_) return Status::kBusy;
+  return start(dx_steps, dy_steps, rate_steps_s);
+}
+
+Status StepGenerator::start(int64_t dx, int64_t dy, uint32_t rate_steps_s) {
   if (dx == 0 && dy == 0) return Status::kOk;
+  trip_ = Trip::kNone;
   step_x_ = dx > 0 ? 1 : (dx < 0 ? -1 : 0);
   step_y_ = dy > 0 ? 1 : (dy < 0 ? -1 : 0);
   count_x_ = static_cast<uint32_t>(dx < 0 ? -dx : dx);
@@ -92,6 +100,16 @@ uint32_t StepGenerator::tick() {
       step_x = true;
       error_ += total_;
     }
+  }
+  // Safety inputs before the step: the axis stops within one step period of a switch closing.
+  Trip trip = Trip::kNone;
+  if (board_.read_pin(hal::Pin::kEstop)) trip = Trip::kEstop;
+  else if (step_x && step_x_ < 0 && board_.read_pin(hal::Pin::kLimitXMin)) trip = Trip::kLimitX;
+  else if (step_y && step_y_ < 0 && board_.read_pin(hal::Pin::kLimitYMin)) trip = Trip::kLimitY;
+  if (trip != Trip::kNone) {
+    trip_ = trip;
+    busy_ = false;
+    return 0;
   }
   if (step_x) board_.write_pin(hal::Pin::kStepX, true);
   if (step_y) board_.write_pin(hal::Pin::kStepY, true);

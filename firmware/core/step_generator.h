@@ -15,7 +15,16 @@ struct MotionConfig {
   uint32_t max_rate_steps_s = 8000;    // 20 mm/s
   uint32_t accel_steps_s2 = 80000;     // 200 mm/s^2
   uint32_t dir_setup_ns = 5000;        // driver needs DIR stable this long before STEP
+  // Homing (seek, latch, slow re-approach, pull-off), per axis towards its min switch.
+  uint32_t home_seek_rate_steps_s = 4000;    // 10 mm/s
+  uint32_t home_latch_rate_steps_s = 400;    // 1 mm/s: the switch is read at this speed
+  int32_t home_backoff_steps = 800;          // 2 mm off the switch before the slow approach
+  int32_t home_pull_off_steps = 400;         // 1 mm off the switch when homing ends
+  int32_t home_switch_steps = -1;            // machine position where the min switch trips
 };
+
+// Why a move stopped before its end: an input seen asserted before a step.
+enum class Trip : uint8_t { kNone, kLimitX, kLimitY, kEstop };
 
 class StepGenerator {
  public:
@@ -28,8 +37,14 @@ class StepGenerator {
   bool busy() const { return busy_; }
   int32_t x_steps() const { return x_; }
   int32_t y_steps() const { return y_; }
+  // A move without the soft limits, for homing: towards and past the table's ends.
+  Status move_by_unchecked(int32_t dx_steps, int32_t dy_steps, uint32_t rate_steps_s);
   // Sets the current position without moving (after homing).
   void set_position(int32_t x_steps, int32_t y_steps);
+  // Before every step the e-stop input and, moving towards min on an axis, that axis's limit
+  // switch are read; an asserted one stops the move at once (no step is taken) and is kept here.
+  Trip trip() const { return trip_; }
+  void clear_trip() { trip_ = Trip::kNone; }
   // Stops at once (abort); the position stays exact.
   void stop();
   const MotionConfig& config() const { return config_; }
@@ -37,6 +52,7 @@ class StepGenerator {
  private:
   static uint32_t on_tick(void* self);
   uint32_t tick();
+  Status start(int64_t dx, int64_t dy, uint32_t rate_steps_s);
   uint32_t period_ns(uint32_t step_index) const;
 
   hal::Board& board_;
@@ -49,6 +65,7 @@ class StepGenerator {
   uint32_t count_x_ = 0, count_y_ = 0, total_ = 0, done_ = 0;
   int64_t error_ = 0;
   uint32_t rate_ = 0;
+  volatile Trip trip_ = Trip::kNone;
 };
 
 // Integer square root (floor) for the speed ramp: no FPU needed.

@@ -23,7 +23,9 @@ void usage() {
                "              keeps its state between hosts (reach it with --device unix:PATH)\n"
                "  part=dome|saddle|canister|flat  seed=N  noise_um=X  outliers=RATE\n"
                "  outlier_mm=X  inch=0|1  gauge_delay_us=N  mute=0|1  drop_edge=BIT  id=NAME\n"
-               "  host_silence_s=N (virtual s, 0 never)  on_host_silence=pause|continue|abort\n");
+               "  host_silence_s=N (virtual s, 0 never)  on_host_silence=pause|continue|abort\n"
+               "  start_x_mm=X start_y_mm=Y (the table's start)  estop_at_ms=T estop_ms=D  switches=0|1\n"
+               "  require_homing=0|1\n");
 }
 
 }  // namespace
@@ -78,7 +80,7 @@ int main(int argc, char** argv) {
   device.board = "sim";
   device.firmware_version = DIGITIZER_VERSION;
   device.capabilities = digitizer_Capability_CAP_DIGIMATIC | digitizer_Capability_CAP_DEVICE_FIT | digitizer_Capability_CAP_SIMULATED |
-                        digitizer_Capability_CAP_RESUME;
+                        digitizer_Capability_CAP_RESUME | digitizer_Capability_CAP_HOMING;
   device.gauge_resolution_nm = options.config.gauge.inch ? 2540 : 1000;
   // Virtual time runs hundreds of times faster than the host's clock during a scan: a 50 ms
   // retransmission timer would fire long before any host could answer (and resend frames the
@@ -87,6 +89,7 @@ int main(int argc, char** argv) {
   device.retransmit_us = 5000000;
   device.host_silence_us = options.host_silence_s * 1000000u;
   device.on_host_silence = options.on_host_silence;
+  device.require_homing = options.require_homing;
   // The simulated gauge takes its time like a real one; allow for it.
   device.gauge.first_clock_timeout_us = options.config.gauge.request_to_clock_us + 100000;
   static dg::Device firmware(board, device);

@@ -21,7 +21,11 @@ SimBoard::SimBoard(const SimConfig& config, LinkPort* link)
 void SimBoard::step_axis(int axis) {
   const bool positive = pins_[index(axis == 0 ? hal::Pin::kDirX : hal::Pin::kDirY)];
   int64_t& position = axis == 0 ? x_steps_ : y_steps_;
-  position += positive ? 1 : -1;
+  if (!positive && position <= config_.hard_stop_steps) {
+    ++lost_steps_;  // against the mechanical stop: the motor stalls
+  } else {
+    position += positive ? 1 : -1;
+  }
   ++steps_;
   if (last_step_ns_[axis] != kNever) {
     const uint64_t interval = now_ns_ - last_step_ns_[axis];
@@ -46,9 +50,10 @@ bool SimBoard::read_pin(hal::Pin pin) {
   switch (pin) {
     case hal::Pin::kGaugeClock: return gauge_.clock();
     case hal::Pin::kGaugeData: return gauge_.data();
-    case hal::Pin::kLimitXMin: return x_steps_ < 0;
-    case hal::Pin::kLimitYMin: return y_steps_ < 0;
-    case hal::Pin::kEstop: return false;
+    case hal::Pin::kLimitXMin: return config_.limit_switches && x_steps_ < 0;
+    case hal::Pin::kLimitYMin: return config_.limit_switches && y_steps_ < 0;
+    case hal::Pin::kEstop:
+      return config_.estop_for_ns > 0 && now_ns_ >= config_.estop_at_ns && now_ns_ < config_.estop_at_ns + config_.estop_for_ns;
     default: return pins_[index(pin)];
   }
 }
@@ -90,6 +95,11 @@ bool SimBoard::wait(uint64_t deadline_us) {
     const uint64_t gauge_ns = gauge_.next_event_ns();
     uint64_t next = timer_next_ns_ < gauge_ns ? timer_next_ns_ : gauge_ns;
     if (deadline_ns < next) next = deadline_ns;
+    // Pressing the e-stop is an interrupt: the firmware wakes to it.
+    if (config_.estop_for_ns > 0 && config_.estop_at_ns > now_ns_ && config_.estop_at_ns <= next) {
+      now_ns_ = config_.estop_at_ns;
+      return true;
+    }
     if (link_ != nullptr && now_ns_ - last_link_poll_ns_ >= kLinkPollNs) {
       return true;  // the firmware's poll looks at the link
     }

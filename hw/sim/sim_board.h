@@ -30,6 +30,13 @@ struct SimConfig {
   // The table starts here (steps); the part sits with its corner at table (0, 0).
   int32_t start_x_steps = 0;
   int32_t start_y_steps = 0;
+  // The min limit switches close below table 0; the table hits its mechanical stop this far below
+  // (steps towards it are lost, as a stalled motor loses them).
+  int32_t hard_stop_steps = -800;
+  bool limit_switches = true;  // false: the switches are not wired (homing must fail)
+  // The e-stop input is asserted from this virtual time for this long (0: never).
+  uint64_t estop_at_ns = 0;
+  uint64_t estop_for_ns = 0;
 };
 
 class SimBoard final : public hal::Board {
@@ -55,6 +62,8 @@ class SimBoard final : public hal::Board {
   double height_under_probe_mm() const { return config_.part.height_mm(table_x_mm(), table_y_mm()); }
   const DigimaticGauge& gauge() const { return gauge_; }
   uint64_t step_count() const { return steps_; }
+  // Steps the drivers were given against the mechanical stop (lost).
+  uint64_t lost_steps() const { return lost_steps_; }
   // Shortest time between two steps on one axis seen so far, in ns.
   uint64_t min_step_interval_ns() const { return min_step_interval_ns_; }
 
@@ -76,6 +85,7 @@ class SimBoard final : public hal::Board {
   void* timer_context_ = nullptr;
   uint64_t timer_next_ns_ = kNever;
   int64_t x_steps_ = 0, y_steps_ = 0;
+  uint64_t lost_steps_ = 0;
   uint64_t last_step_ns_[2] = {kNever, kNever};
   uint64_t min_step_interval_ns_ = kNever;
   uint64_t steps_ = 0;

@@ -76,6 +76,19 @@ std::string apply_sim_option(const std::string& pair, SimOptions* options) {
     else if (value == "continue") options->on_host_silence = dg::HostSilence::kContinue;
     else if (value == "abort") options->on_host_silence = dg::HostSilence::kAbort;
     else return "on_host_silence is pause, continue or abort, got '" + value + "'";
+  } else if (key == "start_x_mm" || key == "start_y_mm") {
+    if (!parse_double(value, &d) || d < -2 || d > 250) return key + " must be -2..250, got '" + value + "'";
+    const int32_t steps = static_cast<int32_t>(std::llround(d * 1e6 / c.nm_per_step));
+    (key == "start_x_mm" ? c.start_x_steps : c.start_y_steps) = steps;
+  } else if (key == "estop_at_ms" || key == "estop_ms") {
+    if (!parse_u64(value, &u) || u > 100000000) return key + " must be 0..100000000";
+    (key == "estop_at_ms" ? c.estop_at_ns : c.estop_for_ns) = u * 1000000;
+  } else if (key == "switches") {
+    if (value != "0" && value != "1") return "switches is 0 or 1, got '" + value + "'";
+    c.limit_switches = value == "1";
+  } else if (key == "require_homing") {
+    if (value != "0" && value != "1") return "require_homing is 0 or 1, got '" + value + "'";
+    options->require_homing = value == "1";
   } else if (key == "id") {
     if (value.empty() || value.size() > 23) return "id must be 1 to 23 characters";
     options->device_id = value;

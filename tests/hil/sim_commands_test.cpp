@@ -31,7 +31,7 @@ std::string refusal(dg::host::Session& session, digitizer_Envelope message) {
 TEST_GROUP(SimCommands){};
 
 TEST(SimCommands, StatusJogAndRefusalsCarryTheDevicesWords) {
-  auto transport = dg::host::open_transport("sim:part=flat");
+  auto transport = dg::host::open_transport("sim:part=flat,start_x_mm=12.5,start_y_mm=7.5");
   dg::host::Session session(*transport);
   session.hello(5000);
   digitizer_Envelope status = command(digitizer_CommandKind_CMD_STATUS);
@@ -40,16 +40,27 @@ TEST(SimCommands, StatusJogAndRefusalsCarryTheDevicesWords) {
   LONGS_EQUAL(digitizer_DeviceState_STATE_IDLE, reply.body.status.state);
   // Refusals first: a jog that is still moving would make any later command "busy".
   STRCMP_CONTAINS("soft limit", refusal(session, command(digitizer_CommandKind_CMD_JOG, 900000000)).c_str());
-  STRCMP_CONTAINS("unsupported", refusal(session, command(digitizer_CommandKind_CMD_HOME)).c_str());
+  // Homing: the table starts 12.5 mm, 7.5 mm from its switches (start_x_mm, start_y_mm) and
+  // ends 1 mm off both, homed.
+  auto wait_idle = [&session] {
+    digitizer_Envelope after = digitizer_Envelope_init_zero;
+    for (int tries = 0; tries < 400; ++tries) {
+      digitizer_Envelope ask = command(digitizer_CommandKind_CMD_STATUS);
+      after = dg::host::request(session, ask, 5000);
+      if (after.body.status.state == digitizer_DeviceState_STATE_IDLE) break;
+    }
+    return after;
+  };
+  digitizer_Envelope home = command(digitizer_CommandKind_CMD_HOME);
+  LONGS_EQUAL(digitizer_Envelope_accepted_tag, dg::host::request(session, home, 5000).which_body);
+  digitizer_Envelope after = wait_idle();
+  CHECK(after.body.status.homed);
+  LONGS_EQUAL(1000000, after.body.status.x_nm);
+  LONGS_EQUAL(1000000, after.body.status.y_nm);
   digitizer_Envelope jog = command(digitizer_CommandKind_CMD_JOG, 5000000);
   LONGS_EQUAL(digitizer_Envelope_accepted_tag, dg::host::request(session, jog, 5000).which_body);
   // The table ends where the jog sent it.
-  digitizer_Envelope after = digitizer_Envelope_init_zero;
-  for (int tries = 0; tries < 200; ++tries) {
-    digitizer_Envelope ask = command(digitizer_CommandKind_CMD_STATUS);
-    after = dg::host::request(session, ask, 5000);
-    if (after.body.status.state == digitizer_DeviceState_STATE_IDLE) break;
-  }
+  after = wait_idle();
   LONGS_EQUAL(digitizer_DeviceState_STATE_IDLE, after.body.status.state);
-  LONGS_EQUAL(5000000, after.body.status.x_nm);
+  LONGS_EQUAL(6000000, after.body.status.x_nm);
 }

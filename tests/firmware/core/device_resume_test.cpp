@@ -1,5 +1,6 @@
-// The device's side of resuming and of a silent host, on the simulated board with an in-memory
-// link and a scripted host: a host that vanishes mid-scan, comes back and states what it stored.
+// The device on the simulated board with an in-memory link and a scripted host: resuming (a host
+// that vanishes mid-scan, comes back and states what it stored), a silent host, and the alarms of
+// a hard limit and the e-stop.
 #include "firmware/core/device.h"
 
 #include <CppUTest/TestHarness.h>
@@ -114,9 +115,27 @@ dg::DeviceConfig device_config(dg::HostSilence on_silence) {
 }
 
 struct Bench {
-  explicit Bench(dg::HostSilence on_silence = dg::HostSilence::kPause)
-      : board(sim_config(), &wire), device(board, device_config(on_silence)), host(wire) {
+  explicit Bench(dg::HostSilence on_silence = dg::HostSilence::kPause, const dg::sim::SimConfig& sim = sim_config(),
+                 bool require_homing = false)
+      : board(sim, &wire), device(board, with_homing(device_config(on_silence), require_homing)), host(wire) {
     device.begin();
+  }
+  static dg::DeviceConfig with_homing(dg::DeviceConfig c, bool require) {
+    c.require_homing = require;
+    return c;
+  }
+  void command(digitizer_CommandKind kind, uint32_t id) {
+    digitizer_Envelope m = digitizer_Envelope_init_zero;
+    m.id = id;
+    m.which_body = digitizer_Envelope_command_tag;
+    m.body.command.kind = kind;
+    host.send(m);
+  }
+  const digitizer_Envelope* fault_for(uint32_t id) const {
+    for (auto m = host.received.rbegin(); m != host.received.rend(); ++m) {
+      if (m->which_body == digitizer_Envelope_fault_tag && m->body.fault.request_id == id) return &*m;
+    }
+    return nullptr;
   }
   static dg::sim::SimConfig sim_config() {
     dg::sim::SimConfig c;
@@ -302,4 +321,80 @@ TEST(DeviceResume, SaysWhenItLacksACapabilityTheHostNeedsAndStillIdentifies) {
   const digitizer_Envelope* hello = bench.host.last(digitizer_Envelope_hello_tag);
   CHECK(hello != nullptr);
   LONGS_EQUAL(digitizer_Capability_CAP_DIGIMATIC | digitizer_Capability_CAP_RESUME, hello->body.hello.capabilities);
+}
+
+TEST_GROUP(DeviceSafety){};
+
+TEST(DeviceSafety, AHardLimitStopsTheScanRaisesAnAlarmAndNothingMovesUntilUnlock) {
+  // The table starts 0.5 mm beyond where the firmware thinks it is: the scan's first line runs
+  // into the x switch.
+  dg::sim::SimConfig sim = Bench::sim_config();
+  sim.start_x_steps = -150;
+  sim.start_y_steps = 0;
+  Bench bench(dg::HostSilence::kPause, sim);
+  bench.hello(1);
+  bench.start_scan();
+  bench.run_until_done(600000000);
+  LONGS_EQUAL(digitizer_ScanEnd_SCAN_FAULTED, bench.host.done.reason);
+  LONGS_EQUAL(digitizer_DeviceState_STATE_ALARM, bench.device.state());
+  const digitizer_Envelope* fault = bench.host.last(digitizer_Envelope_fault_tag);
+  CHECK(fault != nullptr);
+  LONGS_EQUAL(digitizer_FaultCode_FAULT_HARD_LIMIT, fault->body.fault.code);
+  STRCMP_CONTAINS("x min limit switch", fault->body.fault.detail);
+  const int64_t x = bench.board.table_x_steps();
+  bench.command(digitizer_CommandKind_CMD_JOG, 30);
+  bench.run_for(1000000);
+  CHECK(bench.fault_for(30) != nullptr);
+  LONGS_EQUAL(digitizer_FaultCode_FAULT_ALARM_LOCKED, bench.fault_for(30)->body.fault.code);
+  LONGS_EQUAL(x, bench.board.table_x_steps());
+  // Unlock and home: the machine is usable again.
+  bench.command(digitizer_CommandKind_CMD_UNLOCK, 31);
+  bench.command(digitizer_CommandKind_CMD_HOME, 32);
+  bench.run_for(60000000);
+  LONGS_EQUAL(digitizer_DeviceState_STATE_IDLE, bench.device.state());
+  CHECK(bench.fault_for(32) == nullptr);
+}
+
+TEST(DeviceSafety, TheEstopEndsTheScanAndUnlockWaitsForItsRelease) {
+  dg::sim::SimConfig sim = Bench::sim_config();
+  sim.estop_at_ns = 2000000000;   // 2 s into the scan
+  sim.estop_for_ns = 10000000000; // held for 10 s
+  Bench bench(dg::HostSilence::kPause, sim);
+  bench.hello(1);
+  bench.start_scan();
+  bench.run_until_done(600000000);
+  LONGS_EQUAL(digitizer_ScanEnd_SCAN_FAULTED, bench.host.done.reason);
+  LONGS_EQUAL(digitizer_FaultCode_FAULT_ESTOP, bench.host.last(digitizer_Envelope_fault_tag)->body.fault.code);
+  CHECK(bench.board.now_ns() < 12000000000ull);
+  bench.command(digitizer_CommandKind_CMD_UNLOCK, 40);
+  bench.run_for(100000);
+  CHECK(bench.fault_for(40) != nullptr);
+  STRCMP_CONTAINS("still pressed", bench.fault_for(40)->body.fault.detail);
+  // Released: unlock takes.
+  bench.run_for(12000000);
+  CHECK(bench.board.now_ns() >= 12000000000ull);
+  bench.command(digitizer_CommandKind_CMD_UNLOCK, 41);
+  bench.run_for(100000);
+  CHECK(bench.fault_for(41) == nullptr);
+  LONGS_EQUAL(digitizer_DeviceState_STATE_IDLE, bench.device.state());
+}
+
+TEST(DeviceSafety, AMachineThatMustHomeRefusesToScanBeforeIt) {
+  Bench bench(dg::HostSilence::kPause, Bench::sim_config(), true);
+  bench.hello(1);
+  bench.start_scan();
+  bench.run_for(100000);
+  const digitizer_Envelope* fault = bench.fault_for(1);
+  CHECK(fault != nullptr);
+  LONGS_EQUAL(digitizer_FaultCode_FAULT_NOT_HOMED, fault->body.fault.code);
+  bench.command(digitizer_CommandKind_CMD_HOME, 50);
+  bench.run_for(60000000);
+  bench.host.received.clear();
+  digitizer_Envelope m = digitizer_Envelope_init_zero;
+  m.id = 51;
+  m.which_body = digitizer_Envelope_scan_request_tag;
+  m.body.scan_request = bench.request;
+  bench.host.send(m);
+  bench.run_until_done(600000000);
+  LONGS_EQUAL(digitizer_ScanEnd_SCAN_COMPLETED, bench.host.done.reason);
 }
