@@ -36,7 +36,15 @@ class Capture {
       have_last_line_ = true;
       last_line_ = stored.lines.back().line;
     }
-    if (!stored.points.empty()) complete_last_line(stored);
+    if (!stored.points.empty()) {
+      const PointSample& last = stored.points.back();
+      tail_line_ = last.line;
+      tail_line_end_ = (last.flags & digitizer_PointFlag_POINT_LINE_END) != 0;
+      tail_line_points_ = 0;
+      for (auto p = stored.points.rbegin(); p != stored.points.rend() && p->line == last.line; ++p) ++tail_line_points_;
+      have_tail_ = true;
+      complete_last_line();
+    }
     return run(send_resume(), true);
   }
 
@@ -91,20 +99,21 @@ class Capture {
     pause_id_ = send_command(digitizer_CommandKind_CMD_PAUSE);
   }
 
-  // The host stopped between a line's last point and its LineDone: the device, asked for the
-  // points after it, will not send that LineDone again, so it is written from the points.
-  void complete_last_line(const ScanData& stored) {
-    const PointSample& last = stored.points.back();
-    if ((last.flags & digitizer_PointFlag_POINT_LINE_END) == 0) return;
-    if (have_last_line_ && !seq_before(last_line_, last.line)) return;
-    uint32_t in_line = 0;
-    for (auto p = stored.points.rbegin(); p != stored.points.rend() && p->line == last.line; ++p) ++in_line;
+  // The link broke (or the host stopped) between a line's last point and its LineDone: the device,
+  // asked for the points after it, will not send that LineDone again, so it is written from the
+  // points stored.
+  void complete_last_line() {
+    if (!have_tail_ || !tail_line_end_) return;
+    if (have_last_line_ && !seq_before(last_line_, tail_line_)) return;
     digitizer_Envelope done = digitizer_Envelope_init_zero;
     done.which_body = digitizer_Envelope_line_done_tag;
-    done.body.line_done.line = last.line;
-    done.body.line_done.points = in_line;
-    done.body.line_done.last_seq = last.seq;
+    done.body.line_done.line = tail_line_;
+    done.body.line_done.points = tail_line_points_;
+    done.body.line_done.last_seq = expected_seq_ - 1;
+    const bool was_accepted = accepted_;
+    accepted_ = true;  // a LineDone of our own, not a replay
     handle(done);
+    accepted_ = was_accepted;
   }
 
   uint32_t send_resume() {
@@ -129,6 +138,7 @@ class Capture {
       try {
         session_.reopen();
         session_.hello(2000, digitizer_Capability_CAP_RESUME);
+        complete_last_line();
         request_id_ = send_resume();
         resuming_ = true;
         accepted_ = false;
@@ -232,6 +242,12 @@ class Capture {
       file_.append(tail);
     }
     const uint32_t added = batch.first_seq + count - expected_seq_;
+    // What the file's last line holds, for a LineDone the device will not send again.
+    if (!have_tail_ || batch.line != tail_line_) tail_line_points_ = 0;
+    have_tail_ = true;
+    tail_line_ = batch.line;
+    tail_line_points_ += added;
+    tail_line_end_ = batch.flags_count == count && (batch.flags[count - 1] & digitizer_PointFlag_POINT_LINE_END) != 0;
     expected_seq_ = batch.first_seq + count;
     result_.points += added;
     digitizer_Envelope ack = digitizer_Envelope_init_zero;
@@ -254,6 +270,10 @@ class Capture {
   uint32_t expected_seq_ = 0;  // 0: take the first batch's numbering
   bool have_last_line_ = false;
   uint32_t last_line_ = 0;
+  // The line of the last stored point: its number, its points so far, whether that point ends it.
+  bool have_tail_ = false;
+  uint32_t tail_line_ = 0, tail_line_points_ = 0;
+  bool tail_line_end_ = false;
   Stop stop_ = Stop::kNone;
   uint32_t pause_id_ = 0;
   Clock::time_point stop_asked_{}, quiet_since_{};

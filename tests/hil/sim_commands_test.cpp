@@ -2,6 +2,8 @@
 // command the firmware does not have yet, and where a jog leaves the table.
 #include <CppUTest/TestHarness.h>
 
+#include <chrono>
+
 #include <string>
 
 #include "host/device/request.h"
@@ -43,8 +45,10 @@ TEST(SimCommands, StatusJogAndRefusalsCarryTheDevicesWords) {
   // Homing: the table starts 12.5 mm, 7.5 mm from its switches (start_x_mm, start_y_mm) and
   // ends 1 mm off both, homed.
   auto wait_idle = [&session] {
+    // Homing takes some 20 s of table time; the simulator needs a while of real time for it.
     digitizer_Envelope after = digitizer_Envelope_init_zero;
-    for (int tries = 0; tries < 400; ++tries) {
+    const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (std::chrono::steady_clock::now() < give_up) {
       digitizer_Envelope ask = command(digitizer_CommandKind_CMD_STATUS);
       after = dg::host::request(session, ask, 5000);
       if (after.body.status.state == digitizer_DeviceState_STATE_IDLE) break;
