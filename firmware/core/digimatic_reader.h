@@ -4,6 +4,7 @@
 
 #include "common/status.h"
 #include "firmware/core/digimatic.h"
+#include "firmware/core/probe.h"
 #include "firmware/hal/board.h"
 
 namespace dg {
@@ -13,26 +14,24 @@ struct DigimaticTiming {
   uint32_t bit_timeout_us = 20000;           // longest gap between two CK edges
 };
 
-class DigimaticReader {
+class DigimaticReader final : public Probe {
  public:
-  enum class State : uint8_t { kIdle, kReading, kDone, kFailed };
+  using State = Probe::State;
 
   DigimaticReader(hal::Board& board, DigimaticTiming timing);
 
   // Registers the CK edge interrupt; call once before the first read.
   void attach();
-  // Starts a read; kBusy if one is running.
-  Status start();
-  // Advances timeouts and finishes the frame. Call from the main loop.
-  State poll();
+  Status start() override;
+  State poll() override;
   State state() const { return state_; }
   // After kDone: the reading. After kFailed: why (kTimeout or kBadEncoding).
   const DigimaticReading& reading() const { return reading_; }
-  Status error() const { return error_; }
+  int64_t value_nm() const override { return digimatic_to_nm(reading_); }
+  Status error() const override { return error_; }
   // Bits received in the current or last read (for diagnostics).
   int bits_received() const { return bits_; }
-  // The time by which poll() must run again to notice a timeout.
-  uint64_t deadline_us() const;
+  uint64_t deadline_us() const override;
 
  private:
   static void on_clock_edge(void* self);

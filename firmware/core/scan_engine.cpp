@@ -5,7 +5,7 @@
 
 namespace dg {
 
-ScanEngine::ScanEngine(hal::Board& board, StepGenerator& motion, DigimaticReader& gauge,
+ScanEngine::ScanEngine(hal::Board& board, StepGenerator& motion, Probe& gauge,
                        ScanLimits limits)
     : board_(board), motion_(motion), gauge_(gauge), limits_(limits) {}
 
@@ -130,9 +130,9 @@ void ScanEngine::poll(PointSink& sink) {
         phase_ = Phase::kReading;
         break;
       case Phase::kReading: {
-        const DigimaticReader::State state = gauge_.poll();
-        if (state == DigimaticReader::State::kReading) return;
-        if (state == DigimaticReader::State::kFailed) {
+        const Probe::State state = gauge_.poll();
+        if (state == Probe::State::kReading) return;
+        if (state == Probe::State::kFailed) {
           if (retries_left_ == 0) {
             finish(digitizer_ScanEnd_SCAN_FAULTED, gauge_.error() == Status::kTimeout
                                                        ? digitizer_FaultCode_FAULT_PROBE_TIMEOUT
@@ -144,7 +144,7 @@ void ScanEngine::poll(PointSink& sink) {
           gauge_.start();
           return;
         }
-        z_sum_nm_ += digimatic_to_nm(gauge_.reading());
+        z_sum_nm_ += gauge_.value_nm();
         ++samples_taken_;
         const uint32_t wanted = request_.samples_per_point > 1 ? request_.samples_per_point : 1;
         if (samples_taken_ < wanted) {

@@ -6,7 +6,7 @@
 #include "common/proto/point_batch.h"
 #include "common/status.h"
 #include "digitizer.pb.h"
-#include "firmware/core/digimatic_reader.h"
+#include "firmware/core/probe.h"
 #include "firmware/core/step_generator.h"
 
 namespace dg {
@@ -30,7 +30,7 @@ class ScanEngine {
  public:
   enum class Phase : uint8_t { kIdle, kMoving, kSettling, kReading, kEmitting, kPaused, kFinished };
 
-  ScanEngine(hal::Board& board, StepGenerator& motion, DigimaticReader& gauge, ScanLimits limits);
+  ScanEngine(hal::Board& board, StepGenerator& motion, Probe& gauge, ScanLimits limits);
 
   // Validates and starts a scan; points are numbered from `first_seq`. On a
   // refusal returns the fault code and a one-line reason.
@@ -69,7 +69,7 @@ class ScanEngine {
 
   hal::Board& board_;
   StepGenerator& motion_;
-  DigimaticReader& gauge_;
+  Probe& gauge_;
   ScanLimits limits_;
   digitizer_ScanRequest request_ = digitizer_ScanRequest_init_zero;
   Phase phase_ = Phase::kIdle;
