@@ -10,12 +10,19 @@ Device::Device(hal::Board& board, const DeviceConfig& config)
       config_(config),
       motion_(board, config.motion),
       gauge_(board, config.gauge),
-      scan_(board, motion_, gauge_, config.scan),
+      caliper_(board, config.caliper),
+      scan_(board, motion_,
+            config.probe == digitizer_ProbeType_PROBE_CALIPER_24BIT ? static_cast<Probe&>(caliper_) : static_cast<Probe&>(gauge_),
+            config.scan),
       homing_(motion_),
       link_(config.retransmit_us) {}
 
 void Device::begin() {
-  gauge_.attach();
+  if (config_.probe == digitizer_ProbeType_PROBE_CALIPER_24BIT) {
+    caliper_.attach();
+  } else {
+    gauge_.attach();
+  }
   board_.write_pin(hal::Pin::kGaugeReq, false);
 }
 
@@ -174,6 +181,11 @@ void Device::handle(const digitizer_Envelope& message) {
       if (alarm_) return fault(id, digitizer_FaultCode_FAULT_ALARM_LOCKED, "in alarm: unlock first");
       if (jogging_ || homing_.active()) return fault(id, digitizer_FaultCode_FAULT_BUSY, "the table is moving");
       if (config_.require_homing && !homed_) return fault(id, digitizer_FaultCode_FAULT_NOT_HOMED, "home the axes first");
+      if (message.body.scan_request.probe != config_.probe) {
+        return fault(id, digitizer_FaultCode_FAULT_UNSUPPORTED,
+                     config_.probe == digitizer_ProbeType_PROBE_CALIPER_24BIT ? "this device's gauge is a 24-bit caliper"
+                                                                              : "this device's gauge is a Digimatic indicator");
+      }
       if (scan_.finished()) scan_.acknowledge_finished();
       const char* reason = "";
       const digitizer_FaultCode code =

@@ -8,6 +8,7 @@
 #include "common/proto/point_batch.h"
 #include "digitizer.pb.h"
 #include "firmware/core/device_fit.h"
+#include "firmware/core/caliper24.h"
 #include "firmware/core/digimatic_reader.h"
 #include "firmware/core/homing.h"
 #include "firmware/core/point_ring.h"
@@ -34,6 +35,9 @@ enum class HostSilence : uint8_t {
 struct DeviceConfig {
   MotionConfig motion{};
   DigimaticTiming gauge{};
+  CaliperTiming caliper{};
+  // The gauge wired to the gauge port; scans that ask for another are refused.
+  digitizer_ProbeType probe = digitizer_ProbeType_PROBE_DIGIMATIC;
   ScanLimits scan{};
   const char* firmware_version = "0.1.0";
   const char* device_id = "DG-0000";
@@ -112,6 +116,7 @@ class Device : private PointSink {
   DeviceConfig config_;
   StepGenerator motion_;
   DigimaticReader gauge_;
+  Caliper24Reader caliper_;
   ScanEngine scan_;
   DeviceFit fit_;
   PointRing<kPointRingCapacity> ring_;

@@ -31,10 +31,7 @@ digitizer_FaultCode ScanEngine::start(const digitizer_ScanRequest& request, uint
     *reason = "step smaller than one motor step";
     return digitizer_FaultCode_FAULT_BAD_REQUEST;
   }
-  if (request.probe != digitizer_ProbeType_PROBE_DIGIMATIC) {
-    *reason = "only the Digimatic probe is fitted";
-    return digitizer_FaultCode_FAULT_UNSUPPORTED;
-  }
+  // Which gauge is wired is the device's to check (Device refuses a request for another).
   if (request.samples_per_point > limits_.max_samples_per_point) {
     *reason = "too many samples per point";
     return digitizer_FaultCode_FAULT_BAD_REQUEST;

@@ -160,6 +160,12 @@ int run_scan(const ScanArgs& a) {
   auto transport = open_transport(a.device);
   Session session(*transport);
   const digitizer_Hello device = session.hello(5000, required);
+  // The gauge the device has wired (its capabilities say which).
+  if (!stored) {
+    const bool caliper_only = (device.capabilities & digitizer_Capability_CAP_CALIPER_24BIT) != 0 &&
+                              (device.capabilities & digitizer_Capability_CAP_DIGIMATIC) == 0;
+    request.probe = caliper_only ? digitizer_ProbeType_PROBE_CALIPER_24BIT : digitizer_ProbeType_PROBE_DIGIMATIC;
+  }
   if (!a.quiet) {
     std::printf("device %s (%s, firmware %s), table %.0f x %.0f mm, gauge %u nm\n", device.device_id, device.board,
                 device.firmware_version, device.table.x.max_nm * 1e-6, device.table.y.max_nm * 1e-6,

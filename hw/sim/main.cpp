@@ -25,7 +25,7 @@ void usage() {
                "  outlier_mm=X  inch=0|1  gauge_delay_us=N  mute=0|1  drop_edge=BIT  id=NAME\n"
                "  host_silence_s=N (virtual s, 0 never)  on_host_silence=pause|continue|abort\n"
                "  start_x_mm=X start_y_mm=Y (the table's start)  estop_at_ms=T estop_ms=D  switches=0|1\n"
-               "  require_homing=0|1\n");
+               "  require_homing=0|1  gauge=digimatic|caliper\n");
 }
 
 }  // namespace
@@ -79,9 +79,11 @@ int main(int argc, char** argv) {
   device.device_id = options.device_id.c_str();
   device.board = "sim";
   device.firmware_version = DIGITIZER_VERSION;
-  device.capabilities = digitizer_Capability_CAP_DIGIMATIC | digitizer_Capability_CAP_DEVICE_FIT | digitizer_Capability_CAP_SIMULATED |
+  device.probe = options.config.caliper ? digitizer_ProbeType_PROBE_CALIPER_24BIT : digitizer_ProbeType_PROBE_DIGIMATIC;
+  device.capabilities = (options.config.caliper ? digitizer_Capability_CAP_CALIPER_24BIT : digitizer_Capability_CAP_DIGIMATIC) | digitizer_Capability_CAP_DEVICE_FIT | digitizer_Capability_CAP_SIMULATED |
                         digitizer_Capability_CAP_RESUME | digitizer_Capability_CAP_HOMING;
-  device.gauge_resolution_nm = options.config.gauge.inch ? 2540 : 1000;
+  device.gauge_resolution_nm = options.config.caliper ? (options.config.gauge.inch ? 12700 : 10000)
+                                                      : (options.config.gauge.inch ? 2540 : 1000);
   // Virtual time runs hundreds of times faster than the host's clock during a scan: a 50 ms
   // retransmission timer would fire long before any host could answer (and resend frames the
   // host has, costing wire bytes). 5 s of virtual time is about 25 ms of real time during a scan;

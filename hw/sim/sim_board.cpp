@@ -15,6 +15,7 @@ SimBoard::SimBoard(const SimConfig& config, LinkPort* link)
     : config_(config),
       link_(link),
       gauge_(config.gauge, config.seed),
+      caliper_(config.gauge, config.seed),
       x_steps_(config.start_x_steps),
       y_steps_(config.start_y_steps) {}
 
@@ -42,14 +43,18 @@ void SimBoard::write_pin(hal::Pin pin, bool level) {
     if (pin == hal::Pin::kStepY) step_axis(1);
   }
   if (pin == hal::Pin::kGaugeReq && level != was) {
-    gauge_.set_request(level, now_ns_, height_under_probe_mm());
+    if (config_.caliper) {
+      caliper_.set_request(level, now_ns_);
+    } else {
+      gauge_.set_request(level, now_ns_, height_under_probe_mm());
+    }
   }
 }
 
 bool SimBoard::read_pin(hal::Pin pin) {
   switch (pin) {
-    case hal::Pin::kGaugeClock: return gauge_.clock();
-    case hal::Pin::kGaugeData: return gauge_.data();
+    case hal::Pin::kGaugeClock: return config_.caliper ? caliper_.clock() : gauge_.clock();
+    case hal::Pin::kGaugeData: return config_.caliper ? caliper_.data() : gauge_.data();
     case hal::Pin::kLimitXMin: return config_.limit_switches && x_steps_ < 0;
     case hal::Pin::kLimitYMin: return config_.limit_switches && y_steps_ < 0;
     case hal::Pin::kEstop:
@@ -92,7 +97,7 @@ bool SimBoard::wait(uint64_t deadline_us) {
   for (;;) {
     if (link_ != nullptr && link_->closed()) return false;
     if (deadline_ns <= now_ns_) return true;
-    const uint64_t gauge_ns = gauge_.next_event_ns();
+    const uint64_t gauge_ns = gauge_event_ns();
     uint64_t next = timer_next_ns_ < gauge_ns ? timer_next_ns_ : gauge_ns;
     if (deadline_ns < next) next = deadline_ns;
     // Pressing the e-stop is an interrupt: the firmware wakes to it.
@@ -125,7 +130,8 @@ bool SimBoard::wait(uint64_t deadline_us) {
     now_ns_ = next;
     if (next == deadline_ns) return true;
     if (next == gauge_ns) {
-      if (gauge_.advance() && clock_handler_ != nullptr) {
+      const bool rising = config_.caliper ? caliper_.advance(height_under_probe_mm()) : gauge_.advance();
+      if (rising && clock_handler_ != nullptr) {
         clock_handler_(clock_context_);
         return true;
       }

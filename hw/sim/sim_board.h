@@ -5,6 +5,7 @@
 #include <cstdint>
 
 #include "firmware/hal/board.h"
+#include "hw/sim/caliper_gauge.h"
 #include "hw/sim/digimatic_gauge.h"
 #include "hw/sim/parts.h"
 
@@ -34,6 +35,7 @@ struct SimConfig {
   // (steps towards it are lost, as a stalled motor loses them).
   int32_t hard_stop_steps = -800;
   bool limit_switches = true;  // false: the switches are not wired (homing must fail)
+  bool caliper = false;        // the gauge port carries a 24-bit caliper instead of a Digimatic gauge
   // The e-stop input is asserted from this virtual time for this long (0: never).
   uint64_t estop_at_ns = 0;
   uint64_t estop_for_ns = 0;
@@ -61,6 +63,7 @@ class SimBoard final : public hal::Board {
   double table_y_mm() const { return static_cast<double>(y_steps_) * (config_.nm_per_step * 1e-6); }
   double height_under_probe_mm() const { return config_.part.height_mm(table_x_mm(), table_y_mm()); }
   const DigimaticGauge& gauge() const { return gauge_; }
+  const CaliperGauge& caliper() const { return caliper_; }
   uint64_t step_count() const { return steps_; }
   // Steps the drivers were given against the mechanical stop (lost).
   uint64_t lost_steps() const { return lost_steps_; }
@@ -77,6 +80,8 @@ class SimBoard final : public hal::Board {
   SimConfig config_;
   LinkPort* link_;
   DigimaticGauge gauge_;
+  CaliperGauge caliper_;
+  uint64_t gauge_event_ns() const { return config_.caliper ? caliper_.next_event_ns() : gauge_.next_event_ns(); }
   uint64_t now_ns_ = 0;
   bool pins_[static_cast<int>(hal::Pin::kCount)] = {};
   hal::EdgeHandler clock_handler_ = nullptr;

@@ -83,6 +83,9 @@ std::string apply_sim_option(const std::string& pair, SimOptions* options) {
   } else if (key == "estop_at_ms" || key == "estop_ms") {
     if (!parse_u64(value, &u) || u > 100000000) return key + " must be 0..100000000";
     (key == "estop_at_ms" ? c.estop_at_ns : c.estop_for_ns) = u * 1000000;
+  } else if (key == "gauge") {
+    if (value != "digimatic" && value != "caliper") return "gauge is digimatic or caliper, got '" + value + "'";
+    c.caliper = value == "caliper";
   } else if (key == "switches") {
     if (value != "0" && value != "1") return "switches is 0 or 1, got '" + value + "'";
     c.limit_switches = value == "1";

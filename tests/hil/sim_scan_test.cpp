@@ -168,3 +168,29 @@ TEST(SimScan, ASilentDeviceIsNoticedWithinASecondAndThePointsAreKept) {
   std::remove(path.c_str());
   CHECK(data.points.size() > 0);
 }
+
+TEST(SimScan, ACaliperOnTheGaugePortScansWithinItsResolution) {
+  // A 24-bit caliper reads to 0.01 mm and only 8 times a second: a small grid.
+  const std::string path = temp_path("caliper.scan");
+  digitizer_ScanRequest request = dg::test::grid_request(9, 0, 10000000, 5000000, 1000000, digitizer_ScanPattern_PATTERN_RASTER);
+  request.probe = digitizer_ProbeType_PROBE_CALIPER_24BIT;
+  const dg::host::ScanData data = scan("sim:part=dome,gauge=caliper", request, path);
+  std::remove(path.c_str());
+  LONGS_EQUAL(11 * 6, data.points.size());
+  dg::sim::Part part;
+  part.kind = dg::sim::PartKind::kDome;
+  for (const dg::PointSample& p : data.points) {
+    const double expected_nm = part.height_mm(p.x_nm * 1e-6, p.y_nm * 1e-6) * 1e6;
+    CHECK(std::fabs(p.z_nm - expected_nm) <= 5000.0 + 1e-6);
+  }
+  // The Digimatic request is refused by a device whose port holds a caliper, with its reason.
+  request.probe = digitizer_ProbeType_PROBE_DIGIMATIC;
+  std::string error;
+  try {
+    capture_to("sim:part=dome,gauge=caliper", request, path);
+  } catch (const dg::host::DeviceError& e) {
+    error = e.what();
+  }
+  std::remove(path.c_str());
+  STRCMP_CONTAINS("gauge is a 24-bit caliper", error.c_str());
+}

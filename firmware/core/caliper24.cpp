@@ -1,0 +1,84 @@
+// A frame is taken only whole: its first edge must follow a pause (so a frame already running at
+// start() is skipped), it must have exactly 24 edges before the next pause, and bits 21-22 must
+// be clear. Anything else is an error, never a value.
+#include "firmware/core/caliper24.h"
+
+namespace dg {
+
+Status caliper24_decode(uint32_t raw, CaliperReading* out) {
+  if (raw >> kCaliperBits != 0 || (raw & (3u << 21)) != 0) return Status::kBadEncoding;
+  const int32_t magnitude = static_cast<int32_t>(raw & 0xFFFFFu);
+  out->counts = (raw & (1u << 20)) != 0 ? -magnitude : magnitude;
+  out->inch = (raw & (1u << 23)) != 0;
+  return Status::kOk;
+}
+
+int64_t caliper24_to_nm(const CaliperReading& r) {
+  // 0.0005 in = 12,700 nm exactly; 0.01 mm = 10,000 nm.
+  return static_cast<int64_t>(r.counts) * (r.inch ? 12700 : 10000);
+}
+
+Caliper24Reader::Caliper24Reader(hal::Board& board, CaliperTiming timing) : board_(board), timing_(timing) {}
+
+void Caliper24Reader::attach() { board_.on_rising_edge(hal::Pin::kGaugeClock, &Caliper24Reader::on_clock_edge, this); }
+
+Status Caliper24Reader::start() {
+  if (state_ == State::kReading) return Status::kBusy;
+  raw_ = 0;
+  bits_ = -1;
+  error_ = Status::kOk;
+  started_us_ = board_.now_us();
+  last_edge_us_ = started_us_;
+  state_ = State::kReading;
+  board_.write_pin(hal::Pin::kGaugeReq, true);
+  return Status::kOk;
+}
+
+void Caliper24Reader::on_clock_edge(void* context) {
+  auto* self = static_cast<Caliper24Reader*>(context);
+  if (self->state_ != State::kReading) return;
+  const uint64_t now = self->board_.now_us();
+  const bool after_pause = now - self->last_edge_us_ >= self->timing_.frame_gap_us;
+  self->last_edge_us_ = now;
+  if (self->bits_ < 0) {
+    if (!after_pause) return;  // the tail of a frame that began before start()
+    self->bits_ = 0;
+    self->raw_ = 0;
+  }
+  const int index = self->bits_;
+  if (index < kCaliperBits && self->board_.read_pin(hal::Pin::kGaugeData)) self->raw_ = self->raw_ | (1u << index);
+  self->bits_ = index + 1;
+}
+
+void Caliper24Reader::fail(Status why) {
+  board_.write_pin(hal::Pin::kGaugeReq, false);
+  error_ = why;
+  state_ = State::kFailed;
+}
+
+void Caliper24Reader::finish_frame() {
+  board_.write_pin(hal::Pin::kGaugeReq, false);
+  if (bits_ != kCaliperBits) return fail(Status::kBadEncoding);  // a lost or extra edge
+  if (caliper24_decode(raw_, &reading_) != Status::kOk) return fail(Status::kBadEncoding);
+  state_ = State::kDone;
+}
+
+uint64_t Caliper24Reader::deadline_us() const {
+  if (state_ != State::kReading) return UINT64_MAX;
+  // A frame in progress ends with the pause after it; waiting for one, the timeout.
+  if (bits_ > 0) return last_edge_us_ + timing_.frame_gap_us;
+  return started_us_ + timing_.frame_timeout_us;
+}
+
+Probe::State Caliper24Reader::poll() {
+  if (state_ != State::kReading) return state_;
+  const uint64_t now = board_.now_us();
+  if (bits_ > 0 && now - last_edge_us_ >= timing_.frame_gap_us) {
+    finish_frame();
+  } else if (bits_ <= 0 && now - started_us_ >= timing_.frame_timeout_us) {
+    fail(Status::kTimeout);
+  }
+  return state_;
+}
+
+}  // namespace dg
