@@ -55,6 +55,11 @@ Status StepGenerator::start(int64_t dx, int64_t dy, uint32_t rate_steps_s) {
   rate_ = (rate_steps_s == 0 || rate_steps_s > config_.max_rate_steps_s)
               ? config_.max_rate_steps_s
               : rate_steps_s;
+  // An axis that reverses first takes up the play, at the ramp's starting speed.
+  takeup_x_ = step_x_ != 0 && step_x_ != last_dir_x_ ? config_.backlash_x_steps : 0;
+  takeup_y_ = step_y_ != 0 && step_y_ != last_dir_y_ ? config_.backlash_y_steps : 0;
+  if (step_x_ != 0) last_dir_x_ = static_cast<int8_t>(step_x_);
+  if (step_y_ != 0) last_dir_y_ = static_cast<int8_t>(step_y_);
   // Direction first; the first step waits at least the driver's set-up time.
   if (step_x_ != 0) board_.write_pin(hal::Pin::kDirX, step_x_ > 0);
   if (step_y_ != 0) board_.write_pin(hal::Pin::kDirY, step_y_ > 0);
@@ -84,9 +89,14 @@ uint32_t StepGenerator::period_ns(uint32_t step_index) const {
 uint32_t StepGenerator::on_tick(void* self) { return static_cast<StepGenerator*>(self)->tick(); }
 
 uint32_t StepGenerator::tick() {
-  // Bresenham along the dominant axis keeps the path straight and the counts exact.
   bool step_x = false, step_y = false;
-  if (count_x_ >= count_y_) {
+  const bool takeup = takeup_x_ > 0 || takeup_y_ > 0;
+  if (takeup) {
+    // Backlash: motor steps that move no table, so they are not counted.
+    step_x = takeup_x_ > 0;
+    step_y = takeup_y_ > 0;
+  } else if (count_x_ >= count_y_) {
+    // Bresenham along the dominant axis keeps the path straight and the counts exact.
     step_x = true;
     error_ -= count_y_;
     if (error_ < 0) {
@@ -113,6 +123,17 @@ uint32_t StepGenerator::tick() {
   }
   if (step_x) board_.write_pin(hal::Pin::kStepX, true);
   if (step_y) board_.write_pin(hal::Pin::kStepY, true);
+  if (takeup) {
+    if (step_x) {
+      --takeup_x_;
+      board_.write_pin(hal::Pin::kStepX, false);
+    }
+    if (step_y) {
+      --takeup_y_;
+      board_.write_pin(hal::Pin::kStepY, false);
+    }
+    return period_ns(1);
+  }
   if (step_x) {
     x_ = x_ + step_x_;
     board_.write_pin(hal::Pin::kStepX, false);

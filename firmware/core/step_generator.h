@@ -21,6 +21,11 @@ struct MotionConfig {
   int32_t home_backoff_steps = 800;          // 2 mm off the switch before the slow approach
   int32_t home_pull_off_steps = 400;         // 1 mm off the switch when homing ends
   int32_t home_switch_steps = -1;            // machine position where the min switch trips
+  // Backlash compensation: motor steps taken, uncounted, when an axis reverses, so the table moves
+  // as soon as the counted steps begin (a dial gauge reads to 1 um; lead-screw play is larger).
+  // At power-up each axis is taken to have last moved positive.
+  uint32_t backlash_x_steps = 0;
+  uint32_t backlash_y_steps = 0;
 };
 
 // Why a move stopped before its end: an input seen asserted before a step.
@@ -66,6 +71,9 @@ class StepGenerator {
   int64_t error_ = 0;
   uint32_t rate_ = 0;
   volatile Trip trip_ = Trip::kNone;
+  // The way each axis last moved; at power-up taken as positive, as homing's pull-off leaves it.
+  int8_t last_dir_x_ = 1, last_dir_y_ = 1;
+  uint32_t takeup_x_ = 0, takeup_y_ = 0;    // backlash steps still to take before this move
 };
 
 // Integer square root (floor) for the speed ramp: no FPU needed.

@@ -25,7 +25,7 @@ void usage() {
                "  outlier_mm=X  inch=0|1  gauge_delay_us=N  mute=0|1  drop_edge=BIT  id=NAME\n"
                "  host_silence_s=N (virtual s, 0 never)  on_host_silence=pause|continue|abort\n"
                "  start_x_mm=X start_y_mm=Y (the table's start)  estop_at_ms=T estop_ms=D  switches=0|1\n"
-               "  require_homing=0|1  gauge=digimatic|caliper\n");
+               "  require_homing=0|1  gauge=digimatic|caliper  backlash_um=X  compensate_um=X\n");
 }
 
 }  // namespace
@@ -92,6 +92,8 @@ int main(int argc, char** argv) {
   device.host_silence_us = options.host_silence_s * 1000000u;
   device.on_host_silence = options.on_host_silence;
   device.require_homing = options.require_homing;
+  const int32_t compensate = options.compensate_steps >= 0 ? options.compensate_steps : options.config.backlash_steps;
+  device.motion.backlash_x_steps = device.motion.backlash_y_steps = static_cast<uint32_t>(compensate);
   // The simulated gauge takes its time like a real one; allow for it.
   device.gauge.first_clock_timeout_us = options.config.gauge.request_to_clock_us + 100000;
   static dg::Device firmware(board, device);

@@ -17,15 +17,25 @@ SimBoard::SimBoard(const SimConfig& config, LinkPort* link)
       gauge_(config.gauge, config.seed),
       caliper_(config.gauge, config.seed),
       x_steps_(config.start_x_steps),
-      y_steps_(config.start_y_steps) {}
+      y_steps_(config.start_y_steps) {
+  // The table was last moved positive (as homing's pull-off leaves it): the nut bears on the
+  // screw's positive side.
+  motor_[0] = x_steps_ + config.backlash_steps;
+  motor_[1] = y_steps_ + config.backlash_steps;
+}
 
 void SimBoard::step_axis(int axis) {
   const bool positive = pins_[index(axis == 0 ? hal::Pin::kDirX : hal::Pin::kDirY)];
   int64_t& position = axis == 0 ? x_steps_ : y_steps_;
+  int64_t& motor = motor_[axis];
   if (!positive && position <= config_.hard_stop_steps) {
     ++lost_steps_;  // against the mechanical stop: the motor stalls
   } else {
-    position += positive ? 1 : -1;
+    // The nut sits somewhere in the screw's play [motor - backlash, motor]: the motor pushes the
+    // table only from the ends of that band.
+    motor += positive ? 1 : -1;
+    if (positive && position < motor - config_.backlash_steps) position = motor - config_.backlash_steps;
+    if (!positive && position > motor) position = motor;
   }
   ++steps_;
   if (last_step_ns_[axis] != kNever) {

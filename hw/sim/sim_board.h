@@ -36,6 +36,8 @@ struct SimConfig {
   int32_t hard_stop_steps = -800;
   bool limit_switches = true;  // false: the switches are not wired (homing must fail)
   bool caliper = false;        // the gauge port carries a 24-bit caliper instead of a Digimatic gauge
+  // Lead-screw play, motor steps per axis: after a reversal the table stays put this long.
+  int32_t backlash_steps = 0;
   // The e-stop input is asserted from this virtual time for this long (0: never).
   uint64_t estop_at_ns = 0;
   uint64_t estop_for_ns = 0;
@@ -90,6 +92,7 @@ class SimBoard final : public hal::Board {
   void* timer_context_ = nullptr;
   uint64_t timer_next_ns_ = kNever;
   int64_t x_steps_ = 0, y_steps_ = 0;
+  int64_t motor_[2] = {0, 0};  // where the motors have turned the screws to (equals the table without play)
   uint64_t lost_steps_ = 0;
   uint64_t last_step_ns_[2] = {kNever, kNever};
   uint64_t min_step_interval_ns_ = kNever;

@@ -83,6 +83,10 @@ std::string apply_sim_option(const std::string& pair, SimOptions* options) {
   } else if (key == "estop_at_ms" || key == "estop_ms") {
     if (!parse_u64(value, &u) || u > 100000000) return key + " must be 0..100000000";
     (key == "estop_at_ms" ? c.estop_at_ns : c.estop_for_ns) = u * 1000000;
+  } else if (key == "backlash_um" || key == "compensate_um") {
+    if (!parse_double(value, &d) || d < 0 || d > 1000) return key + " must be 0..1000, got '" + value + "'";
+    const int32_t steps = static_cast<int32_t>(std::llround(d * 1e3 / c.nm_per_step));
+    (key == "backlash_um" ? c.backlash_steps : options->compensate_steps) = steps;
   } else if (key == "gauge") {
     if (value != "digimatic" && value != "caliper") return "gauge is digimatic or caliper, got '" + value + "'";
     c.caliper = value == "caliper";

@@ -16,13 +16,16 @@ struct SimOptions {
   uint32_t host_silence_s = 300;
   dg::HostSilence on_host_silence = dg::HostSilence::kPause;
   bool require_homing = false;
+  int32_t compensate_steps = -1;  // the firmware's backlash compensation; -1: the table's play
 };
 
 // Applies one "key=value" pair: part, seed, noise_um, outliers, outlier_mm, inch,
 // gauge_delay_us, mute (gauge never answers), drop_edge (a CK pulse missing from
 // every frame), id, host_silence_s, on_host_silence (pause, continue, abort), start_x_mm,
 // start_y_mm (where the table starts), estop_at_ms, estop_ms (the e-stop pressed then, that long),
-// switches (0: no limit switches), require_homing. Returns an error message, or empty on success.
+// switches (0: no limit switches), require_homing, gauge (digimatic, caliper), backlash_um (the
+// screws' play), compensate_um (the firmware's compensation; default the play). Returns an error
+// message, or empty on success.
 std::string apply_sim_option(const std::string& pair, SimOptions* options);
 
 }  // namespace dg::sim

@@ -4,6 +4,9 @@
 
 #include <CppUTest/TestHarness.h>
 
+#include <algorithm>
+#include <cstdlib>
+
 #include "hw/sim/sim_board.h"
 
 namespace {
@@ -84,4 +87,38 @@ TEST(Homing, TheEstopStopsAMoveAtOnce) {
   CHECK(rig.motion.trip() == dg::Trip::kEstop);
   CHECK(rig.motion.x_steps() < 4000);
   LONGS_EQUAL(rig.motion.x_steps(), rig.board.table_x_steps());
+}
+
+TEST(Homing, BacklashCompensationKeepsTheTableWhereTheStepsSay) {
+  // 0.1 mm of play in both screws. With compensation every reversal takes it up uncounted; without,
+  // the table lags the count by the play after each reversal.
+  for (uint32_t compensation : {40u, 0u}) {
+    dg::sim::SimConfig c = table_at(3000, 3000);
+    c.backlash_steps = 40;
+    dg::sim::SimBoard board(c, nullptr);
+    dg::MotionConfig m;
+    m.backlash_x_steps = m.backlash_y_steps = compensation;
+    dg::StepGenerator motion(board, m);
+    dg::Homing homing(motion);
+    homing.start();
+    while (homing.active()) {
+      homing.poll();
+      if (motion.busy() && !board.wait(UINT64_MAX)) break;
+    }
+    CHECK(homing.done());
+    int64_t worst = 0;
+    const int32_t targets[][2] = {{4000, 400}, {2000, 1200}, {3000, 600}, {1000, 1000}, {1500, 200}};
+    for (const auto& t : targets) {
+      CHECK(motion.move_to(t[0], t[1], 0) == dg::Status::kOk);
+      while (motion.busy() && board.wait(UINT64_MAX)) {
+      }
+      worst = std::max<int64_t>(worst, std::llabs(board.table_x_steps() - motion.x_steps()));
+      worst = std::max<int64_t>(worst, std::llabs(board.table_y_steps() - motion.y_steps()));
+    }
+    if (compensation > 0) {
+      LONGS_EQUAL(0, worst);
+    } else {
+      LONGS_EQUAL(40, worst);
+    }
+  }
 }
