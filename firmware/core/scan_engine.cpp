@@ -32,7 +32,8 @@ digitizer_FaultCode ScanEngine::start(const digitizer_ScanRequest& request, uint
     return digitizer_FaultCode_FAULT_BAD_REQUEST;
   }
   // Which gauge is wired is the device's to check (Device refuses a request for another).
-  if (request.samples_per_point > limits_.max_samples_per_point) {
+  if (request.samples_per_point > limits_.max_samples_per_point ||
+      request.samples_per_point > sizeof(samples_nm_) / sizeof(samples_nm_[0])) {
     *reason = "too many samples per point";
     return digitizer_FaultCode_FAULT_BAD_REQUEST;
   }
@@ -66,6 +67,65 @@ digitizer_FaultCode ScanEngine::start(const digitizer_ScanRequest& request, uint
   return digitizer_FaultCode_FAULT_NONE;
 }
 
+bool ScanEngine::take_reading(int64_t value_nm) {
+  // Settling: after a move the gauge's spindle may still creep; wait for two readings that agree.
+  if (request_.settle_tolerance_nm > 0 && samples_taken_ == 0 && settle_reads_ < limits_.max_settle_reads) {
+    const bool agrees = settle_reads_ > 0 && (value_nm > previous_nm_ ? value_nm - previous_nm_ : previous_nm_ - value_nm) <=
+                                                 static_cast<int64_t>(request_.settle_tolerance_nm);
+    ++settle_reads_;
+    previous_nm_ = value_nm;
+    if (!agrees) {
+      if (settle_reads_ == limits_.max_settle_reads) point_flags_ |= digitizer_PointFlag_POINT_SPREAD_HIGH;
+      return false;
+    }
+  }
+  samples_nm_[samples_taken_] = value_nm;
+  z_sum_nm_ += value_nm;
+  ++samples_taken_;
+  const uint32_t wanted = request_.samples_per_point > 1 ? request_.samples_per_point : 1;
+  if (samples_taken_ < wanted) return false;
+  if (request_.spread_tolerance_nm > 0) {
+    int64_t lo = samples_nm_[0], hi = samples_nm_[0];
+    for (uint32_t i = 1; i < samples_taken_; ++i) {
+      lo = samples_nm_[i] < lo ? samples_nm_[i] : lo;
+      hi = samples_nm_[i] > hi ? samples_nm_[i] : hi;
+    }
+    if (hi - lo > static_cast<int64_t>(request_.spread_tolerance_nm)) {
+      if (!spread_retried_) {
+        // Once more from the start: a knock or a creeping spindle rarely repeats.
+        spread_retried_ = true;
+        point_flags_ |= digitizer_PointFlag_POINT_RETRIED;
+        samples_taken_ = 0;
+        z_sum_nm_ = 0;
+        return false;
+      }
+      point_flags_ |= digitizer_PointFlag_POINT_SPREAD_HIGH;
+    }
+  }
+  return true;
+}
+
+int64_t ScanEngine::point_value() const {
+  const int64_t n = samples_taken_;
+  if (request_.median && n > 1) {
+    // Insertion sort of at most 16 values, then the middle (the mean of the two middle ones).
+    int64_t sorted[16];
+    for (int64_t i = 0; i < n; ++i) {
+      int64_t j = i;
+      while (j > 0 && sorted[j - 1] > samples_nm_[i]) {
+        sorted[j] = sorted[j - 1];
+        --j;
+      }
+      sorted[j] = samples_nm_[i];
+    }
+    const int64_t a = sorted[(n - 1) / 2], b = sorted[n / 2];
+    const int64_t sum = a + b;
+    return sum >= 0 ? (sum + 1) / 2 : -((-sum + 1) / 2);
+  }
+  // The mean, rounded to the nearest nanometre.
+  return z_sum_nm_ >= 0 ? (z_sum_nm_ + n / 2) / n : -((-z_sum_nm_ + n / 2) / n);
+}
+
 void ScanEngine::begin_point() {
   // Serpentine lines run backwards on odd rows to save the return move.
   const bool reverse = request_.pattern == digitizer_ScanPattern_PATTERN_SERPENTINE && (iy_ & 1u);
@@ -82,6 +142,8 @@ void ScanEngine::begin_point() {
   samples_taken_ = 0;
   retries_left_ = limits_.probe_retries;
   z_sum_nm_ = 0;
+  settle_reads_ = 0;
+  spread_retried_ = false;
   point_flags_ = 0;
   phase_ = Phase::kMoving;
 }
@@ -141,10 +203,7 @@ void ScanEngine::poll(PointSink& sink) {
           gauge_.start();
           return;
         }
-        z_sum_nm_ += gauge_.value_nm();
-        ++samples_taken_;
-        const uint32_t wanted = request_.samples_per_point > 1 ? request_.samples_per_point : 1;
-        if (samples_taken_ < wanted) {
+        if (!take_reading(gauge_.value_nm())) {
           gauge_.start();
           return;
         }
@@ -154,10 +213,7 @@ void ScanEngine::poll(PointSink& sink) {
                                              motion_.config().nm_per_step);
         pending_.y_nm = static_cast<int32_t>(static_cast<int64_t>(motion_.y_steps()) *
                                              motion_.config().nm_per_step);
-        // Mean of the samples, rounded to the nearest nanometre.
-        const int64_t n = samples_taken_;
-        const int64_t z = z_sum_nm_ >= 0 ? (z_sum_nm_ + n / 2) / n : -((-z_sum_nm_ + n / 2) / n);
-        pending_.z_nm = static_cast<int32_t>(z);
+        pending_.z_nm = static_cast<int32_t>(point_value());
         pending_.t_us = board_.now_us();
         pending_.flags = point_flags_;
         if (ix_ == 0) pending_.flags |= digitizer_PointFlag_POINT_LINE_START;

@@ -24,6 +24,7 @@ struct ScanLimits {
   uint32_t max_points = 4000000;
   uint32_t max_samples_per_point = 16;
   uint32_t probe_retries = 3;   // extra reads after a failed one, per sample
+  uint32_t max_settle_reads = 8;  // readings spent waiting for two that agree
 };
 
 class ScanEngine {
@@ -64,6 +65,9 @@ class ScanEngine {
 
  private:
   void begin_point();
+  // A good reading arrived: settle, sample, or finish the point; true when the point is done.
+  bool take_reading(int64_t value_nm);
+  int64_t point_value() const;
   void finish(digitizer_ScanEnd why, digitizer_FaultCode fault);
   int32_t to_steps(int64_t nm) const;
 
@@ -85,6 +89,10 @@ class ScanEngine {
   uint64_t started_us_ = 0, finished_us_ = 0;
   // Samples of the current point.
   uint32_t samples_taken_ = 0, retries_left_ = 0;
+  int64_t samples_nm_[16] = {};   // the current point's samples (max_samples_per_point at most)
+  uint32_t settle_reads_ = 0;     // readings taken while settling (0: not settling)
+  int64_t previous_nm_ = 0;       // the last settling reading
+  bool spread_retried_ = false;
   int64_t z_sum_nm_ = 0;
   uint32_t point_flags_ = 0;
   PointSample pending_{};

@@ -16,6 +16,9 @@ struct ScanArgs {
   double feed_mm_s = 10.0;
   unsigned samples = 1;
   unsigned settle_ms = 0;
+  double settle_um = 0;    // read until two successive readings agree within this
+  double spread_um = 0;    // samples of a point must agree within this
+  bool median = false;     // the median of the samples instead of their mean
   std::string output;
   bool resume = false;     // continue the scan in `output` instead of starting one
   int reconnect_s = 30;    // how long to try to reach a device again after a pulled cable
