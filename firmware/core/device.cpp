@@ -15,6 +15,8 @@ Device::Device(hal::Board& board, const DeviceConfig& config)
             config.probe == digitizer_ProbeType_PROBE_CALIPER_24BIT ? static_cast<Probe&>(caliper_) : static_cast<Probe&>(gauge_),
             config.scan),
       homing_(motion_),
+      repeat_(motion_, config.probe == digitizer_ProbeType_PROBE_CALIPER_24BIT ? static_cast<Probe&>(caliper_)
+                                                                              : static_cast<Probe&>(gauge_)),
       link_(config.retransmit_us) {}
 
 void Device::begin() {
@@ -40,7 +42,7 @@ digitizer_DeviceState Device::state() const {
     return scan_.paused() ? digitizer_DeviceState_STATE_PAUSED : digitizer_DeviceState_STATE_SCANNING;
   }
   if (homing_.active()) return digitizer_DeviceState_STATE_HOMING;
-  if (jogging_) return digitizer_DeviceState_STATE_JOGGING;
+  if (jogging_ || repeat_.active()) return digitizer_DeviceState_STATE_JOGGING;
   return digitizer_DeviceState_STATE_IDLE;
 }
 
@@ -51,6 +53,7 @@ size_t Device::first_unsent_offset() const {
 
 uint64_t Device::next_deadline_us() const {
   uint64_t deadline = scan_.deadline_us();
+  if (repeat_.deadline_us() < deadline) deadline = repeat_.deadline_us();
   const uint64_t resend = link_.next_deadline_us(UINT64_MAX);
   if (resend < deadline) deadline = resend;
   // An unsent partial batch must go out when it is old enough, once the link has room for it
@@ -95,6 +98,13 @@ void Device::poll() {
   watch_motion();
   watch_host();
   if (jogging_ && !motion_.busy()) jogging_ = false;
+  if (repeat_.poll()) {
+    if (repeat_.failed()) {
+      fault(repeat_.request_id(), digitizer_FaultCode_FAULT_PROBE_TIMEOUT, "repeatability: a reading or a move failed");
+    } else {
+      queue({Reply::kRepeatability, repeat_.request_id(), digitizer_FaultCode_FAULT_NONE, nullptr});
+    }
+  }
   scan_.poll(*this);
   transmit();
 }
@@ -102,6 +112,7 @@ void Device::poll() {
 void Device::raise_alarm(digitizer_FaultCode code, const char* detail) {
   motion_.stop();
   homing_.cancel();
+  repeat_.cancel();
   jogging_ = false;
   scan_.stop_faulted(code);
   // The position may no longer be where the steps say: home again after unlocking.
@@ -179,7 +190,7 @@ void Device::handle(const digitizer_Envelope& message) {
     }
     case digitizer_Envelope_scan_request_tag: {
       if (alarm_) return fault(id, digitizer_FaultCode_FAULT_ALARM_LOCKED, "in alarm: unlock first");
-      if (jogging_ || homing_.active()) return fault(id, digitizer_FaultCode_FAULT_BUSY, "the table is moving");
+      if (jogging_ || homing_.active() || repeat_.active()) return fault(id, digitizer_FaultCode_FAULT_BUSY, "the table is moving");
       if (config_.require_homing && !homed_) return fault(id, digitizer_FaultCode_FAULT_NOT_HOMED, "home the axes first");
       if (message.body.scan_request.probe != config_.probe) {
         return fault(id, digitizer_FaultCode_FAULT_UNSUPPORTED,
@@ -264,7 +275,7 @@ void Device::handle_command(uint32_t id, const digitizer_Command& command) {
       return queue({Reply::kAccepted, id, digitizer_FaultCode_FAULT_NONE, nullptr});
     case digitizer_CommandKind_CMD_JOG: {
       if (alarm_) return fault(id, digitizer_FaultCode_FAULT_ALARM_LOCKED, "in alarm: unlock first");
-      if (scan_.active() || motion_.busy() || homing_.active()) return fault(id, digitizer_FaultCode_FAULT_BUSY, "busy");
+      if (scan_.active() || motion_.busy() || homing_.active() || repeat_.active()) return fault(id, digitizer_FaultCode_FAULT_BUSY, "busy");
       if (config_.require_homing && !homed_) return fault(id, digitizer_FaultCode_FAULT_NOT_HOMED, "home the axes first");
       const int64_t per = config_.motion.nm_per_step;
       const int64_t tx = motion_.x_steps() + command.dx_nm / per;
@@ -278,6 +289,12 @@ void Device::handle_command(uint32_t id, const digitizer_Command& command) {
       jogging_ = motion_.busy();
       return queue({Reply::kAccepted, id, digitizer_FaultCode_FAULT_NONE, nullptr});
     }
+    case digitizer_CommandKind_CMD_REPEATABILITY:
+      if (alarm_) return fault(id, digitizer_FaultCode_FAULT_ALARM_LOCKED, "in alarm: unlock first");
+      if (scan_.active() || motion_.busy() || homing_.active() || repeat_.active()) return fault(id, digitizer_FaultCode_FAULT_BUSY, "busy");
+      if (config_.require_homing && !homed_) return fault(id, digitizer_FaultCode_FAULT_NOT_HOMED, "home the axes first");
+      if (!repeat_.start(command.count, id)) return fault(id, digitizer_FaultCode_FAULT_BAD_REQUEST, "repeatability takes 2 to 64 readings");
+      return queue({Reply::kAccepted, id, digitizer_FaultCode_FAULT_NONE, nullptr});
     case digitizer_CommandKind_CMD_PULL_FIT: {
       Reply reply{Reply::kFitResult, id, digitizer_FaultCode_FAULT_NONE, nullptr, command.fit_model};
       return queue(reply);
@@ -386,6 +403,10 @@ bool Device::send_reply(const Reply& reply) {
       // Solved when it is sent, from every point stored so far.
       message.which_body = digitizer_Envelope_fit_result_tag;
       fit_.result(reply.fit_model, !scan_.active(), &message.body.fit_result);
+      break;
+    case Reply::kRepeatability:
+      message.which_body = digitizer_Envelope_repeatability_tag;
+      message.body.repeatability = repeat_.result();
       break;
     case Reply::kFault:
       message.which_body = digitizer_Envelope_fault_tag;

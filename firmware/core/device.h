@@ -12,6 +12,7 @@
 #include "firmware/core/digimatic_reader.h"
 #include "firmware/core/homing.h"
 #include "firmware/core/point_ring.h"
+#include "firmware/core/repeatability.h"
 #include "firmware/core/scan_engine.h"
 #include "firmware/core/step_generator.h"
 #include "firmware/hal/board.h"
@@ -77,7 +78,7 @@ class Device : private PointSink {
 
  private:
   struct Reply {
-    enum Kind : uint8_t { kHello, kStatus, kAccepted, kFault, kFitResult } kind;
+    enum Kind : uint8_t { kHello, kStatus, kAccepted, kFault, kFitResult, kRepeatability } kind;
     uint32_t request_id;
     digitizer_FaultCode code;
     const char* detail;
@@ -131,6 +132,7 @@ class Device : private PointSink {
   bool jogging_ = false;
   Homing homing_;
   bool homed_ = false;
+  RepeatabilityRun repeat_;
   uint64_t host_heard_us_ = 0;    // device time of the last good frame from a host
   bool silence_paused_ = false;   // paused by watch_host(), not by CMD_PAUSE
   // The last scan's ScanDone, kept to be sent again when a resumed host asks for a finished scan.

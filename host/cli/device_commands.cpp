@@ -1,7 +1,9 @@
 // Each device command is one request through a fresh session; faults become clear errors.
 #include "host/cli/device_commands.h"
 
+#include <chrono>
 #include <cstdio>
+#include <thread>
 #include <nlohmann/json.hpp>
 
 #include "host/cli/units.h"
@@ -65,10 +67,49 @@ int run_status(const DeviceArgs& a) {
 int run_simple(const DeviceArgs& a, digitizer_CommandKind kind, const char* done) {
   auto transport = open_transport(a.device);
   Session session(*transport);
-  session.hello(5000);
+  session.hello(5000, kind == digitizer_CommandKind_CMD_HOME ? digitizer_Capability_CAP_HOMING : 0);
   command(session, kind, a);
+  if (kind == digitizer_CommandKind_CMD_HOME) {
+    // Homing takes a while: wait for it to end and say how.
+    const auto give_up = std::chrono::steady_clock::now() + std::chrono::minutes(3);
+    for (;;) {
+      const digitizer_Envelope reply = command(session, digitizer_CommandKind_CMD_STATUS, a);
+      const digitizer_Status& s = reply.body.status;
+      if (s.state != digitizer_DeviceState_STATE_HOMING) {
+        if (!s.homed) throw DeviceError(a.device + ": homing failed (" + fault_name(s.alarm) + ")");
+        std::printf("%s: homed, table at x %.3f y %.3f mm\n", a.device.c_str(), s.x_nm * 1e-6, s.y_nm * 1e-6);
+        return 0;
+      }
+      if (std::chrono::steady_clock::now() > give_up) throw DeviceError(a.device + ": still homing after 3 minutes");
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+  }
   std::printf("%s: %s\n", a.device.c_str(), done);
   return 0;
+}
+
+int run_repeatability(const DeviceArgs& a) {
+  auto transport = open_transport(a.device);
+  Session session(*transport);
+  session.hello(5000);
+  digitizer_Envelope message = digitizer_Envelope_init_zero;
+  message.which_body = digitizer_Envelope_command_tag;
+  message.body.command.kind = digitizer_CommandKind_CMD_REPEATABILITY;
+  message.body.command.count = a.count;
+  const uint32_t id = request(session, message, 5000).id;
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(10 + 5 * a.count);
+  digitizer_Envelope reply;
+  while (std::chrono::steady_clock::now() < give_up) {
+    if (!session.receive(&reply, 500) || reply.id != id) continue;
+    if (reply.which_body == digitizer_Envelope_fault_tag) throw DeviceError(a.device + ": " + reply.body.fault.detail);
+    if (reply.which_body != digitizer_Envelope_repeatability_tag) continue;
+    const digitizer_Repeatability& r = reply.body.repeatability;
+    std::printf("%u readings at x %.3f y %.3f mm, each after moving 1 mm away and back:\n", r.count, r.x_nm * 1e-6, r.y_nm * 1e-6);
+    std::printf("mean %.4f mm, range %.4f mm (%.4f..%.4f), standard deviation %.4f mm\n", r.mean_nm * 1e-6,
+                (r.max_nm - r.min_nm) * 1e-6, r.min_nm * 1e-6, r.max_nm * 1e-6, r.stddev_nm * 1e-6);
+    return 0;
+  }
+  throw DeviceError(a.device + ": no repeatability result in time");
 }
 
 }  // namespace
@@ -83,6 +124,8 @@ void add_device_commands(CLI::App& app, DeviceArgs& a) {
   with_device(app.add_subcommand("home", "home both axes"));
   with_device(app.add_subcommand("unlock", "clear an alarm"));
   with_device(app.add_subcommand("abort", "stop a scan or a move"));
+  CLI::App* repeat = with_device(app.add_subcommand("repeatability", "read the current point N times, moving away and back each time"));
+  repeat->add_option("-n,--count", a.count, "readings (2..64)")->capture_default_str()->check(CLI::Range(2, 64));
   CLI::App* jog = with_device(app.add_subcommand("jog", "move the table by DX, DY mm"));
   jog->add_option("--dx", a.dx_mm, "mm along x")->capture_default_str();
   jog->add_option("--dy", a.dy_mm, "mm along y")->capture_default_str();
@@ -118,6 +161,7 @@ int run_device_command(const CLI::App& app, const DeviceArgs& a) {
   if (app.got_subcommand("unlock")) return run_simple(a, digitizer_CommandKind_CMD_UNLOCK, "unlocked");
   if (app.got_subcommand("abort")) return run_simple(a, digitizer_CommandKind_CMD_ABORT, "aborted");
   if (app.got_subcommand("jog")) return run_simple(a, digitizer_CommandKind_CMD_JOG, "jog accepted");
+  if (app.got_subcommand("repeatability")) return run_repeatability(a);
   return -1;
 }
 

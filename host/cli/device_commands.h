@@ -1,4 +1,4 @@
-// The device commands: devices, status, home, unlock, jog, abort.
+// The device commands: devices, status, home, unlock, jog, abort, repeatability.
 #pragma once
 #include <CLI/CLI.hpp>
 #include <string>
@@ -10,6 +10,7 @@ struct DeviceArgs {
   bool json = false;          // status: as JSON
   double dx_mm = 0, dy_mm = 0;  // jog
   double feed_mm_s = 0;       // jog: 0 = the device's default
+  unsigned count = 10;        // repeatability: readings
 };
 
 // Adds the subcommands; `run_device_command` runs whichever was given, or returns -1.

@@ -5,6 +5,7 @@
 
 #include <CppUTest/TestHarness.h>
 
+#include <cstdlib>
 #include <deque>
 #include <vector>
 
@@ -397,4 +398,35 @@ TEST(DeviceSafety, AMachineThatMustHomeRefusesToScanBeforeIt) {
   bench.host.send(m);
   bench.run_until_done(600000000);
   LONGS_EQUAL(digitizer_ScanEnd_SCAN_COMPLETED, bench.host.done.reason);
+}
+
+TEST(DeviceSafety, RepeatabilityReadsOnePointAgainAndAgain) {
+  dg::sim::SimConfig sim = Bench::sim_config();
+  sim.gauge.noise_sigma_mm = 0.003;
+  Bench bench(dg::HostSilence::kPause, sim);
+  bench.hello(1);
+  digitizer_Envelope m = digitizer_Envelope_init_zero;
+  m.id = 60;
+  m.which_body = digitizer_Envelope_command_tag;
+  m.body.command.kind = digitizer_CommandKind_CMD_REPEATABILITY;
+  m.body.command.count = 40;
+  bench.host.send(m);
+  bench.run_for(120000000);
+  const digitizer_Envelope* r = bench.host.last(digitizer_Envelope_repeatability_tag);
+  CHECK(r != nullptr);
+  LONGS_EQUAL(60, r->id);
+  LONGS_EQUAL(40, r->body.repeatability.count);
+  // The dome's rim is 2 mm high; 3 um noise: the mean within 2 um, the deviation 2-4.5 um.
+  CHECK(std::abs(r->body.repeatability.mean_nm - 2000000) <= 2000);
+  CHECK(r->body.repeatability.stddev_nm >= 2000 && r->body.repeatability.stddev_nm <= 4500);
+  CHECK(r->body.repeatability.min_nm <= r->body.repeatability.mean_nm && r->body.repeatability.mean_nm <= r->body.repeatability.max_nm);
+  // The table is back where it started.
+  LONGS_EQUAL(0, bench.board.table_x_steps());
+  // Out of range counts are refused with the reason.
+  m.id = 61;
+  m.body.command.count = 1;
+  bench.host.send(m);
+  bench.run_for(100000);
+  CHECK(bench.fault_for(61) != nullptr);
+  STRCMP_CONTAINS("2 to 64", bench.fault_for(61)->body.fault.detail);
 }
