@@ -69,7 +69,8 @@ uint64_t Device::next_deadline_us() const {
 
 uint64_t Device::host_silence_deadline_us() const {
   if (config_.host_silence_us == 0 || config_.on_host_silence == HostSilence::kContinue) return UINT64_MAX;
-  if (!scan_.active() || scan_.paused()) return UINT64_MAX;
+  // Once acted on (paused, or aborting until the point in hand is done) there is nothing to watch.
+  if (!scan_.active() || scan_.paused() || scan_.aborting()) return UINT64_MAX;
   return host_heard_us_ + config_.host_silence_us;
 }
 

@@ -48,6 +48,7 @@ class ScanEngine {
   }
   void set_paused(bool paused) { paused_ = paused; }
   bool paused() const { return paused_; }
+  bool aborting() const { return abort_requested_; }
 
   bool active() const { return phase_ != Phase::kIdle && phase_ != Phase::kFinished; }
   bool finished() const { return phase_ == Phase::kFinished; }

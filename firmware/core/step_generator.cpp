@@ -1,5 +1,5 @@
-// Step generation. The speed at dominant-axis step k of n is
-// min(v_max, sqrt(2 a k), sqrt(2 a (n - k + 1))): a symmetric trapezoid (or triangle).
+// Step generation: a symmetric trapezoid (or triangle) in time, each step placed where constant
+// acceleration from rest (or to rest) would put it, and no faster than the feed rate.
 #include "firmware/core/step_generator.h"
 
 namespace dg {
@@ -21,7 +21,7 @@ uint32_t isqrt64(uint64_t value) {
 }
 
 StepGenerator::StepGenerator(hal::Board& board, const MotionConfig& config)
-    : board_(board), config_(config) {}
+    : board_(board), config_(config), ramp_ns_(isqrt64(2000000000000000000ull / (config.accel_steps_s2 > 0 ? config.accel_steps_s2 : 1))) {}
 
 void StepGenerator::set_position(int32_t x_steps, int32_t y_steps) {
   x_ = x_steps;
@@ -75,17 +75,28 @@ void StepGenerator::stop() {
   busy_ = false;
 }
 
+uint64_t StepGenerator::ramp_time_ns(uint32_t k) const {
+  // sqrt(k) in 44.20 fixed point, rounded up, times ramp_ns_ (5e6 ns at 80,000 steps/s^2): never
+  // earlier than the exact time, and no overflow while k < 2^24 (ramps are far shorter).
+  if (k == 0) return 0;
+  return ((static_cast<uint64_t>(isqrt64(static_cast<uint64_t>(k) << 40)) + 1) * ramp_ns_) >> 20;
+}
+
 uint32_t StepGenerator::period_ns(uint32_t step_index) const {
-  // min(v_max, sqrt(2 a k), sqrt(2 a (n - k + 1))), with each square root taken only when it is
-  // the smaller (compared as squares): at cruise speed a tick needs none.
+  // Under constant acceleration from rest, step k happens at ramp_ns_ * sqrt(k): step k's period
+  // is the difference of two such times, on the way up (k counted from the start) and down (from
+  // the end), and never shorter than the feed rate's. Which one binds is decided on squared
+  // speeds (2 a k against rate^2), so at cruise speed a tick takes no square root.
   const uint64_t two_a = 2ull * config_.accel_steps_s2;
-  uint32_t v = rate_;
-  const uint64_t up_sq = two_a * step_index;
-  if (up_sq < static_cast<uint64_t>(v) * v) v = isqrt64(up_sq);
-  const uint64_t down_sq = two_a * (total_ - step_index + 1);
-  if (down_sq < static_cast<uint64_t>(v) * v) v = isqrt64(down_sq);
-  if (v == 0) v = 1;
-  return 1000000000u / v;  // a 32-bit division: one instruction on a Cortex-M3/M4
+  const uint64_t rate_sq = static_cast<uint64_t>(rate_) * rate_;
+  uint64_t period = 1000000000u / (rate_ > 0 ? rate_ : 1);
+  const uint32_t from_end = total_ - step_index + 1;
+  const uint32_t nearest = step_index < from_end ? step_index : from_end;
+  if (two_a * nearest < rate_sq && nearest < (1u << 24)) {
+    const uint64_t ramp = ramp_time_ns(nearest) - ramp_time_ns(nearest - 1);
+    if (ramp > period) period = ramp;
+  }
+  return period > 0xFFFFFFFFull ? 0xFFFFFFFFu : static_cast<uint32_t>(period);
 }
 
 uint32_t StepGenerator::on_tick(void* self) { return static_cast<StepGenerator*>(self)->tick(); }

@@ -59,6 +59,8 @@ class StepGenerator {
   uint32_t tick();
   Status start(int64_t dx, int64_t dy, uint32_t rate_steps_s);
   uint32_t period_ns(uint32_t step_index) const;
+  // Time from rest to step k at the configured acceleration, ns: ramp_ns_ * sqrt(k).
+  uint64_t ramp_time_ns(uint32_t k) const;
 
   hal::Board& board_;
   MotionConfig config_;
@@ -70,6 +72,7 @@ class StepGenerator {
   uint32_t count_x_ = 0, count_y_ = 0, total_ = 0, done_ = 0;
   int64_t error_ = 0;
   uint32_t rate_ = 0;
+  uint64_t ramp_ns_ = 0;  // 1e9 * sqrt(2 / a): the time to the first step from rest
   volatile Trip trip_ = Trip::kNone;
   // The way each axis last moved; at power-up taken as positive, as homing's pull-off leaves it.
   int8_t last_dir_x_ = 1, last_dir_y_ = 1;

@@ -38,6 +38,7 @@ void SimBoard::step_axis(int axis) {
     if (!positive && position > motor) position = motor;
   }
   ++steps_;
+  if (axis == 0 && x_step_log_ != nullptr) x_step_log_->push_back(now_ns_);
   if (last_step_ns_[axis] != kNever) {
     const uint64_t interval = now_ns_ - last_step_ns_[axis];
     if (interval < min_step_interval_ns_) min_step_interval_ns_ = interval;

@@ -3,6 +3,7 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include "firmware/hal/board.h"
 #include "hw/sim/caliper_gauge.h"
@@ -67,6 +68,8 @@ class SimBoard final : public hal::Board {
   const DigimaticGauge& gauge() const { return gauge_; }
   const CaliperGauge& caliper() const { return caliper_; }
   uint64_t step_count() const { return steps_; }
+  // Tests: the virtual time of every x step is appended here (null: not kept).
+  void log_x_steps(std::vector<uint64_t>* log) { x_step_log_ = log; }
   // Steps the drivers were given against the mechanical stop (lost).
   uint64_t lost_steps() const { return lost_steps_; }
   // Shortest time between two steps on one axis seen so far, in ns.
@@ -94,6 +97,7 @@ class SimBoard final : public hal::Board {
   int64_t x_steps_ = 0, y_steps_ = 0;
   int64_t motor_[2] = {0, 0};  // where the motors have turned the screws to (equals the table without play)
   uint64_t lost_steps_ = 0;
+  std::vector<uint64_t>* x_step_log_ = nullptr;
   uint64_t last_step_ns_[2] = {kNever, kNever};
   uint64_t min_step_interval_ns_ = kNever;
   uint64_t steps_ = 0;

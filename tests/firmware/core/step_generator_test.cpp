@@ -3,6 +3,9 @@
 
 #include <CppUTest/TestHarness.h>
 
+#include <cmath>
+#include <vector>
+
 #include "hw/sim/sim_board.h"
 
 namespace {
@@ -72,4 +75,30 @@ TEST(StepGenerator, RefusesANewMoveWhileMoving) {
   CHECK(motion.move_to(1000, 0, 0) == dg::Status::kOk);
   CHECK(motion.move_to(0, 0, 0) == dg::Status::kBusy);
   run_to_end(board, motion);
+}
+
+TEST(StepGenerator, NeverAcceleratesFasterThanConfigured) {
+  // Step k of a move from rest may not come before sqrt(2 k / a) (constant acceleration a), nor
+  // may the last steps come faster than braking to rest allows.
+  dg::sim::SimBoard board(dg::sim::SimConfig{}, nullptr);
+  std::vector<uint64_t> times;
+  board.log_x_steps(&times);
+  const dg::MotionConfig config;
+  dg::StepGenerator motion(board, config);
+  const uint64_t start = board.now_ns();
+  CHECK(motion.move_to(2000, 0, 0) == dg::Status::kOk);
+  while (motion.busy() && board.wait(UINT64_MAX)) {
+  }
+  LONGS_EQUAL(2000, times.size());
+  const double a = config.accel_steps_s2;
+  for (size_t k = 1; k <= times.size(); ++k) {
+    const double earliest_ns = 1e9 * std::sqrt(2.0 * static_cast<double>(k) / a);
+    CHECK(static_cast<double>(times[k - 1] - start) >= earliest_ns * (1 - 1e-6) - 1);
+  }
+  const uint64_t end = times.back();
+  for (size_t j = 1; j < 400; ++j) {
+    // j steps before the end: braking from there to rest takes at least sqrt(2 j / a).
+    const double braking_ns = 1e9 * std::sqrt(2.0 * static_cast<double>(j) / a);
+    CHECK(static_cast<double>(end - times[times.size() - 1 - j]) >= braking_ns * (1 - 1e-6) - 1);
+  }
 }
