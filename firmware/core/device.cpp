@@ -42,7 +42,7 @@ digitizer_DeviceState Device::state() const {
     return scan_.paused() ? digitizer_DeviceState_STATE_PAUSED : digitizer_DeviceState_STATE_SCANNING;
   }
   if (homing_.active()) return digitizer_DeviceState_STATE_HOMING;
-  if (jogging_ || repeat_.active()) return digitizer_DeviceState_STATE_JOGGING;
+  if (jogging_ || repeat_.active() || touching_) return digitizer_DeviceState_STATE_JOGGING;
   return digitizer_DeviceState_STATE_IDLE;
 }
 
@@ -99,6 +99,10 @@ void Device::poll() {
   watch_motion();
   watch_host();
   if (jogging_ && !motion_.busy()) jogging_ = false;
+  if (touching_ && !motion_.busy()) {
+    touching_ = false;
+    queue({Reply::kTouch, touch_request_, digitizer_FaultCode_FAULT_NONE, nullptr});
+  }
   if (repeat_.poll()) {
     if (repeat_.failed()) {
       fault(repeat_.request_id(), digitizer_FaultCode_FAULT_PROBE_TIMEOUT, "repeatability: a reading or a move failed");
@@ -115,6 +119,7 @@ void Device::raise_alarm(digitizer_FaultCode code, const char* detail) {
   homing_.cancel();
   repeat_.cancel();
   jogging_ = false;
+  touching_ = false;
   scan_.stop_faulted(code);
   // The position may no longer be where the steps say: home again after unlocking.
   homed_ = false;
@@ -191,7 +196,7 @@ void Device::handle(const digitizer_Envelope& message) {
     }
     case digitizer_Envelope_scan_request_tag: {
       if (alarm_) return fault(id, digitizer_FaultCode_FAULT_ALARM_LOCKED, "in alarm: unlock first");
-      if (jogging_ || homing_.active() || repeat_.active()) return fault(id, digitizer_FaultCode_FAULT_BUSY, "the table is moving");
+      if (jogging_ || homing_.active() || repeat_.active() || touching_) return fault(id, digitizer_FaultCode_FAULT_BUSY, "the table is moving");
       if (config_.require_homing && !homed_) return fault(id, digitizer_FaultCode_FAULT_NOT_HOMED, "home the axes first");
       if (message.body.scan_request.probe != config_.probe) {
         return fault(id, digitizer_FaultCode_FAULT_UNSUPPORTED,
@@ -288,6 +293,25 @@ void Device::handle_command(uint32_t id, const digitizer_Command& command) {
         return fault(id, digitizer_FaultCode_FAULT_SOFT_LIMIT, "jog target outside the table");
       }
       jogging_ = motion_.busy();
+      return queue({Reply::kAccepted, id, digitizer_FaultCode_FAULT_NONE, nullptr});
+    }
+    case digitizer_CommandKind_CMD_TOUCH: {
+      if ((config_.capabilities & digitizer_Capability_CAP_TOUCH_PROBE) == 0) return fault(id, digitizer_FaultCode_FAULT_UNSUPPORTED, "no touch probe fitted");
+      if (alarm_) return fault(id, digitizer_FaultCode_FAULT_ALARM_LOCKED, "in alarm: unlock first");
+      if (scan_.active() || motion_.busy() || homing_.active() || repeat_.active()) return fault(id, digitizer_FaultCode_FAULT_BUSY, "busy");
+      if (config_.require_homing && !homed_) return fault(id, digitizer_FaultCode_FAULT_NOT_HOMED, "home the axes first");
+      const int64_t per = config_.motion.nm_per_step;
+      const int64_t tx = motion_.x_steps() + command.dx_nm / per;
+      const int64_t ty = motion_.y_steps() + command.dy_nm / per;
+      const uint32_t feed = command.feed_um_s != 0 ? command.feed_um_s : 1000;  // 1 mm/s
+      const uint32_t rate = static_cast<uint32_t>(static_cast<uint64_t>(feed) * 1000 / per);
+      if (tx < INT32_MIN || tx > INT32_MAX || ty < INT32_MIN || ty > INT32_MAX) return fault(id, digitizer_FaultCode_FAULT_SOFT_LIMIT, "target outside the table");
+      const Status s = motion_.probe_to(static_cast<int32_t>(tx), static_cast<int32_t>(ty), rate, config_.touch_overtravel_steps);
+      if (s != Status::kOk) {
+        return fault(id, digitizer_FaultCode_FAULT_BAD_REQUEST, "outside the table, or too fast to stop within the probe's overtravel");
+      }
+      touching_ = true;
+      touch_request_ = id;
       return queue({Reply::kAccepted, id, digitizer_FaultCode_FAULT_NONE, nullptr});
     }
     case digitizer_CommandKind_CMD_REPEATABILITY:
@@ -405,6 +429,17 @@ bool Device::send_reply(const Reply& reply) {
       message.which_body = digitizer_Envelope_fit_result_tag;
       fit_.result(reply.fit_model, !scan_.active(), &message.body.fit_result);
       break;
+    case Reply::kTouch: {
+      message.which_body = digitizer_Envelope_touch_result_tag;
+      digitizer_TouchResult& t = message.body.touch_result;
+      const int64_t per = config_.motion.nm_per_step;
+      t.touched = motion_.touched();
+      t.x_nm = static_cast<int32_t>(motion_.touch_x_steps() * per);
+      t.y_nm = static_cast<int32_t>(motion_.touch_y_steps() * per);
+      t.stop_x_nm = static_cast<int32_t>(motion_.x_steps() * per);
+      t.stop_y_nm = static_cast<int32_t>(motion_.y_steps() * per);
+      break;
+    }
     case Reply::kRepeatability:
       message.which_body = digitizer_Envelope_repeatability_tag;
       message.body.repeatability = repeat_.result();

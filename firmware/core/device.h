@@ -58,6 +58,9 @@ struct DeviceConfig {
   // Refuse scans and jogs until the axes are homed (a real machine; the simulator's table starts
   // at its origin).
   bool require_homing = false;
+  // Touch-trigger probing: the stylus's allowed travel after it triggers, steps (the probing feed
+  // must brake within it).
+  uint32_t touch_overtravel_steps = 400;
 };
 
 class Device : private PointSink {
@@ -78,7 +81,7 @@ class Device : private PointSink {
 
  private:
   struct Reply {
-    enum Kind : uint8_t { kHello, kStatus, kAccepted, kFault, kFitResult, kRepeatability } kind;
+    enum Kind : uint8_t { kHello, kStatus, kAccepted, kFault, kFitResult, kRepeatability, kTouch } kind;
     uint32_t request_id;
     digitizer_FaultCode code;
     const char* detail;
@@ -133,6 +136,8 @@ class Device : private PointSink {
   Homing homing_;
   bool homed_ = false;
   RepeatabilityRun repeat_;
+  bool touching_ = false;          // a CMD_TOUCH move is running
+  uint32_t touch_request_ = 0;
   uint64_t host_heard_us_ = 0;    // device time of the last good frame from a host
   bool silence_paused_ = false;   // paused by watch_host(), not by CMD_PAUSE
   // The last scan's ScanDone, kept to be sent again when a resumed host asks for a finished scan.

@@ -37,12 +37,24 @@ Status StepGenerator::move_to(int32_t x_steps, int32_t y_steps, uint32_t rate_st
   return start(static_cast<int64_t>(x_steps) - x_, static_cast<int64_t>(y_steps) - y_, rate_steps_s);
 }
 
+Status StepGenerator::probe_to(int32_t x_steps, int32_t y_steps, uint32_t rate_steps_s, uint32_t overtravel_steps) {
+  if (busy_) return Status::kBusy;
+  // Braking from rate v takes v^2 / 2a steps: it must fit in the overtravel.
+  const uint32_t rate = rate_steps_s == 0 || rate_steps_s > config_.max_rate_steps_s ? config_.max_rate_steps_s : rate_steps_s;
+  if (static_cast<uint64_t>(rate) * rate > 2ull * config_.accel_steps_s2 * overtravel_steps) return Status::kInvalidArgument;
+  const Status s = move_to(x_steps, y_steps, rate);
+  touched_ = false;
+  probing_ = s == Status::kOk && busy_;
+  return s;
+}
+
 Status StepGenerator::move_by_unchecked(int32_t dx_steps, int32_t dy_steps, uint32_t rate_steps_s) {
   if (busy_) return Status::kBusy;
   return start(dx_steps, dy_steps, rate_steps_s);
 }
 
 Status StepGenerator::start(int64_t dx, int64_t dy, uint32_t rate_steps_s) {
+  probing_ = false;
   if (dx == 0 && dy == 0) return Status::kOk;
   trip_ = Trip::kNone;
   step_x_ = dx > 0 ? 1 : (dx < 0 ? -1 : 0);
@@ -50,6 +62,7 @@ Status StepGenerator::start(int64_t dx, int64_t dy, uint32_t rate_steps_s) {
   count_x_ = static_cast<uint32_t>(dx < 0 ? -dx : dx);
   count_y_ = static_cast<uint32_t>(dy < 0 ? -dy : dy);
   total_ = count_x_ > count_y_ ? count_x_ : count_y_;
+  stop_at_ = total_;
   done_ = 0;
   error_ = total_ / 2;
   rate_ = (rate_steps_s == 0 || rate_steps_s > config_.max_rate_steps_s)
@@ -90,7 +103,7 @@ uint32_t StepGenerator::period_ns(uint32_t step_index) const {
   const uint64_t two_a = 2ull * config_.accel_steps_s2;
   const uint64_t rate_sq = static_cast<uint64_t>(rate_) * rate_;
   uint64_t period = 1000000000u / (rate_ > 0 ? rate_ : 1);
-  const uint32_t from_end = total_ - step_index + 1;
+  const uint32_t from_end = stop_at_ >= step_index ? stop_at_ - step_index + 1 : 1;
   const uint32_t nearest = step_index < from_end ? step_index : from_end;
   if (two_a * nearest < rate_sq && nearest < (1u << 24)) {
     const uint64_t ramp = ramp_time_ns(nearest) - ramp_time_ns(nearest - 1);
@@ -134,6 +147,20 @@ uint32_t StepGenerator::tick() {
     busy_ = false;
     return 0;
   }
+  // Touch probe: latch where the stylus was deflected, then brake to rest in the fewest steps the
+  // acceleration allows (probe_to made sure they fit in the overtravel).
+  if (probing_ && !touched_ && board_.read_pin(hal::Pin::kTouchProbe)) {
+    touched_ = true;
+    touch_x_ = x_;
+    touch_y_ = y_;
+    const uint64_t speed = 1000000000ull / period_ns(done_ > 0 ? done_ : 1);
+    const uint32_t braking = static_cast<uint32_t>(speed * speed / (2ull * config_.accel_steps_s2));
+    stop_at_ = done_ + braking;
+    if (stop_at_ <= done_ || braking == 0) {
+      busy_ = false;
+      return 0;
+    }
+  }
   if (step_x) board_.write_pin(hal::Pin::kStepX, true);
   if (step_y) board_.write_pin(hal::Pin::kStepY, true);
   if (takeup) {
@@ -156,7 +183,7 @@ uint32_t StepGenerator::tick() {
     board_.write_pin(hal::Pin::kStepY, false);
   }
   ++done_;
-  if (done_ >= total_) {
+  if (done_ >= stop_at_) {
     busy_ = false;
     return 0;
   }

@@ -42,6 +42,13 @@ class StepGenerator {
   bool busy() const { return busy_; }
   int32_t x_steps() const { return x_; }
   int32_t y_steps() const { return y_; }
+  // A probing move: when the touch probe triggers, the position at that step is latched and the
+  // table brakes to rest within `overtravel_steps` (the move is refused when the feed is too fast
+  // to brake in that distance). touched() says whether it triggered.
+  Status probe_to(int32_t x_steps, int32_t y_steps, uint32_t rate_steps_s, uint32_t overtravel_steps);
+  bool touched() const { return touched_; }
+  int32_t touch_x_steps() const { return touch_x_; }
+  int32_t touch_y_steps() const { return touch_y_; }
   // A move without the soft limits, for homing: towards and past the table's ends.
   Status move_by_unchecked(int32_t dx_steps, int32_t dy_steps, uint32_t rate_steps_s);
   // Sets the current position without moving (after homing).
@@ -73,6 +80,10 @@ class StepGenerator {
   int64_t error_ = 0;
   uint32_t rate_ = 0;
   uint64_t ramp_ns_ = 0;  // 1e9 * sqrt(2 / a): the time to the first step from rest
+  uint32_t stop_at_ = 0;  // the step the move ends on (total_, or sooner after a touch)
+  bool probing_ = false;
+  volatile bool touched_ = false;
+  volatile int32_t touch_x_ = 0, touch_y_ = 0;
   volatile Trip trip_ = Trip::kNone;
   // The way each axis last moved; at power-up taken as positive, as homing's pull-off leaves it.
   int8_t last_dir_x_ = 1, last_dir_y_ = 1;

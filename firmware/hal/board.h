@@ -19,6 +19,7 @@ enum class Pin : uint8_t {
   kLimitXMin,
   kLimitYMin,
   kEstop,
+  kTouchProbe,  // true = the stylus is deflected (touch-trigger probe)
   kCount,
 };
 

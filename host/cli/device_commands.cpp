@@ -88,6 +88,39 @@ int run_simple(const DeviceArgs& a, digitizer_CommandKind kind, const char* done
   return 0;
 }
 
+// Waits for the message of type `tag` that answers request `id`; a Fault for it throws.
+digitizer_Envelope wait_for_answer(Session& session, uint32_t id, pb_size_t tag, int timeout_s, const std::string& device) {
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(timeout_s);
+  digitizer_Envelope reply;
+  while (std::chrono::steady_clock::now() < give_up) {
+    if (!session.receive(&reply, 500) || reply.id != id) continue;
+    if (reply.which_body == digitizer_Envelope_fault_tag) throw DeviceError(device + ": " + reply.body.fault.detail);
+    if (reply.which_body == tag) return reply;
+  }
+  throw DeviceError(device + ": no answer in time");
+}
+
+int run_touch(const DeviceArgs& a) {
+  auto transport = open_transport(a.device);
+  Session session(*transport);
+  session.hello(5000, digitizer_Capability_CAP_TOUCH_PROBE);
+  digitizer_Envelope message = digitizer_Envelope_init_zero;
+  message.which_body = digitizer_Envelope_command_tag;
+  message.body.command.kind = digitizer_CommandKind_CMD_TOUCH;
+  message.body.command.dx_nm = mm_to_nm(a.dx_mm, "--dx");
+  message.body.command.dy_nm = mm_to_nm(a.dy_mm, "--dy");
+  message.body.command.feed_um_s = static_cast<uint32_t>(a.feed_mm_s * 1000.0);
+  const uint32_t id = request(session, message, 5000).id;
+  const digitizer_TouchResult t = wait_for_answer(session, id, digitizer_Envelope_touch_result_tag, 600, a.device).body.touch_result;
+  if (!t.touched) {
+    std::printf("no touch: the table stopped at x %.4f y %.4f mm\n", t.stop_x_nm * 1e-6, t.stop_y_nm * 1e-6);
+    return 1;
+  }
+  std::printf("touch at x %.4f y %.4f mm (table stopped at x %.4f y %.4f mm)\n", t.x_nm * 1e-6, t.y_nm * 1e-6,
+              t.stop_x_nm * 1e-6, t.stop_y_nm * 1e-6);
+  return 0;
+}
+
 int run_repeatability(const DeviceArgs& a) {
   auto transport = open_transport(a.device);
   Session session(*transport);
@@ -97,19 +130,12 @@ int run_repeatability(const DeviceArgs& a) {
   message.body.command.kind = digitizer_CommandKind_CMD_REPEATABILITY;
   message.body.command.count = a.count;
   const uint32_t id = request(session, message, 5000).id;
-  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(10 + 5 * a.count);
-  digitizer_Envelope reply;
-  while (std::chrono::steady_clock::now() < give_up) {
-    if (!session.receive(&reply, 500) || reply.id != id) continue;
-    if (reply.which_body == digitizer_Envelope_fault_tag) throw DeviceError(a.device + ": " + reply.body.fault.detail);
-    if (reply.which_body != digitizer_Envelope_repeatability_tag) continue;
-    const digitizer_Repeatability& r = reply.body.repeatability;
-    std::printf("%u readings at x %.3f y %.3f mm, each after moving 1 mm away and back:\n", r.count, r.x_nm * 1e-6, r.y_nm * 1e-6);
-    std::printf("mean %.4f mm, range %.4f mm (%.4f..%.4f), standard deviation %.4f mm\n", r.mean_nm * 1e-6,
-                (r.max_nm - r.min_nm) * 1e-6, r.min_nm * 1e-6, r.max_nm * 1e-6, r.stddev_nm * 1e-6);
-    return 0;
-  }
-  throw DeviceError(a.device + ": no repeatability result in time");
+  const digitizer_Repeatability r =
+      wait_for_answer(session, id, digitizer_Envelope_repeatability_tag, static_cast<int>(10 + 5 * a.count), a.device).body.repeatability;
+  std::printf("%u readings at x %.3f y %.3f mm, each after moving 1 mm away and back:\n", r.count, r.x_nm * 1e-6, r.y_nm * 1e-6);
+  std::printf("mean %.4f mm, range %.4f mm (%.4f..%.4f), standard deviation %.4f mm\n", r.mean_nm * 1e-6,
+              (r.max_nm - r.min_nm) * 1e-6, r.min_nm * 1e-6, r.max_nm * 1e-6, r.stddev_nm * 1e-6);
+  return 0;
 }
 
 }  // namespace
@@ -124,6 +150,10 @@ void add_device_commands(CLI::App& app, DeviceArgs& a) {
   with_device(app.add_subcommand("home", "home both axes"));
   with_device(app.add_subcommand("unlock", "clear an alarm"));
   with_device(app.add_subcommand("abort", "stop a scan or a move"));
+  CLI::App* touch = with_device(app.add_subcommand("touch", "move by DX, DY mm with the touch-trigger probe until it touches"));
+  touch->add_option("--dx", a.dx_mm, "mm along x")->capture_default_str();
+  touch->add_option("--dy", a.dy_mm, "mm along y")->capture_default_str();
+  touch->add_option("--feed", a.feed_mm_s, "mm/s (default 1)")->check(CLI::Range(0.0, 200.0));
   CLI::App* repeat = with_device(app.add_subcommand("repeatability", "read the current point N times, moving away and back each time"));
   repeat->add_option("-n,--count", a.count, "readings (2..64)")->capture_default_str()->check(CLI::Range(2, 64));
   CLI::App* jog = with_device(app.add_subcommand("jog", "move the table by DX, DY mm"));
@@ -162,6 +192,7 @@ int run_device_command(const CLI::App& app, const DeviceArgs& a) {
   if (app.got_subcommand("abort")) return run_simple(a, digitizer_CommandKind_CMD_ABORT, "aborted");
   if (app.got_subcommand("jog")) return run_simple(a, digitizer_CommandKind_CMD_JOG, "jog accepted");
   if (app.got_subcommand("repeatability")) return run_repeatability(a);
+  if (app.got_subcommand("touch")) return run_touch(a);
   return -1;
 }
 

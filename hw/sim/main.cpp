@@ -25,7 +25,8 @@ void usage() {
                "  outlier_mm=X  inch=0|1  gauge_delay_us=N  mute=0|1  drop_edge=BIT  id=NAME\n"
                "  host_silence_s=N (virtual s, 0 never)  on_host_silence=pause|continue|abort\n"
                "  start_x_mm=X start_y_mm=Y (the table's start)  estop_at_ms=T estop_ms=D  switches=0|1\n"
-               "  require_homing=0|1  gauge=digimatic|caliper  backlash_um=X  compensate_um=X\n");
+               "  require_homing=0|1  gauge=digimatic|caliper  backlash_um=X  compensate_um=X\n"
+               "  touch_x_mm=X touch_y_mm=Y (faces the touch probe meets)\n");
 }
 
 }  // namespace
@@ -81,7 +82,8 @@ int main(int argc, char** argv) {
   device.firmware_version = DIGITIZER_VERSION;
   device.probe = options.config.caliper ? digitizer_ProbeType_PROBE_CALIPER_24BIT : digitizer_ProbeType_PROBE_DIGIMATIC;
   device.capabilities = (options.config.caliper ? digitizer_Capability_CAP_CALIPER_24BIT : digitizer_Capability_CAP_DIGIMATIC) | digitizer_Capability_CAP_DEVICE_FIT | digitizer_Capability_CAP_SIMULATED |
-                        digitizer_Capability_CAP_RESUME | digitizer_Capability_CAP_HOMING;
+                        digitizer_Capability_CAP_RESUME | digitizer_Capability_CAP_HOMING |
+                        digitizer_Capability_CAP_TOUCH_PROBE;
   device.gauge_resolution_nm = options.config.caliper ? (options.config.gauge.inch ? 12700 : 10000)
                                                       : (options.config.gauge.inch ? 2540 : 1000);
   // Virtual time runs hundreds of times faster than the host's clock during a scan: a 50 ms

@@ -68,6 +68,8 @@ bool SimBoard::read_pin(hal::Pin pin) {
     case hal::Pin::kGaugeData: return config_.caliper ? caliper_.data() : gauge_.data();
     case hal::Pin::kLimitXMin: return config_.limit_switches && x_steps_ < 0;
     case hal::Pin::kLimitYMin: return config_.limit_switches && y_steps_ < 0;
+    case hal::Pin::kTouchProbe:
+      return x_steps_ >= config_.touch_x_steps || y_steps_ >= config_.touch_y_steps;
     case hal::Pin::kEstop:
       return config_.estop_for_ns > 0 && now_ns_ >= config_.estop_at_ns && now_ns_ < config_.estop_at_ns + config_.estop_for_ns;
     default: return pins_[index(pin)];

@@ -2,6 +2,7 @@
 // over a virtual part, and a byte link to the host. Implements the firmware HAL.
 #pragma once
 #include <cstddef>
+#include <climits>
 #include <cstdint>
 #include <vector>
 
@@ -37,6 +38,10 @@ struct SimConfig {
   int32_t hard_stop_steps = -800;
   bool limit_switches = true;  // false: the switches are not wired (homing must fail)
   bool caliper = false;        // the gauge port carries a 24-bit caliper instead of a Digimatic gauge
+  // A touch-trigger probe's stylus meets a face at table x >= touch_x_steps (or y >= touch_y_steps);
+  // INT32_MAX: no face.
+  int32_t touch_x_steps = INT32_MAX;
+  int32_t touch_y_steps = INT32_MAX;
   // Lead-screw play, motor steps per axis: after a reversal the table stays put this long.
   int32_t backlash_steps = 0;
   // The e-stop input is asserted from this virtual time for this long (0: never).

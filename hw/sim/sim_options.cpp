@@ -87,6 +87,10 @@ std::string apply_sim_option(const std::string& pair, SimOptions* options) {
     if (!parse_double(value, &d) || d < 0 || d > 1000) return key + " must be 0..1000, got '" + value + "'";
     const int32_t steps = static_cast<int32_t>(std::llround(d * 1e3 / c.nm_per_step));
     (key == "backlash_um" ? c.backlash_steps : options->compensate_steps) = steps;
+  } else if (key == "touch_x_mm" || key == "touch_y_mm") {
+    if (!parse_double(value, &d) || d < 0 || d > 250) return key + " must be 0..250, got '" + value + "'";
+    const int32_t steps = static_cast<int32_t>(std::llround(d * 1e6 / c.nm_per_step));
+    (key == "touch_x_mm" ? c.touch_x_steps : c.touch_y_steps) = steps;
   } else if (key == "gauge") {
     if (value != "digimatic" && value != "caliper") return "gauge is digimatic or caliper, got '" + value + "'";
     c.caliper = value == "caliper";

@@ -68,3 +68,24 @@ TEST(SimCommands, StatusJogAndRefusalsCarryTheDevicesWords) {
   LONGS_EQUAL(digitizer_DeviceState_STATE_IDLE, after.body.status.state);
   LONGS_EQUAL(6000000, after.body.status.x_nm);
 }
+
+TEST(SimCommands, TheTouchProbeFindsAFaceToTheStep) {
+  auto transport = dg::host::open_transport("sim:part=flat,touch_x_mm=12.3456");
+  dg::host::Session session(*transport);
+  session.hello(5000, digitizer_Capability_CAP_TOUCH_PROBE);
+  digitizer_Envelope touch = command(digitizer_CommandKind_CMD_TOUCH, 30000000);
+  touch.body.command.feed_um_s = 4000;
+  const uint32_t id = dg::host::request(session, touch, 5000).id;
+  digitizer_Envelope reply = digitizer_Envelope_init_zero;
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (std::chrono::steady_clock::now() < give_up) {
+    if (session.receive(&reply, 500) && reply.id == id && reply.which_body == digitizer_Envelope_touch_result_tag) break;
+  }
+  LONGS_EQUAL(digitizer_Envelope_touch_result_tag, reply.which_body);
+  CHECK(reply.body.touch_result.touched);
+  // The simulator puts the face on the nearest step (4938 x 2.5 um = 12.345 mm); the latch is
+  // that step exactly.
+  LONGS_EQUAL(12345000, reply.body.touch_result.x_nm);
+  CHECK(reply.body.touch_result.stop_x_nm >= reply.body.touch_result.x_nm);
+  CHECK(reply.body.touch_result.stop_x_nm <= reply.body.touch_result.x_nm + 1000000);
+}

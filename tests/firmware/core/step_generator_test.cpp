@@ -102,3 +102,34 @@ TEST(StepGenerator, NeverAcceleratesFasterThanConfigured) {
     CHECK(static_cast<double>(end - times[times.size() - 1 - j]) >= braking_ns * (1 - 1e-6) - 1);
   }
 }
+
+TEST(StepGenerator, ATouchProbeLatchesWhereItTriggersAndBrakesWithinTheOvertravel) {
+  // A face at x = 20 mm (8000 steps); probing from 10 mm towards 30 mm at three feeds.
+  for (uint32_t rate : {400u, 2000u, 4000u}) {
+    dg::sim::SimConfig c;
+    c.start_x_steps = 4000;
+    c.touch_x_steps = 8000;
+    dg::sim::SimBoard board(c, nullptr);
+    dg::StepGenerator motion(board, dg::MotionConfig{});
+    motion.set_position(4000, 0);
+    CHECK(motion.probe_to(12000, 0, rate, 200) == dg::Status::kOk);
+    while (motion.busy() && board.wait(UINT64_MAX)) {
+    }
+    CHECK(motion.touched());
+    // Latched at the first step where the stylus is deflected, whatever the feed.
+    LONGS_EQUAL(8000, motion.touch_x_steps());
+    CHECK(motion.x_steps() >= 8000);
+    CHECK(motion.x_steps() <= 8000 + 200);
+    LONGS_EQUAL(motion.x_steps(), board.table_x_steps());
+  }
+  // Too fast to brake within 10 steps: refused before moving.
+  dg::sim::SimBoard board(dg::sim::SimConfig{}, nullptr);
+  dg::StepGenerator motion(board, dg::MotionConfig{});
+  CHECK(motion.probe_to(4000, 0, 8000, 10) == dg::Status::kInvalidArgument);
+  // No face in the way: the move ends where it was sent, untouched.
+  CHECK(motion.probe_to(400, 0, 400, 10) == dg::Status::kOk);
+  while (motion.busy() && board.wait(UINT64_MAX)) {
+  }
+  CHECK(!motion.touched());
+  LONGS_EQUAL(400, motion.x_steps());
+}
