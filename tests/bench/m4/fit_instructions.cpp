@@ -4,7 +4,7 @@
 #include <cstdint>
 
 #include "firmware/core/device_fit.h"
-#include "tests/bench/m4/semihosting.h"
+#include "hw/boards/qemu-mps2/semihosting.h"
 
 namespace {
 

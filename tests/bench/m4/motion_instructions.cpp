@@ -7,7 +7,7 @@
 #include "firmware/core/digimatic.h"
 #include "firmware/core/digimatic_reader.h"
 #include "firmware/core/step_generator.h"
-#include "tests/bench/m4/semihosting.h"
+#include "hw/boards/qemu-mps2/semihosting.h"
 
 namespace {
 

@@ -1,8 +1,8 @@
-// Minimal start-up for the benchmark image on QEMU's mps2-an386: vectors, data/bss, constructors,
+// Minimal start-up for images on QEMU's mps2-an386: vectors, data/bss, constructors,
 // the FPU on, then main; the result leaves through Arm semihosting.
 #include <cstdint>
 
-#include "tests/bench/m4/semihosting.h"
+#include "hw/boards/qemu-mps2/semihosting.h"
 
 extern "C" {
 extern uint32_t __data_load, __data_start, __data_end, __bss_start, __bss_end, __stack_top;
