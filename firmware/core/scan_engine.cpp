@@ -134,7 +134,15 @@ void ScanEngine::begin_point() {
                        static_cast<int64_t>(column) * request_.step_x_nm;
   const int64_t y_nm = static_cast<int64_t>(request_.y.min_nm) +
                        static_cast<int64_t>(iy_) * request_.step_y_nm;
-  const Status moved = motion_.move_to(to_steps(x_nm), to_steps(y_nm), rate_steps_s_);
+  target_x_ = to_steps(x_nm);
+  target_y_ = to_steps(y_nm);
+  // Single-direction approach: an axis about to arrive moving towards min overshoots first.
+  const int32_t over = to_steps(request_.approach_nm);
+  int32_t via_x = target_x_, via_y = target_y_;
+  if (over > 0 && target_x_ < motion_.x_steps()) via_x = target_x_ - over > 0 ? target_x_ - over : 0;
+  if (over > 0 && target_y_ < motion_.y_steps()) via_y = target_y_ - over > 0 ? target_y_ - over : 0;
+  const bool detour = via_x != target_x_ || via_y != target_y_;
+  const Status moved = motion_.move_to(via_x, via_y, rate_steps_s_);
   if (moved != Status::kOk) {
     finish(digitizer_ScanEnd_SCAN_FAULTED, digitizer_FaultCode_FAULT_SOFT_LIMIT);
     return;
@@ -145,7 +153,7 @@ void ScanEngine::begin_point() {
   settle_reads_ = 0;
   spread_retried_ = false;
   point_flags_ = 0;
-  phase_ = Phase::kMoving;
+  phase_ = detour ? Phase::kApproaching : Phase::kMoving;
 }
 
 void ScanEngine::finish(digitizer_ScanEnd why, digitizer_FaultCode fault) {
@@ -174,6 +182,18 @@ void ScanEngine::poll(PointSink& sink) {
       case Phase::kIdle:
       case Phase::kFinished:
         return;
+      case Phase::kApproaching:
+        if (abort_requested_) {
+          finish(digitizer_ScanEnd_SCAN_ABORTED, digitizer_FaultCode_FAULT_NONE);
+          return;
+        }
+        if (motion_.busy()) return;
+        if (motion_.move_to(target_x_, target_y_, rate_steps_s_) != Status::kOk) {
+          finish(digitizer_ScanEnd_SCAN_FAULTED, digitizer_FaultCode_FAULT_SOFT_LIMIT);
+          return;
+        }
+        phase_ = Phase::kMoving;
+        break;
       case Phase::kMoving:
         if (abort_requested_) {
           finish(digitizer_ScanEnd_SCAN_ABORTED, digitizer_FaultCode_FAULT_NONE);

@@ -29,7 +29,7 @@ struct ScanLimits {
 
 class ScanEngine {
  public:
-  enum class Phase : uint8_t { kIdle, kMoving, kSettling, kReading, kEmitting, kPaused, kFinished };
+  enum class Phase : uint8_t { kIdle, kApproaching, kMoving, kSettling, kReading, kEmitting, kPaused, kFinished };
 
   ScanEngine(hal::Board& board, StepGenerator& motion, Probe& gauge, ScanLimits limits);
 
@@ -92,6 +92,7 @@ class ScanEngine {
   uint32_t samples_taken_ = 0, retries_left_ = 0;
   int64_t samples_nm_[16] = {};   // the current point's samples (max_samples_per_point at most)
   uint32_t settle_reads_ = 0;     // readings taken while settling (0: not settling)
+  int32_t target_x_ = 0, target_y_ = 0;  // the point's position, steps (kApproaching goes past it first)
   int64_t previous_nm_ = 0;       // the last settling reading
   bool spread_retried_ = false;
   int64_t z_sum_nm_ = 0;

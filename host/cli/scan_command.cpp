@@ -68,6 +68,7 @@ digitizer_ScanRequest request_from(const ScanArgs& a) {
   request.settle_tolerance_nm = static_cast<uint32_t>(a.settle_um * 1000.0 + 0.5);
   request.spread_tolerance_nm = static_cast<uint32_t>(a.spread_um * 1000.0 + 0.5);
   request.median = a.median;
+  request.approach_nm = static_cast<uint32_t>(a.approach_mm * 1e6 + 0.5);
   return request;
 }
 
@@ -116,6 +117,8 @@ CLI::App* add_scan_command(CLI::App& app, ScanArgs& scan) {
   cmd->add_option("--settle-um", scan.settle_um, "then read until two readings agree within this, um (0: no)")->check(CLI::Range(0.0, 10000.0));
   cmd->add_option("--spread-um", scan.spread_um, "a point's samples must agree within this, um; else retaken once and flagged")->check(CLI::Range(0.0, 10000.0));
   cmd->add_flag("--median", scan.median, "the median of a point's samples instead of their mean");
+  cmd->add_option("--approach", scan.approach_mm, "reach every point moving towards +x/+y: overshoot by this, mm (backlash)")
+      ->check(CLI::Range(0.0, 10.0));
   cmd->add_option("-o,--output", scan.output, "scan file to write (with --resume: to continue)")->required();
   cmd->add_flag("--resume", scan.resume, "continue the scan in -o after Ctrl-C, a crash or a pulled cable; the grid comes from the file");
   cmd->add_option("--reconnect-s", scan.reconnect_s, "after a pulled cable, try this long to reach the device again (0: give up at once)")

@@ -19,6 +19,7 @@ struct ScanArgs {
   double settle_um = 0;    // read until two successive readings agree within this
   double spread_um = 0;    // samples of a point must agree within this
   bool median = false;     // the median of the samples instead of their mean
+  double approach_mm = 0;  // single-direction approach: overshoot this far, come back towards +
   std::string output;
   bool resume = false;     // continue the scan in `output` instead of starting one
   int reconnect_s = 30;    // how long to try to reach a device again after a pulled cable

@@ -4,6 +4,8 @@
 
 #include <CppUTest/TestHarness.h>
 
+#include <algorithm>
+#include <cstdlib>
 #include <vector>
 
 #include "firmware/core/digimatic_reader.h"
@@ -117,4 +119,35 @@ TEST(ScanEngine, SettlingReadsUntilTwoAgree) {
   int flagged = 0;
   for (const dg::PointSample& p : restless) flagged += (p.flags & digitizer_PointFlag_POINT_SPREAD_HIGH) ? 1 : 0;
   CHECK(flagged > 10);
+}
+
+TEST(ScanEngine, ApproachingEveryPointFromOneSideCancelsBacklash) {
+  // 0.1 mm of play and no compensation: on the serpentine's backward lines the table lags the
+  // count by the play, unless each point is overshot and approached moving +x.
+  for (uint32_t approach_nm : {0u, 500000u}) {
+    dg::sim::SimConfig c = flat(0, 0);
+    c.backlash_steps = 40;
+    Rig rig(c);
+    struct Where final : dg::PointSink {
+      explicit Where(dg::sim::SimBoard& b) : board(b) {}
+      bool accept(const dg::PointSample& p) override {
+        worst = std::max<int64_t>(worst, std::llabs(board.table_x_steps() - p.x_nm / 2500));
+        ++points;
+        return true;
+      }
+      dg::sim::SimBoard& board;
+      int64_t worst = 0;
+      int points = 0;
+    } where(rig.board);
+    digitizer_ScanRequest r = dg::test::grid_request(1, 1000000, 5000000, 2000000, 1000000, digitizer_ScanPattern_PATTERN_SERPENTINE);
+    r.approach_nm = approach_nm;
+    const char* reason = "";
+    CHECK(rig.scan.start(r, 1, 10000, &reason) == digitizer_FaultCode_FAULT_NONE);
+    while (!rig.scan.finished()) {
+      rig.scan.poll(where);
+      if (!rig.scan.finished() && !rig.board.wait(rig.scan.deadline_us())) break;
+    }
+    LONGS_EQUAL(15, where.points);
+    LONGS_EQUAL(approach_nm > 0 ? 0 : 40, where.worst);
+  }
 }
