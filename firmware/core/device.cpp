@@ -259,6 +259,32 @@ void Device::resume_scan(uint32_t id, const digitizer_ResumeScan& request) {
   queue(accepted);
 }
 
+bool Device::refuse_motion(uint32_t id) {
+  if (alarm_) {
+    fault(id, digitizer_FaultCode_FAULT_ALARM_LOCKED, "in alarm: unlock first");
+  } else if (scan_.active() || motion_.busy() || homing_.active() || repeat_.active() || touching_) {
+    fault(id, digitizer_FaultCode_FAULT_BUSY, "busy");
+  } else if (config_.require_homing && !homed_) {
+    fault(id, digitizer_FaultCode_FAULT_NOT_HOMED, "home the axes first");
+  } else {
+    return false;
+  }
+  return true;
+}
+
+bool Device::relative_target(const digitizer_Command& command, uint32_t default_feed_um_s, int32_t* x, int32_t* y,
+                             uint32_t* rate) const {
+  const int64_t per = config_.motion.nm_per_step;
+  const int64_t tx = motion_.x_steps() + command.dx_nm / per;
+  const int64_t ty = motion_.y_steps() + command.dy_nm / per;
+  const uint32_t feed = command.feed_um_s != 0 ? command.feed_um_s : default_feed_um_s;
+  *rate = static_cast<uint32_t>(static_cast<uint64_t>(feed) * 1000 / per);
+  if (tx < INT32_MIN || tx > INT32_MAX || ty < INT32_MIN || ty > INT32_MAX) return false;
+  *x = static_cast<int32_t>(tx);
+  *y = static_cast<int32_t>(ty);
+  return true;
+}
+
 void Device::handle_command(uint32_t id, const digitizer_Command& command) {
   switch (command.kind) {
     case digitizer_CommandKind_CMD_STATUS:
@@ -280,16 +306,10 @@ void Device::handle_command(uint32_t id, const digitizer_Command& command) {
       alarm_code_ = digitizer_FaultCode_FAULT_NONE;
       return queue({Reply::kAccepted, id, digitizer_FaultCode_FAULT_NONE, nullptr});
     case digitizer_CommandKind_CMD_JOG: {
-      if (alarm_) return fault(id, digitizer_FaultCode_FAULT_ALARM_LOCKED, "in alarm: unlock first");
-      if (scan_.active() || motion_.busy() || homing_.active() || repeat_.active()) return fault(id, digitizer_FaultCode_FAULT_BUSY, "busy");
-      if (config_.require_homing && !homed_) return fault(id, digitizer_FaultCode_FAULT_NOT_HOMED, "home the axes first");
-      const int64_t per = config_.motion.nm_per_step;
-      const int64_t tx = motion_.x_steps() + command.dx_nm / per;
-      const int64_t ty = motion_.y_steps() + command.dy_nm / per;
-      const uint32_t feed = command.feed_um_s != 0 ? command.feed_um_s : config_.default_feed_um_s;
-      const uint32_t rate = static_cast<uint32_t>(static_cast<uint64_t>(feed) * 1000 / per);
-      if (tx < INT32_MIN || tx > INT32_MAX || ty < INT32_MIN || ty > INT32_MAX ||
-          motion_.move_to(static_cast<int32_t>(tx), static_cast<int32_t>(ty), rate) != Status::kOk) {
+      if (refuse_motion(id)) return;
+      int32_t x = 0, y = 0;
+      uint32_t rate = 0;
+      if (!relative_target(command, config_.default_feed_um_s, &x, &y, &rate) || motion_.move_to(x, y, rate) != Status::kOk) {
         return fault(id, digitizer_FaultCode_FAULT_SOFT_LIMIT, "jog target outside the table");
       }
       jogging_ = motion_.busy();
@@ -297,17 +317,11 @@ void Device::handle_command(uint32_t id, const digitizer_Command& command) {
     }
     case digitizer_CommandKind_CMD_TOUCH: {
       if ((config_.capabilities & digitizer_Capability_CAP_TOUCH_PROBE) == 0) return fault(id, digitizer_FaultCode_FAULT_UNSUPPORTED, "no touch probe fitted");
-      if (alarm_) return fault(id, digitizer_FaultCode_FAULT_ALARM_LOCKED, "in alarm: unlock first");
-      if (scan_.active() || motion_.busy() || homing_.active() || repeat_.active()) return fault(id, digitizer_FaultCode_FAULT_BUSY, "busy");
-      if (config_.require_homing && !homed_) return fault(id, digitizer_FaultCode_FAULT_NOT_HOMED, "home the axes first");
-      const int64_t per = config_.motion.nm_per_step;
-      const int64_t tx = motion_.x_steps() + command.dx_nm / per;
-      const int64_t ty = motion_.y_steps() + command.dy_nm / per;
-      const uint32_t feed = command.feed_um_s != 0 ? command.feed_um_s : 1000;  // 1 mm/s
-      const uint32_t rate = static_cast<uint32_t>(static_cast<uint64_t>(feed) * 1000 / per);
-      if (tx < INT32_MIN || tx > INT32_MAX || ty < INT32_MIN || ty > INT32_MAX) return fault(id, digitizer_FaultCode_FAULT_SOFT_LIMIT, "target outside the table");
-      const Status s = motion_.probe_to(static_cast<int32_t>(tx), static_cast<int32_t>(ty), rate, config_.touch_overtravel_steps);
-      if (s != Status::kOk) {
+      if (refuse_motion(id)) return;
+      int32_t x = 0, y = 0;
+      uint32_t rate = 0;
+      if (!relative_target(command, 1000, &x, &y, &rate) ||  // 1 mm/s unless told
+          motion_.probe_to(x, y, rate, config_.touch_overtravel_steps) != Status::kOk) {
         return fault(id, digitizer_FaultCode_FAULT_BAD_REQUEST, "outside the table, or too fast to stop within the probe's overtravel");
       }
       touching_ = true;
@@ -315,9 +329,7 @@ void Device::handle_command(uint32_t id, const digitizer_Command& command) {
       return queue({Reply::kAccepted, id, digitizer_FaultCode_FAULT_NONE, nullptr});
     }
     case digitizer_CommandKind_CMD_REPEATABILITY:
-      if (alarm_) return fault(id, digitizer_FaultCode_FAULT_ALARM_LOCKED, "in alarm: unlock first");
-      if (scan_.active() || motion_.busy() || homing_.active() || repeat_.active()) return fault(id, digitizer_FaultCode_FAULT_BUSY, "busy");
-      if (config_.require_homing && !homed_) return fault(id, digitizer_FaultCode_FAULT_NOT_HOMED, "home the axes first");
+      if (refuse_motion(id)) return;
       if (!repeat_.start(command.count, id)) return fault(id, digitizer_FaultCode_FAULT_BAD_REQUEST, "repeatability takes 2 to 64 readings");
       return queue({Reply::kAccepted, id, digitizer_FaultCode_FAULT_NONE, nullptr});
     case digitizer_CommandKind_CMD_PULL_FIT: {

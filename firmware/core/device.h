@@ -97,6 +97,12 @@ class Device : private PointSink {
   // Safety: the e-stop input, tripped limit switches and homing's end.
   void watch_motion();
   void raise_alarm(digitizer_FaultCode code, const char* detail);
+  // Queues the fault and returns true when the table may not move now (alarm, busy, not homed).
+  bool refuse_motion(uint32_t id);
+  // A command's relative target (dx_nm, dy_nm) in steps and its feed in steps/s; false when the
+  // target does not fit the step counter.
+  bool relative_target(const digitizer_Command& command, uint32_t default_feed_um_s, int32_t* x, int32_t* y,
+                       uint32_t* rate) const;
   // Applies the host-silence policy to a running scan.
   void watch_host();
   // When watch_host() must next look (UINT64_MAX: not now).

@@ -5,6 +5,7 @@
 
 #include "firmware/core/device_fit.h"
 #include "hw/boards/qemu-mps2/semihosting.h"
+#include "tests/bench/m4/ticks.h"
 
 namespace {
 
@@ -18,32 +19,12 @@ dg::DeviceFit::Bezier::Workspace bezier_work;
 dg::DeviceFit::Net::Workspace net_work;
 digitizer_FitResult result;
 
-volatile uint32_t* const kSysTick = reinterpret_cast<volatile uint32_t*>(0xE000E010);
-
-void start_ticks() {
-  kSysTick[0] = 0;
-  kSysTick[1] = 0xFFFFFF;
-  kSysTick[2] = 0;
-  kSysTick[0] = 5;  // enable, processor clock, no interrupt
-}
-
-uint32_t ticks_since_start() { return 0xFFFFFF - (kSysTick[2] & 0xFFFFFF); }
-
-// 2 instructions per round (subs, bne) plus a few around.
-__attribute__((noinline)) void known_loop(uint32_t rounds) {
-  asm volatile(
-      "1: subs %0, %0, #1\n"
-      "   bne 1b\n"
-      : "+r"(rounds)
-      :
-      : "cc");
-}
 
 template <typename F>
 uint32_t measure(F&& work) {
-  start_ticks();
+  dg::bench::start_ticks();
   work();
-  return ticks_since_start();
+  return dg::bench::ticks_since_start();
 }
 
 void report(const char* what, uint64_t instructions, uint32_t per) {
@@ -65,10 +46,7 @@ int main() {
       p.z_nm = static_cast<int32_t>(8000000 - (dx * dx + dy * dy) / 2000000000);
     }
   }
-  constexpr uint32_t kRounds = 1000000;
-  const uint32_t calibration_ticks = measure([] { known_loop(kRounds); });
-  // Instructions per tick in 1/1000 units.
-  const uint64_t milli_per_tick = (2ull * kRounds * 1000 + calibration_ticks / 2) / calibration_ticks;
+  const uint64_t milli_per_tick = dg::bench::milli_instructions_per_tick();
   auto instructions = [&](uint32_t ticks) { return ticks * milli_per_tick / 1000; };
 
   digitizer_ScanRequest request = digitizer_ScanRequest_init_zero;

@@ -8,6 +8,7 @@
 #include "firmware/core/digimatic_reader.h"
 #include "firmware/core/step_generator.h"
 #include "hw/boards/qemu-mps2/semihosting.h"
+#include "tests/bench/m4/ticks.h"
 
 namespace {
 
@@ -38,25 +39,6 @@ class MemoryBoard final : public dg::hal::Board {
   uint64_t now = 0;
 };
 
-volatile uint32_t* const kSysTick = reinterpret_cast<volatile uint32_t*>(0xE000E010);
-
-void start_ticks() {
-  kSysTick[0] = 0;
-  kSysTick[1] = 0xFFFFFF;
-  kSysTick[2] = 0;
-  kSysTick[0] = 5;
-}
-
-uint32_t ticks_since_start() { return 0xFFFFFF - (kSysTick[2] & 0xFFFFFF); }
-
-__attribute__((noinline)) void known_loop(uint32_t rounds) {
-  asm volatile(
-      "1: subs %0, %0, #1\n"
-      "   bne 1b\n"
-      : "+r"(rounds)
-      :
-      : "cc");
-}
 
 void report(const char* what, uint64_t value) {
   dg::bench::write_text(what);
@@ -74,24 +56,20 @@ void operator delete(void*, unsigned int) noexcept {}
 int main() {
   // Locals, not statics: the bare-metal image registers no destructors.
   MemoryBoard board;
-  constexpr uint32_t kRounds = 1000000;
-  start_ticks();
-  known_loop(kRounds);
-  const uint32_t calibration = ticks_since_start();
-  const uint64_t milli_per_tick = (2ull * kRounds * 1000 + calibration / 2) / calibration;
+  const uint64_t milli_per_tick = dg::bench::milli_instructions_per_tick();
 
   // 6000 steps along x with 2000 along y: ramps up, cruises, ramps down.
   dg::MotionConfig config;
   dg::StepGenerator motion(board, config);
   motion.move_to(6000, 2000, 0);
   uint32_t ticks = 0, steps = 0;
-  start_ticks();
+  dg::bench::start_ticks();
   while (board.timer != nullptr && steps < 100000) {
     const uint32_t next = board.timer(board.timer_context);
     ++steps;
     if (next == 0) break;
   }
-  ticks = ticks_since_start();
+  ticks = dg::bench::ticks_since_start();
   const uint64_t per_step = (ticks * milli_per_tick / 1000 + steps / 2) / steps;
 
   // A Digimatic frame of 12.345 mm: 52 clock interrupts sampling DATA, then poll() decodes.
@@ -104,7 +82,7 @@ int main() {
   reader.attach();
   constexpr int kFrames = 200;
   int good = 0;
-  start_ticks();
+  dg::bench::start_ticks();
   for (int f = 0; f < kFrames; ++f) {
     reader.start();
     for (int bit = 0; bit < dg::kDigimaticBits; ++bit) {
@@ -113,7 +91,7 @@ int main() {
     }
     if (reader.poll() == dg::Probe::State::kDone && reader.value_nm() == 12345000) ++good;
   }
-  const uint64_t per_frame = (ticks_since_start() * milli_per_tick / 1000 + kFrames / 2) / kFrames;
+  const uint64_t per_frame = (dg::bench::ticks_since_start() * milli_per_tick / 1000 + kFrames / 2) / kFrames;
 
   dg::bench::write_text("Cortex-M4 (QEMU mps2-an386, -icount), the firmware core's interrupts:\n");
   report("  instructions per step interrupt (StepGenerator tick: a ramped move of 6000 x and 2000 y steps): ", per_step);
