@@ -13,6 +13,8 @@
 #include "host/surface/hermite_fit.h"
 
 #include <Eigen/Dense>
+#include <Eigen/Sparse>
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -120,6 +122,33 @@ EndDependence end_dependence(const std::vector<Point3>& f, const std::vector<dou
 Point3 unit(Point3 n) { return (1.0 / norm(n)) * n; }
 
 }  // namespace
+
+std::vector<Point3> periodic_derivatives(const std::vector<Point3>& f, const std::vector<double>& t) {
+  // m distinct points around the loop; the C2 equation at every one of them, indices modulo m.
+  const int m = static_cast<int>(f.size()) - 1;
+  const std::vector<double> h = steps(t);  // h[k]: from point k to k + 1, the last closing the loop
+  std::vector<Eigen::Triplet<double>> entries;
+  Eigen::MatrixXd rhs(m, 3);
+  for (int k = 0; k < m; ++k) {
+    const int prev = (k + m - 1) % m, next = (k + 1) % m;
+    const double hp = h[static_cast<size_t>(prev)], hk = h[static_cast<size_t>(k)];
+    entries.emplace_back(k, prev, hk);
+    entries.emplace_back(k, k, 2 * (hp + hk));
+    entries.emplace_back(k, next, hp);
+    const Point3 r = 3.0 * ((hk / hp) * (f[static_cast<size_t>(k)] - f[static_cast<size_t>(prev)]) +
+                            (hp / hk) * (f[static_cast<size_t>(k + 1)] - f[static_cast<size_t>(k)]));
+    rhs.row(k) << r.x, r.y, r.z;
+  }
+  Eigen::SparseMatrix<double> a(m, m);
+  a.setFromTriplets(entries.begin(), entries.end());
+  Eigen::SparseLU<Eigen::SparseMatrix<double>> lu(a);
+  if (lu.info() != Eigen::Success) throw FitError("the closed spline's equations are singular");
+  const Eigen::MatrixXd x = lu.solve(rhs);
+  std::vector<Point3> d;
+  for (int k = 0; k < m; ++k) d.push_back({x(k, 0), x(k, 1), x(k, 2)});
+  d.push_back(d.front());
+  return d;
+}
 
 std::vector<Point3> spline_derivatives(const std::vector<Point3>& f, const std::vector<double>& t, Point3 first,
                                        Point3 last) {
@@ -240,10 +269,18 @@ HermiteResult fit_hermite(const HermiteGrid& g) {
       p.push_back(g.points[first + static_cast<size_t>(k) * stride]);
       n.push_back(g.normals[first + static_cast<size_t>(k) * stride]);
     }
-    const std::vector<Point3> d = constrained_tangents(p, n, t);
+    // A closed line has no ends to choose: its tangents are the periodic spline's.
+    const bool closed = stride == 1 ? r.closed_u : r.closed_v;
+    const std::vector<Point3> d = closed ? periodic_derivatives(p, t) : constrained_tangents(p, n, t);
     for (int k = 0; k < length; ++k) out[first + static_cast<size_t>(k) * stride] = d[static_cast<size_t>(k)];
   };
   const size_t cols = static_cast<size_t>(g.cols);
+  // Closed: every line in that direction ends on its first point (seed 002's cylinder and cone).
+  double extent = 0;
+  for (const Point3& p : g.points) extent = std::max(extent, norm(p - g.points.front()));
+  r.closed_u = r.closed_v = true;
+  for (int row = 0; row < g.rows; ++row) r.closed_u = r.closed_u && norm(at(g.points, row, 0) - at(g.points, row, g.cols - 1)) <= 1e-9 * extent;
+  for (int c = 0; c < g.cols; ++c) r.closed_v = r.closed_v && norm(at(g.points, 0, c) - at(g.points, g.rows - 1, c)) <= 1e-9 * extent;
   for (int row = 0; row < g.rows; ++row) line_tangents(static_cast<size_t>(row) * cols, 1, g.cols, r.u, tu);
   for (int c = 0; c < g.cols; ++c) line_tangents(static_cast<size_t>(c), cols, g.rows, r.v, tv);
   for (size_t k = 0; k < count; ++k) {
@@ -269,13 +306,29 @@ HermiteResult fit_hermite(const HermiteGrid& g) {
     return 0.5 * (a + b);
   };
   std::vector<Point3> twist(count);
-  for (int c : {0, g.cols - 1}) {
-    const std::vector<Point3> w = spline_derivatives(column_of(tu, c), r.v, corner_twist(0, c), corner_twist(g.rows - 1, c));
-    for (int row = 0; row < g.rows; ++row) twist[static_cast<size_t>(row) * g.cols + c] = w[static_cast<size_t>(row)];
-  }
-  for (int row = 0; row < g.rows; ++row) {
-    const std::vector<Point3> w = spline_derivatives(row_of(tv, row), r.u, at(twist, row, 0), at(twist, row, g.cols - 1));
-    for (int c = 0; c < g.cols; ++c) twist[static_cast<size_t>(row) * g.cols + c] = w[static_cast<size_t>(c)];
+  if (r.closed_v || r.closed_u) {
+    // Around a closed direction the twists are the periodic derivatives of the other direction's
+    // tangents: no corners, nothing to estimate.
+    if (r.closed_v) {
+      for (int c = 0; c < g.cols; ++c) {
+        const std::vector<Point3> w = periodic_derivatives(column_of(tu, c), r.v);
+        for (int row = 0; row < g.rows; ++row) twist[static_cast<size_t>(row) * g.cols + c] = w[static_cast<size_t>(row)];
+      }
+    } else {
+      for (int row = 0; row < g.rows; ++row) {
+        const std::vector<Point3> w = periodic_derivatives(row_of(tv, row), r.u);
+        for (int c = 0; c < g.cols; ++c) twist[static_cast<size_t>(row) * g.cols + c] = w[static_cast<size_t>(c)];
+      }
+    }
+  } else {
+    for (int c : {0, g.cols - 1}) {
+      const std::vector<Point3> w = spline_derivatives(column_of(tu, c), r.v, corner_twist(0, c), corner_twist(g.rows - 1, c));
+      for (int row = 0; row < g.rows; ++row) twist[static_cast<size_t>(row) * g.cols + c] = w[static_cast<size_t>(row)];
+    }
+    for (int row = 0; row < g.rows; ++row) {
+      const std::vector<Point3> w = spline_derivatives(row_of(tv, row), r.u, at(twist, row, 0), at(twist, row, g.cols - 1));
+      for (int c = 0; c < g.cols; ++c) twist[static_cast<size_t>(row) * g.cols + c] = w[static_cast<size_t>(c)];
+    }
   }
   // Step 5: each cell's Hermite patch as its Bezier net (b1 = p0 + h t0 / 3, b11 adds h_u h_v w / 9).
   BSplineSurface& s = r.surface;

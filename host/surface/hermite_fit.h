@@ -19,7 +19,8 @@ struct HermiteResult {
   BSplineSurface surface;            // knots of multiplicity 3: one bicubic patch per cell
   std::vector<double> u, v;          // parameters of the grid's columns and rows (chord length, mm)
   double normal_residual_max = 0;    // largest |n . t| / |t| over all tangents: 0 = every constraint met
-  bool closed_u = false;             // rows that end where they start, joined C2 (seed 002's cylinder)
+  bool closed_u = false;             // rows that end where they start, joined C2 there
+  bool closed_v = false;             // columns likewise (seed 002's cylinder and cone)
 };
 
 // The grid of a point cloud with normals: its scan lines (the `line` column, or lines found by
@@ -37,6 +38,9 @@ HermiteResult fit_hermite(const HermiteGrid& grid);
 // the cubic through the first and last four points, projected onto each end's tangent plane.
 std::vector<Point3> constrained_tangents(const std::vector<Point3>& p, const std::vector<Point3>& n,
                                          const std::vector<double>& t);
+// The derivatives of the closed C2 spline through `f` (f.front() and f.back() the same point) at
+// parameters `t`: no ends, the last derivative equals the first.
+std::vector<Point3> periodic_derivatives(const std::vector<Point3>& f, const std::vector<double>& t);
 // The C2 spline's derivatives through values `f` at parameters `t` with both end derivatives given.
 std::vector<Point3> spline_derivatives(const std::vector<Point3>& f, const std::vector<double>& t, Point3 first,
                                        Point3 last);

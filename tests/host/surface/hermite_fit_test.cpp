@@ -191,3 +191,30 @@ TEST(HermiteFit, TakesTheGridFromAScanWithNormalsTurningSerpentineLines) {
   cloud.normal.reset();
   CHECK_THROWS(FitError, hermite_grid(cloud, "sphere.csv"));
 }
+
+TEST(HermiteFit, AClosedGridJoinsAtItsSeam) {
+  // The cylinder's rows of theta end where they start: the surface closes with one tangent plane.
+  const HermiteResult r = fit_hermite(revolved_grid(false));
+  CHECK(r.closed_v);
+  CHECK(!r.closed_u);
+  Point3 s0, su0, sv0, s1, su1, sv1;
+  const double u = 0.5 * (r.u[1] + r.u[2]);
+  r.surface.evaluate(u, r.v.front(), s0, su0, sv0);
+  r.surface.evaluate(u, r.v.back(), s1, su1, sv1);
+  DOUBLES_EQUAL(0.0, norm(s0 - s1), 1e-12);
+  DOUBLES_EQUAL(0.0, norm(sv0 - sv1), 1e-9);
+  // Periodic derivatives of a closed polygon of a circle point along the circle.
+  std::vector<Point3> f;
+  std::vector<double> t;
+  for (int k = 0; k <= 12; ++k) {
+    const double a = 2 * M_PI * k / 12;
+    f.push_back({std::cos(a), std::sin(a), 0});
+    t.push_back(a);
+  }
+  const std::vector<Point3> d = periodic_derivatives(f, t);
+  for (int k = 0; k <= 12; ++k) {
+    const double a = 2 * M_PI * k / 12;
+    DOUBLES_EQUAL(-std::sin(a), d[static_cast<size_t>(k)].x, 2e-3);
+    DOUBLES_EQUAL(std::cos(a), d[static_cast<size_t>(k)].y, 2e-3);
+  }
+}
