@@ -12,6 +12,7 @@
 
 #include "host/scan/local_polynomial.h"
 #include "host/scan/lts_filter.h"
+#include "host/scan/neighbours.h"
 #include "host/surface/crease_detect.h"
 #include "host/surface/fit_error.h"
 #include "host/surface/noise_estimate.h"
@@ -20,58 +21,6 @@
 namespace dg::host {
 
 namespace {
-
-// k nearest points in XY through a bucket grid (each point is its own nearest).
-class NeighbourGrid {
- public:
-  NeighbourGrid(const std::vector<Point3>& p, int k) : points_(p) {
-    double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
-    for (const Point3& q : p) {
-      x0 = std::min(x0, q.x);
-      x1 = std::max(x1, q.x);
-      y0 = std::min(y0, q.y);
-      y1 = std::max(y1, q.y);
-    }
-    const double area = std::max((x1 - x0) * (y1 - y0), 1e-12);
-    cell_ = std::sqrt(area * k / static_cast<double>(p.size()));
-    if (!(cell_ > 0)) cell_ = 1;
-    for (size_t i = 0; i < p.size(); ++i) buckets_[key(cx(p[i].x), cx(p[i].y))].push_back(i);
-  }
-  std::vector<size_t> nearest(size_t of, size_t k) const {
-    const Point3 q = points_[of];
-    std::vector<std::pair<double, size_t>> found;
-    const int64_t bx = cx(q.x), by = cx(q.y);
-    for (int ring = 0;; ++ring) {
-      for (int64_t dx = -ring; dx <= ring; ++dx) {
-        for (int64_t dy = -ring; dy <= ring; ++dy) {
-          if (std::llabs(dx) != ring && std::llabs(dy) != ring) continue;
-          const auto b = buckets_.find(key(bx + dx, by + dy));
-          if (b == buckets_.end()) continue;
-          for (size_t i : b->second) found.emplace_back(std::hypot(points_[i].x - q.x, points_[i].y - q.y), i);
-        }
-      }
-      if (found.size() >= k) {
-        std::nth_element(found.begin(), found.begin() + static_cast<long>(k - 1), found.end());
-        // Everything within `ring` cells is in; the k-th must be no farther than that.
-        if (found[k - 1].first <= ring * cell_ || found.size() == points_.size()) break;
-      }
-      if (found.size() == points_.size()) break;
-    }
-    std::sort(found.begin(), found.end());
-    std::vector<size_t> out;
-    for (size_t i = 0; i < k && i < found.size(); ++i) out.push_back(found[i].second);
-    return out;
-  }
-
- private:
-  int64_t cx(double v) const { return static_cast<int64_t>(std::floor(v / cell_)); }
-  static uint64_t key(int64_t x, int64_t y) {
-    return (static_cast<uint64_t>(x) << 32) ^ (static_cast<uint64_t>(y) & 0xffffffffu);
-  }
-  const std::vector<Point3>& points_;
-  double cell_ = 1;
-  std::unordered_map<uint64_t, std::vector<size_t>> buckets_;
-};
 
 SurfaceType classify(double h, double k, double zero) {
   // Principal curvatures k1 >= k2; a sign is zero within the threshold.
@@ -140,13 +89,12 @@ Characterization characterize(const PointCloud& input, const CharacterizeOptions
     for (size_t i = 0; i < cloud.points.size(); ++i) cloud.points[i].z = filtered.z[i];
   }
   const std::vector<Point3>& p = cloud.points;
-  const NeighbourGrid grid(p, static_cast<int>(k));
   Characterization out;
   out.points.resize(p.size());
-  std::vector<std::vector<size_t>> near(p.size());
+  std::vector<std::vector<size_t>> near;
+  nearest_neighbourhoods(p, k, near);
   double radius_sum = 0;
   for (size_t i = 0; i < p.size(); ++i) {
-    near[i] = grid.nearest(i, k);
     radius_sum += std::hypot(p[near[i].back()].x - p[i].x, p[near[i].back()].y - p[i].y);
     LocalPolynomial f;
     if (!fit_local_polynomial(p, near[i], p[i], 2, f)) continue;  // a degenerate neighbourhood: left flat
