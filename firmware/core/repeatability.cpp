@@ -2,8 +2,6 @@
 // as the point was first reached, so backlash takes the same side every time.
 #include "firmware/core/repeatability.h"
 
-#include <math.h>
-
 namespace dg {
 
 bool RepeatabilityRun::start(uint32_t count, uint32_t request_id) {
@@ -13,17 +11,19 @@ bool RepeatabilityRun::start(uint32_t count, uint32_t request_id) {
   request_id_ = request_id;
   failed_ = false;
   sum_ = 0;
-  sum_squares_ = 0;
+  sum_deviation_ = sum_squared_deviation_ = 0;
   home_x_ = motion_.x_steps();
   home_y_ = motion_.y_steps();
   const int32_t one_mm = static_cast<int32_t>(1000000 / motion_.config().nm_per_step);
   away_x_ = home_x_ + one_mm <= motion_.config().x_max_steps ? home_x_ + one_mm : home_x_ - one_mm;
+  return move_away();
+}
+
+bool RepeatabilityRun::move_away() {
   phase_ = Phase::kAway;
-  if (motion_.move_to(away_x_, home_y_, 0) != Status::kOk) {
-    phase_ = Phase::kIdle;
-    return false;
-  }
-  return true;
+  if (motion_.move_to(away_x_, home_y_, 0) == Status::kOk) return true;
+  cancel();
+  return false;
 }
 
 void RepeatabilityRun::cancel() {
@@ -41,9 +41,10 @@ void RepeatabilityRun::finish() {
   result_.mean_nm = static_cast<int32_t>(sum_ >= 0 ? (sum_ + n / 2) / n : -((-sum_ + n / 2) / n));
   result_.min_nm = static_cast<int32_t>(min_);
   result_.max_nm = static_cast<int32_t>(max_);
-  const double mean_shift = static_cast<double>(sum_ - n * first_) / static_cast<double>(n);
-  const double variance = (sum_squares_ - static_cast<double>(n) * mean_shift * mean_shift) / static_cast<double>(n - 1);
-  result_.stddev_nm = static_cast<uint32_t>(sqrt(variance > 0 ? variance : 0) + 0.5);
+  // Sample variance = (n S2 - S1^2) / (n (n - 1)); the root rounded as (isqrt(4 v) + 1) / 2.
+  const int64_t spread = n * sum_squared_deviation_ - sum_deviation_ * sum_deviation_;
+  const uint64_t variance = spread > 0 ? static_cast<uint64_t>(spread) / static_cast<uint64_t>(n * (n - 1)) : 0;
+  result_.stddev_nm = (isqrt64(4 * variance) + 1) / 2;
 }
 
 bool RepeatabilityRun::poll() {
@@ -77,18 +78,13 @@ bool RepeatabilityRun::poll() {
       min_ = v < min_ ? v : min_;
       max_ = v > max_ ? v : max_;
       sum_ += v;
-      const double d = static_cast<double>(v - first_);
-      sum_squares_ += d * d;
+      sum_deviation_ += v - first_;
+      sum_squared_deviation_ += (v - first_) * (v - first_);
       if (++taken_ == count_) {
         finish();
         return true;
       }
-      phase_ = Phase::kAway;
-      if (motion_.move_to(away_x_, home_y_, 0) != Status::kOk) {
-        cancel();
-        return true;
-      }
-      return false;
+      return !move_away();
     }
     case Phase::kIdle:
       return false;

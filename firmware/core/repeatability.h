@@ -27,6 +27,8 @@ class RepeatabilityRun {
  private:
   enum class Phase : uint8_t { kIdle, kAway, kBack, kReading };
   void finish();
+  // Starts the move 1 mm away; false (and the run cancelled) when it is refused.
+  bool move_away();
 
   StepGenerator& motion_;
   Probe& probe_;
@@ -34,8 +36,9 @@ class RepeatabilityRun {
   uint32_t count_ = 0, taken_ = 0, request_id_ = 0;
   int32_t home_x_ = 0, home_y_ = 0, away_x_ = 0;
   int64_t sum_ = 0, min_ = 0, max_ = 0;
-  double sum_squares_ = 0;  // of deviations from the first reading (shifted: no cancellation)
-  int64_t first_ = 0;
+  // Deviations from the first reading and their squares, summed in integers: nanometres of a
+  // gauge's range square and sum well inside 64 bits for 64 readings, and need no FPU.
+  int64_t first_ = 0, sum_deviation_ = 0, sum_squared_deviation_ = 0;
   bool failed_ = false;
   digitizer_Repeatability result_ = digitizer_Repeatability_init_zero;
 };
