@@ -110,10 +110,18 @@ class Capture {
     done.body.line_done.line = tail_line_;
     done.body.line_done.points = tail_line_points_;
     done.body.line_done.last_seq = expected_seq_ - 1;
-    const bool was_accepted = accepted_;
-    accepted_ = true;  // a LineDone of our own, not a replay
-    handle(done);
-    accepted_ = was_accepted;
+    store_line_done(done);
+  }
+
+  // Stores a line's end once (lines only go up: one sent again after a reconnect is skipped).
+  void store_line_done(const digitizer_Envelope& message) {
+    if (have_last_line_ && !seq_before(last_line_, message.body.line_done.line)) return;
+    have_last_line_ = true;
+    last_line_ = message.body.line_done.line;
+    file_.append(message);
+    file_.sync();
+    ++result_.lines;
+    progress_.lines = result_.lines;
   }
 
   uint32_t send_resume() {
@@ -187,16 +195,8 @@ class Capture {
         store_points(message);
         return false;
       case digitizer_Envelope_line_done_tag:
-        // A line end sent again after a reconnect is stored once (lines only go up); one before
-        // the Accepted belongs to a replay, like the points before it.
-        if (!accepted_) return false;
-        if (have_last_line_ && !seq_before(last_line_, message.body.line_done.line)) return false;
-        have_last_line_ = true;
-        last_line_ = message.body.line_done.line;
-        file_.append(message);
-        file_.sync();
-        ++result_.lines;
-        progress_.lines = result_.lines;
+        // One before the Accepted belongs to a replay, like the points before it.
+        if (accepted_) store_line_done(message);
         return false;
       case digitizer_Envelope_scan_done_tag:
         if (message.body.scan_done.scan_id != scan_id_) return false;
