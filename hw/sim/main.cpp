@@ -11,6 +11,7 @@
 #include "firmware/core/device.h"
 #include "hw/sim/fd_link.h"
 #include "hw/sim/listen_link.h"
+#include "hw/sim/sim_device.h"
 #include "hw/sim/sim_options.h"
 
 namespace {
@@ -75,29 +76,15 @@ int main(int argc, char** argv) {
     link = std::make_unique<dg::sim::FdLink>(read_fd, write_fd);
   }
   dg::sim::SimBoard board(options.config, link.get());
-  dg::DeviceConfig device;
-  device.motion.nm_per_step = options.config.nm_per_step;
+  dg::DeviceConfig device = dg::sim::simulated_device(options.config);
   device.device_id = options.device_id.c_str();
   device.board = "sim";
-  device.firmware_version = DIGITIZER_VERSION;
-  device.probe = options.config.caliper ? digitizer_ProbeType_PROBE_CALIPER_24BIT : digitizer_ProbeType_PROBE_DIGIMATIC;
-  device.capabilities = (options.config.caliper ? digitizer_Capability_CAP_CALIPER_24BIT : digitizer_Capability_CAP_DIGIMATIC) | digitizer_Capability_CAP_DEVICE_FIT | digitizer_Capability_CAP_SIMULATED |
-                        digitizer_Capability_CAP_RESUME | digitizer_Capability_CAP_HOMING |
-                        digitizer_Capability_CAP_TOUCH_PROBE;
-  device.gauge_resolution_nm = options.config.caliper ? (options.config.gauge.inch ? 12700 : 10000)
-                                                      : (options.config.gauge.inch ? 2540 : 1000);
-  // Virtual time runs hundreds of times faster than the host's clock during a scan: a 50 ms
-  // retransmission timer would fire long before any host could answer (and resend frames the
-  // host has, costing wire bytes). 5 s of virtual time is about 25 ms of real time during a scan;
-  // lost frames are mostly resent sooner, on repeated acknowledgements.
-  device.retransmit_us = 5000000;
   device.host_silence_us = options.host_silence_s * 1000000u;
   device.on_host_silence = options.on_host_silence;
   device.require_homing = options.require_homing;
-  const int32_t compensate = options.compensate_steps >= 0 ? options.compensate_steps : options.config.backlash_steps;
-  device.motion.backlash_x_steps = device.motion.backlash_y_steps = static_cast<uint32_t>(compensate);
-  // The simulated gauge takes its time like a real one; allow for it.
-  device.gauge.first_clock_timeout_us = options.config.gauge.request_to_clock_us + 100000;
+  if (options.compensate_steps >= 0) {
+    device.motion.backlash_x_steps = device.motion.backlash_y_steps = static_cast<uint32_t>(options.compensate_steps);
+  }
   static dg::Device firmware(board, device);
   firmware.run();
   return 0;

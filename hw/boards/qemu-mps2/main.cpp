@@ -5,6 +5,7 @@
 
 #include "firmware/core/device.h"
 #include "hw/boards/qemu-mps2/uart_link.h"
+#include "hw/sim/sim_device.h"
 
 namespace {
 
@@ -25,18 +26,9 @@ int main() {
   dg::sim::SimConfig sim;
   sim.part.kind = dg::sim::PartKind::kDome;
   auto* board = new (board_storage) dg::sim::SimBoard(sim, link);
-  dg::DeviceConfig config;
-  config.motion.nm_per_step = sim.nm_per_step;
+  dg::DeviceConfig config = dg::sim::simulated_device(sim);
   config.device_id = "QEMU-0001";
   config.board = "qemu-mps2";
-  config.firmware_version = DIGITIZER_VERSION;
-  config.capabilities = digitizer_Capability_CAP_DIGIMATIC | digitizer_Capability_CAP_DEVICE_FIT |
-                        digitizer_Capability_CAP_SIMULATED | digitizer_Capability_CAP_RESUME |
-                        digitizer_Capability_CAP_HOMING | digitizer_Capability_CAP_TOUCH_PROBE;
-  // As in digitizer-sim: virtual time runs ahead of the host; give the host time to answer.
-  config.retransmit_us = 5000000;
-  config.host_silence_us = 300000000;
-  config.gauge.first_clock_timeout_us = sim.gauge.request_to_clock_us + 100000;
   auto* device = new (device_storage) dg::Device(*board, config);
   device->run();
   return 0;
