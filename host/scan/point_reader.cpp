@@ -1,12 +1,12 @@
 // Strict point readers: every value must be a finite number, every row complete, so a
 // fit never silently runs on damaged data.
 #include "host/scan/point_reader.h"
+#include "host/scan/whole_file.h"
 
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
 #include <functional>
 #include <map>
 #include <sstream>
@@ -171,14 +171,11 @@ PointCloud read_points(const std::string& path) {
     }
     return cloud;
   }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw PointFileError(path + ": cannot open: " + std::strerror(errno));
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  if (ends_with(path, ".csv")) return parse_csv_points(buffer.str(), path);
-  if (ends_with(path, ".xyz") || ends_with(path, ".txt")) return parse_xyz_points(buffer.str(), path);
+  std::string bytes;
+  if (!read_whole_file(path, &bytes)) throw PointFileError(path + ": cannot open: " + std::strerror(errno));
+  if (ends_with(path, ".csv")) return parse_csv_points(bytes, path);
+  if (ends_with(path, ".xyz") || ends_with(path, ".txt")) return parse_xyz_points(bytes, path);
   if (ends_with(path, ".ply")) {
-    const std::string bytes = buffer.str();
     return parse_ply_points(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), path);
   }
   throw PointFileError(path + ": unknown point format (.csv, .xyz, .txt, .ply or .scan)");

@@ -1,6 +1,7 @@
 // Scan file records are encoded with nanopb: field 1 of ScanFile, holding a ScanRecord
 // (the Envelope and a CRC-32 of its encoded bytes).
 #include "host/scan/scan_file.h"
+#include "host/scan/whole_file.h"
 
 #include <fcntl.h>
 #include <pb_decode.h>
@@ -9,8 +10,6 @@
 
 #include <cerrno>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 
 #include "common/link/crc32.h"
 #include "common/proto/messages.h"
@@ -132,10 +131,9 @@ void take(ScanData* data, const digitizer_Envelope& message, const std::string& 
 }  // namespace
 
 ScanData read_scan_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ScanFileError(path + ": cannot open: " + std::strerror(errno));
-  const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  return parse_scan_bytes(bytes.data(), bytes.size(), path);
+  std::string bytes;
+  if (!read_whole_file(path, &bytes)) throw ScanFileError(path + ": cannot open: " + std::strerror(errno));
+  return parse_scan_bytes(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), path);
 }
 
 ScanData parse_scan_bytes(const uint8_t* bytes, size_t size, const std::string& path) {

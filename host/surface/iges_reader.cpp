@@ -1,12 +1,12 @@
 // A strict IGES reader for entity 128: sections by column 73, free-format parameters, Hollerith
 // strings, D exponents.
 #include "host/surface/iges_reader.h"
+#include "host/scan/whole_file.h"
 
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
 #include <sstream>
 #include <vector>
 
@@ -195,11 +195,9 @@ BSplineSurface parse_iges_surface(const std::string& text, const std::string& na
 }
 
 BSplineSurface read_iges_surface(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw IgesError(path + ": cannot open: " + std::strerror(errno));
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return parse_iges_surface(buffer.str(), path);
+  std::string text;
+  if (!read_whole_file(path, &text)) throw IgesError(path + ": cannot open: " + std::strerror(errno));
+  return parse_iges_surface(text, path);
 }
 
 }  // namespace dg::host

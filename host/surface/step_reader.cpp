@@ -1,12 +1,12 @@
 // A small ISO 10303-21 reader: instances into parameter trees, then the surface and its points.
 #include "host/surface/step_reader.h"
+#include "host/scan/whole_file.h"
 
 #include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
 #include <map>
 #include <sstream>
 #include <vector>
@@ -299,11 +299,9 @@ BSplineSurface parse_step_surface(const std::string& original, const std::string
 }
 
 BSplineSurface read_step_surface(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw StepError(path + ": cannot open: " + std::strerror(errno));
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return parse_step_surface(buffer.str(), path);
+  std::string text;
+  if (!read_whole_file(path, &text)) throw StepError(path + ": cannot open: " + std::strerror(errno));
+  return parse_step_surface(text, path);
 }
 
 }  // namespace dg::host

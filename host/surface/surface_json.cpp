@@ -1,9 +1,9 @@
 // Writing and reading SURF.json with nlohmann::json; every field checked on the way in.
 #include "host/surface/surface_json.h"
+#include "host/scan/whole_file.h"
 
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>
@@ -119,11 +119,9 @@ SurfaceFile parse_surface_json(const std::string& text, const std::string& name)
 }
 
 SurfaceFile read_surface_json(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error(path + ": cannot open");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_surface_json(text.str(), path);
+  std::string text;
+  if (!read_whole_file(path, &text)) throw std::runtime_error(path + ": cannot open");
+  return parse_surface_json(text, path);
 }
 
 }  // namespace dg::host
