@@ -71,7 +71,6 @@ class SimBoard final : public hal::Board {
   double table_y_mm() const { return static_cast<double>(y_steps_) * (config_.nm_per_step * 1e-6); }
   double height_under_probe_mm() const { return config_.part.height_mm(table_x_mm(), table_y_mm()); }
   const DigimaticGauge& gauge() const { return gauge_; }
-  const CaliperGauge& caliper() const { return caliper_; }
   uint64_t step_count() const { return steps_; }
   // Tests: the virtual time of every x step is appended here (null: not kept).
   void log_x_steps(std::vector<uint64_t>* log) { x_step_log_ = log; }
