@@ -19,7 +19,17 @@
 
 namespace dg {
 
-constexpr size_t kPointRingCapacity = 128;
+// A board with little RAM builds the core with smaller figures (see hw/boards/stm32f411): the ring
+// holds the points the host has not yet confirmed (32 bytes each), the window is how many frames
+// may be in flight unacknowledged (a power of two, 574 bytes each).
+#ifndef DG_POINT_RING_CAPACITY
+#define DG_POINT_RING_CAPACITY 128
+#endif
+#ifndef DG_LINK_WINDOW
+#define DG_LINK_WINDOW 4
+#endif
+constexpr size_t kPointRingCapacity = DG_POINT_RING_CAPACITY;
+constexpr size_t kLinkWindow = DG_LINK_WINDOW;
 // A partly filled batch goes out after this long, so a slow scan still streams.
 constexpr uint64_t kBatchMaxAgeUs = 1000000;
 // An unacknowledged frame is sent again after this long.
@@ -150,8 +160,7 @@ class Device : private PointSink {
   digitizer_ScanDone last_done_ = digitizer_ScanDone_init_zero;
   bool have_last_done_ = false;
   bool resend_done_ = false;  // last_done_ is due on the wire
-  // Four frames in flight: enough to keep a USB full-speed link busy, 2.2 KB of RAM.
-  ReliableLink<4> link_;
+  ReliableLink<kLinkWindow> link_;
   uint8_t tx_wire_[kFrameMaxWire] = {};
   size_t tx_size_ = 0, tx_sent_ = 0;
   Reply replies_[8] = {};

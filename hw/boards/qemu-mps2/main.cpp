@@ -16,11 +16,6 @@ alignas(dg::Device) unsigned char device_storage[sizeof(dg::Device)];
 
 }  // namespace
 
-// Virtual destructors bring deleting destructors and with them operator delete; nothing is ever
-// allocated, so it frees nothing.
-void operator delete(void*) noexcept {}
-void operator delete(void*, unsigned int) noexcept {}
-
 int main() {
   auto* link = new (link_storage) dg::board::UartLink();
   dg::sim::SimConfig sim;

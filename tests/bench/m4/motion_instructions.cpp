@@ -48,11 +48,6 @@ void report(const char* what, uint64_t value) {
 
 }  // namespace
 
-// The board's virtual destructor brings a deleting destructor and with it operator delete; nothing
-// here is ever allocated, so it has nothing to free (and newlib's free would want a heap).
-void operator delete(void*) noexcept {}
-void operator delete(void*, unsigned int) noexcept {}
-
 int main() {
   // Locals, not statics: the bare-metal image registers no destructors.
   MemoryBoard board;

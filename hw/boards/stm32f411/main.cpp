@@ -1,0 +1,75 @@
+// The device firmware on a WeAct "Black Pill" STM32F411CEU6: the firmware core on real steppers,
+// switches and gauge, its link on USB full speed. Pin map and wiring: docs/hardware.md.
+#include <new>
+
+#include "firmware/core/device.h"
+#include "hw/boards/stm32f411/board.h"
+#include "hw/boards/stm32f411/interrupts.h"
+#include "hw/boards/stm32f411/otg_fs.h"
+#include "hw/boards/stm32f411/pins.h"
+#include "hw/boards/stm32f411/registers.h"
+
+namespace dg::stm32 {
+
+InterruptTargets interrupts;
+bool crystal_ok = false;
+
+[[noreturn]] void fatal_stop() {
+  asm volatile("cpsid i" ::: "memory");
+  reg(kTim2 + kTimDier) = 0;                            // no more steps
+  reg(kDriverEnablePort + kBsrr) = 1u << kDriverEnablePin;  // drivers off (enable is active low)
+  reg(kScbAircr) = (0x05FAu << 16) | (1u << 2);          // SYSRESETREQ
+  for (;;) {
+  }
+}
+
+}  // namespace dg::stm32
+
+namespace {
+
+// The serial number is the chip's 96-bit unique ID in hex, so two controllers on one host can be
+// told apart (`usb:serial=...`).
+char serial[25] = {};
+
+void make_serial() {
+  constexpr char kHex[] = "0123456789ABCDEF";
+  for (int word = 0; word < 3; ++word) {
+    const uint32_t id = dg::stm32::reg(dg::stm32::kUniqueId + 4 * word);
+    for (int nibble = 0; nibble < 8; ++nibble) serial[word * 8 + nibble] = kHex[(id >> (28 - 4 * nibble)) & 0xF];
+  }
+}
+
+// Static storage built in place: the image registers no destructors and has no heap.
+alignas(dg::stm32::OtgFsDevice) unsigned char usb_storage[sizeof(dg::stm32::OtgFsDevice)];
+alignas(dg::stm32::Stm32Board) unsigned char board_storage[sizeof(dg::stm32::Stm32Board)];
+alignas(dg::Device) unsigned char device_storage[sizeof(dg::Device)];
+
+}  // namespace
+
+int main() {
+  make_serial();
+  auto* usb = new (usb_storage) dg::stm32::OtgFsDevice(serial);
+  auto* board = new (board_storage) dg::stm32::Stm32Board(*usb);
+  dg::stm32::interrupts = {board, usb};
+  board->start();
+
+  dg::DeviceConfig config;  // the motion defaults are the reference table's (docs/hardware.md)
+  config.firmware_version = DIGITIZER_VERSION;
+  config.device_id = serial;
+  config.board = dg::stm32::crystal_ok ? "stm32f411-blackpill" : "stm32f411-blackpill (no crystal: HSI clock)";
+#if DIGITIZER_STM32_CALIPER
+  config.probe = digitizer_ProbeType_PROBE_CALIPER_24BIT;
+  config.gauge_resolution_nm = 10000;
+  const uint32_t gauge_capability = digitizer_Capability_CAP_CALIPER_24BIT;
+#else
+  const uint32_t gauge_capability = digitizer_Capability_CAP_DIGIMATIC;
+#endif
+  config.capabilities = gauge_capability | digitizer_Capability_CAP_DEVICE_FIT | digitizer_Capability_CAP_RESUME |
+                        digitizer_Capability_CAP_HOMING | digitizer_Capability_CAP_TOUCH_PROBE;
+  // Nothing moves until the axes are homed: after power-up the firmware cannot know where it is.
+  config.require_homing = true;
+  auto* device = new (device_storage) dg::Device(*board, config);
+  usb->start();
+  device->run();
+  dg::stm32::fatal_stop();
+}
