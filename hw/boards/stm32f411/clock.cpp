@@ -29,7 +29,10 @@ bool configure_clocks() {
   if (!crystal) reg(kRccCr) &= ~kHseOn;
   const uint32_t m = crystal ? 25 : 16;
   const uint32_t source_hse = crystal ? 1u << 22 : 0;
-  reg(kRccPllCfgr) = m | (192u << 6) | (0u << 16) /* P = 2 */ | source_hse | (4u << 24) /* Q */;
+  // M (5:0), N (14:6), P (17:16, 0 = /2), source (22), Q (27:24); the reserved bits keep their
+  // reset values, as the manual asks.
+  constexpr uint32_t kFields = 0x3Fu | (0x1FFu << 6) | (3u << 16) | (1u << 22) | (0xFu << 24);
+  reg(kRccPllCfgr) = (reg(kRccPllCfgr) & ~kFields) | m | (192u << 6) | source_hse | (4u << 24);
   reg(kRccCr) |= kPllOn;
   wait_for(kRccCr, kPllReady, kPllReady, 1000000);
   // Wait states, prefetch, instruction and data caches before the faster clock.
