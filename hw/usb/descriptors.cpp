@@ -123,7 +123,7 @@ size_t string_descriptor(uint8_t index, const char* serial, uint8_t* out, size_t
     case kManufacturer: text = "Bench Digitizer"; break;
     case kProduct: text = "Bench digitizer controller"; break;
     case kSerial: text = serial; break;
-    case kInterfaceName: text = "digitizer link"; break;
+    case kInterfaceName: text = kInterfaceNameText; break;
     default: return 0;
   }
   if (text == nullptr) return 0;

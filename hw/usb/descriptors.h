@@ -24,6 +24,9 @@ constexpr uint8_t kConfigurationValue = 1;
 constexpr uint8_t kMsVendorCode = 0x20;
 constexpr uint16_t kMsOs20DescriptorIndex = 7;  // wIndex of that request (MS OS 2.0, table 8)
 
+// The interface's name (string kInterfaceName), which the Linux-gadget board declares to FunctionFS.
+constexpr char kInterfaceNameText[] = "digitizer link";
+
 enum StringIndex : uint8_t { kLanguages = 0, kManufacturer = 1, kProduct = 2, kSerial = 3, kInterfaceName = 4 };
 
 // Descriptor types (USB 2.0 table 9-5, and 0x0F/0x10 from the USB 2.0 LPM ECN).
