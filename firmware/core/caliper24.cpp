@@ -18,7 +18,7 @@ int64_t caliper24_to_nm(const CaliperReading& r) {
   return static_cast<int64_t>(r.counts) * (r.inch ? 12700 : 10000);
 }
 
-Caliper24Reader::Caliper24Reader(hal::Board& board, CaliperTiming timing) : board_(board), timing_(timing) {}
+Caliper24Reader::Caliper24Reader(hal::Board& board, CaliperTiming timing) : ClockedProbe(board), timing_(timing) {}
 
 void Caliper24Reader::attach() { board_.on_rising_edge(hal::Pin::kGaugeClock, &Caliper24Reader::on_clock_edge, this); }
 
@@ -26,12 +26,7 @@ Status Caliper24Reader::start() {
   if (state_ == State::kReading) return Status::kBusy;
   raw_ = 0;
   bits_ = -1;
-  error_ = Status::kOk;
-  started_us_ = board_.now_us();
-  last_edge_us_ = started_us_;
-  state_ = State::kReading;
-  board_.write_pin(hal::Pin::kGaugeReq, true);
-  return Status::kOk;
+  return begin_reading();
 }
 
 void Caliper24Reader::on_clock_edge(void* context) {
@@ -48,12 +43,6 @@ void Caliper24Reader::on_clock_edge(void* context) {
   const int index = self->bits_;
   if (index < kCaliperBits && self->board_.read_pin(hal::Pin::kGaugeData)) self->raw_ = self->raw_ | (1u << index);
   self->bits_ = index + 1;
-}
-
-void Caliper24Reader::fail(Status why) {
-  board_.write_pin(hal::Pin::kGaugeReq, false);
-  error_ = why;
-  state_ = State::kFailed;
 }
 
 void Caliper24Reader::finish_frame() {

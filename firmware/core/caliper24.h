@@ -29,7 +29,7 @@ struct CaliperTiming {
 
 // Reads the first complete frame that begins after start(). The CK interrupt only stores bits;
 // poll() decides. Asserting REQ enables the instrument's level shifter for the read.
-class Caliper24Reader final : public Probe {
+class Caliper24Reader final : public ClockedProbe {
  public:
   Caliper24Reader(hal::Board& board, CaliperTiming timing);
   void attach();
@@ -38,23 +38,16 @@ class Caliper24Reader final : public Probe {
   State poll() override;
   uint64_t deadline_us() const override;
   int64_t value_nm() const override { return caliper24_to_nm(reading_); }
-  Status error() const override { return error_; }
   const CaliperReading& reading() const { return reading_; }
 
  private:
   static void on_clock_edge(void* self);
-  void fail(Status why);
   void finish_frame();
 
-  hal::Board& board_;
   CaliperTiming timing_;
   CaliperReading reading_{};
   volatile uint32_t raw_ = 0;
   volatile int bits_ = 0;        // bits of the frame being received; -1: waiting for a frame start
-  volatile uint64_t last_edge_us_ = 0;
-  uint64_t started_us_ = 0;
-  volatile State state_ = State::kIdle;
-  Status error_ = Status::kOk;
 };
 
 }  // namespace dg

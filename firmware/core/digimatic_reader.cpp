@@ -4,7 +4,7 @@
 namespace dg {
 
 DigimaticReader::DigimaticReader(hal::Board& board, DigimaticTiming timing)
-    : board_(board), timing_(timing) {}
+    : ClockedProbe(board), timing_(timing) {}
 
 void DigimaticReader::attach() {
   board_.on_rising_edge(hal::Pin::kGaugeClock, &DigimaticReader::on_clock_edge, this);
@@ -14,12 +14,7 @@ Status DigimaticReader::start() {
   if (state_ == State::kReading) return Status::kBusy;
   frame_ = DigimaticBits{};
   bits_ = 0;
-  error_ = Status::kOk;
-  started_us_ = board_.now_us();
-  last_edge_us_ = started_us_;
-  state_ = State::kReading;
-  board_.write_pin(hal::Pin::kGaugeReq, true);
-  return Status::kOk;
+  return begin_reading();
 }
 
 void DigimaticReader::on_clock_edge(void* context) {
@@ -37,12 +32,6 @@ void DigimaticReader::on_clock_edge(void* context) {
   // The gauge sends one frame per request once clocking has begun; releasing
   // REQ now keeps it from starting a second frame.
   if (index == 0) self->board_.write_pin(hal::Pin::kGaugeReq, false);
-}
-
-void DigimaticReader::fail(Status why) {
-  board_.write_pin(hal::Pin::kGaugeReq, false);
-  error_ = why;
-  state_ = State::kFailed;
 }
 
 uint64_t DigimaticReader::deadline_us() const {

@@ -14,7 +14,7 @@ struct DigimaticTiming {
   uint32_t bit_timeout_us = 20000;           // longest gap between two CK edges
 };
 
-class DigimaticReader final : public Probe {
+class DigimaticReader final : public ClockedProbe {
  public:
   using State = Probe::State;
 
@@ -28,24 +28,17 @@ class DigimaticReader final : public Probe {
   // After kDone: the reading. After kFailed: why (kTimeout or kBadEncoding).
   const DigimaticReading& reading() const { return reading_; }
   int64_t value_nm() const override { return digimatic_to_nm(reading_); }
-  Status error() const override { return error_; }
   // Bits received in the current or last read (for diagnostics).
   int bits_received() const { return bits_; }
   uint64_t deadline_us() const override;
 
  private:
   static void on_clock_edge(void* self);
-  void fail(Status why);
 
-  hal::Board& board_;
   DigimaticTiming timing_;
   DigimaticBits frame_{};
   DigimaticReading reading_{};
   volatile int bits_ = 0;
-  volatile uint64_t last_edge_us_ = 0;
-  uint64_t started_us_ = 0;
-  volatile State state_ = State::kIdle;
-  Status error_ = Status::kOk;
 };
 
 }  // namespace dg

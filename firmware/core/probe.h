@@ -1,8 +1,10 @@
-// What the scan engine needs of a gauge: start a reading, poll it, its deadline and its value.
+// What the scan engine needs of a gauge (start a reading, poll it, its deadline and its value), and
+// the request bookkeeping the clocked gauges share.
 #pragma once
 #include <cstdint>
 
 #include "common/status.h"
+#include "firmware/hal/board.h"
 
 namespace dg {
 
@@ -23,6 +25,40 @@ class Probe {
 
  protected:
   ~Probe() = default;
+};
+
+// What the gauges read through REQ and a clock line have in common: the reading's state, when it
+// began, its last clock edge, why it failed, and REQ asserted while it runs. The CK interrupt of a
+// derived reader stores bits; its poll() decides.
+class ClockedProbe : public Probe {
+ public:
+  Status error() const override { return error_; }
+
+ protected:
+  explicit ClockedProbe(hal::Board& board) : board_(board) {}
+  ~ClockedProbe() = default;
+
+  // Starts the reading: call once the derived reader has cleared its frame, since the interrupt
+  // takes bits as soon as the state says kReading.
+  Status begin_reading() {
+    error_ = Status::kOk;
+    started_us_ = board_.now_us();
+    last_edge_us_ = started_us_;
+    state_ = State::kReading;
+    board_.write_pin(hal::Pin::kGaugeReq, true);
+    return Status::kOk;
+  }
+  void fail(Status why) {
+    board_.write_pin(hal::Pin::kGaugeReq, false);
+    error_ = why;
+    state_ = State::kFailed;
+  }
+
+  hal::Board& board_;
+  volatile uint64_t last_edge_us_ = 0;
+  uint64_t started_us_ = 0;
+  volatile State state_ = State::kIdle;
+  Status error_ = Status::kOk;
 };
 
 }  // namespace dg

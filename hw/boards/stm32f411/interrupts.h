@@ -12,7 +12,6 @@ struct InterruptTargets {
   OtgFsDevice* usb = nullptr;
 };
 extern InterruptTargets interrupts;
-extern bool crystal_ok;
 
 // Disables the stepper drivers, then resets the chip.
 [[noreturn]] void fatal_stop();

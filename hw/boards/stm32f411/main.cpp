@@ -4,6 +4,7 @@
 
 #include "firmware/core/device.h"
 #include "hw/boards/stm32f411/board.h"
+#include "hw/boards/stm32f411/clock.h"
 #include "hw/boards/stm32f411/interrupts.h"
 #include "hw/boards/stm32f411/otg_fs.h"
 #include "hw/boards/stm32f411/pins.h"
@@ -12,7 +13,6 @@
 namespace dg::stm32 {
 
 InterruptTargets interrupts;
-bool crystal_ok = false;
 
 [[noreturn]] void fatal_stop() {
   asm volatile("cpsid i" ::: "memory");
@@ -47,6 +47,7 @@ alignas(dg::Device) unsigned char device_storage[sizeof(dg::Device)];
 }  // namespace
 
 int main() {
+  const bool crystal_ok = dg::stm32::configure_clocks();
   make_serial();
   auto* usb = new (usb_storage) dg::stm32::OtgFsDevice(serial);
   auto* board = new (board_storage) dg::stm32::Stm32Board(*usb);
@@ -56,7 +57,7 @@ int main() {
   dg::DeviceConfig config;  // the motion defaults are the reference table's (docs/hardware.md)
   config.firmware_version = DIGITIZER_VERSION;
   config.device_id = serial;
-  config.board = dg::stm32::crystal_ok ? "stm32f411-blackpill" : "stm32f411-blackpill (no crystal: HSI clock)";
+  config.board = crystal_ok ? "stm32f411-blackpill" : "stm32f411-blackpill (no crystal: HSI clock)";
 #if DIGITIZER_STM32_CALIPER
   config.probe = digitizer_ProbeType_PROBE_CALIPER_24BIT;
   config.gauge_resolution_nm = 10000;

@@ -24,7 +24,6 @@ class OtgFsDevice final : public usb::EndpointControl {
   size_t write(const uint8_t* data, size_t size);
   size_t read(uint8_t* data, size_t capacity);
   bool readable() const { return rx_.size() > 0; }
-  bool configured() const { return configured_; }
 
   // usb::EndpointControl
   void set_address(uint8_t address) override;

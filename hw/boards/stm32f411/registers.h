@@ -15,10 +15,9 @@ constexpr uint32_t kRccApb1Enr = kRcc + 0x40, kRccApb2Enr = kRcc + 0x44;
 constexpr uint32_t kPwrCr = 0x40007000;
 constexpr uint32_t kFlashAcr = 0x40023C00;
 
-// GPIO ports A-C (RM0383 8.4): MODER, OTYPER, OSPEEDR, PUPDR, IDR, ODR, BSRR, AFRL, AFRH.
+// GPIO ports A-C (RM0383 8.4): the registers used here (MODER, OSPEEDR, PUPDR, IDR, BSRR, AFRH).
 constexpr uint32_t kGpioA = 0x40020000, kGpioB = 0x40020400, kGpioC = 0x40020800;
-constexpr uint32_t kModer = 0x00, kOspeedr = 0x08, kPupdr = 0x0C, kIdr = 0x10, kBsrr = 0x18, kAfrl = 0x20,
-                   kAfrh = 0x24;
+constexpr uint32_t kModer = 0x00, kOspeedr = 0x08, kPupdr = 0x0C, kIdr = 0x10, kBsrr = 0x18, kAfrh = 0x24;
 
 // External interrupts (RM0383 7.2, 10.3).
 constexpr uint32_t kSyscfgExticr1 = 0x40013800 + 0x08;
@@ -36,7 +35,7 @@ constexpr uint32_t kTimUif = 1u << 0, kTimCc1if = 1u << 1;
 constexpr uint32_t kUniqueId = 0x1FFF7A10;
 
 // Cortex-M4 system control space.
-constexpr uint32_t kNvicIser = 0xE000E100, kNvicIcer = 0xE000E180, kNvicIpr = 0xE000E400;
+constexpr uint32_t kNvicIser = 0xE000E100, kNvicIpr = 0xE000E400;
 constexpr uint32_t kScbAircr = 0xE000ED0C;
 constexpr uint32_t kDemcr = 0xE000EDFC, kDwtCtrl = 0xE0001000, kDwtCyccnt = 0xE0001004;
 

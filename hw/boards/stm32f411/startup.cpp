@@ -1,9 +1,8 @@
-// Start-up and the vector table of the STM32F411: data and bss, the FPU, the clocks, constructors,
-// then main; each interrupt the board uses goes to its handler, every other one to a safe stop.
+// Start-up and the vector table of the STM32F411: data and bss, the FPU, constructors, then main
+// (which sets the clocks); each interrupt the board uses goes to its handler, every other one to a safe stop.
 #include <cstdint>
 
 #include "hw/boards/cortex-m/runtime.h"
-#include "hw/boards/stm32f411/clock.h"
 #include "hw/boards/stm32f411/interrupts.h"
 #include "hw/boards/stm32f411/registers.h"
 
@@ -12,7 +11,6 @@ int main();
 
 [[noreturn]] void reset_handler() {
   dg::cortex_m::init_memory_and_fpu();
-  dg::stm32::crystal_ok = dg::stm32::configure_clocks();
   dg::cortex_m::run_constructors();
   main();
   dg::stm32::fatal_stop();
