@@ -76,15 +76,8 @@ int main(int argc, char** argv) {
     link = std::make_unique<dg::sim::FdLink>(read_fd, write_fd);
   }
   dg::sim::SimBoard board(options.config, link.get());
-  dg::DeviceConfig device = dg::sim::simulated_device(options.config);
-  device.device_id = options.device_id.c_str();
+  dg::DeviceConfig device = dg::sim::simulated_device(options);
   device.board = "sim";
-  device.host_silence_us = options.host_silence_s * 1000000u;
-  device.on_host_silence = options.on_host_silence;
-  device.require_homing = options.require_homing;
-  if (options.compensate_steps >= 0) {
-    device.motion.backlash_x_steps = device.motion.backlash_y_steps = static_cast<uint32_t>(options.compensate_steps);
-  }
   static dg::Device firmware(board, device);
   firmware.run();
   return 0;

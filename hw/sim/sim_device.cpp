@@ -27,4 +27,16 @@ DeviceConfig simulated_device(const SimConfig& config) {
   return device;
 }
 
+DeviceConfig simulated_device(const SimOptions& options) {
+  DeviceConfig device = simulated_device(options.config);
+  device.device_id = options.device_id.c_str();
+  device.host_silence_us = options.host_silence_s * 1000000u;
+  device.on_host_silence = options.on_host_silence;
+  device.require_homing = options.require_homing;
+  if (options.compensate_steps >= 0) {
+    device.motion.backlash_x_steps = device.motion.backlash_y_steps = static_cast<uint32_t>(options.compensate_steps);
+  }
+  return device;
+}
+
 }  // namespace dg::sim

@@ -1,0 +1,241 @@
+// Step timing on Linux: each tick is due at the previous tick's due time plus the handler's
+// interval (chained, as on the STM32 board, so wake-up latency does not accumulate into the
+// motion), and ticks already past are run at once. ppoll sleeps to the next due time with a 1 us
+// timer slack; the STEP pulse is held 2 us by spinning (drivers such as the DRV8825 need 1.9 us).
+#include "hw/boards/linux-gadget/gpio_board.h"
+
+#include <poll.h>
+#include <sys/prctl.h>
+
+#include <cstring>
+#include <ctime>
+
+namespace dg::gadget {
+
+namespace {
+
+constexpr uint64_t kStepPulseNs = 2000;
+constexpr uint64_t kLateNs = 50000;
+
+struct PinName {
+  const char* key;
+  hal::Pin pin;
+};
+constexpr PinName kPinNames[] = {
+    {"step_x", hal::Pin::kStepX},        {"dir_x", hal::Pin::kDirX},         {"step_y", hal::Pin::kStepY},
+    {"dir_y", hal::Pin::kDirY},          {"req", hal::Pin::kGaugeReq},       {"ck", hal::Pin::kGaugeClock},
+    {"data", hal::Pin::kGaugeData},      {"limit_x", hal::Pin::kLimitXMin},  {"limit_y", hal::Pin::kLimitYMin},
+    {"estop", hal::Pin::kEstop},         {"touch", hal::Pin::kTouchProbe},
+};
+constexpr int kEnableKey = -1;
+
+int index(hal::Pin pin) { return static_cast<int>(pin); }
+
+bool is_output(int pin) {
+  const auto p = static_cast<hal::Pin>(pin);
+  return p == hal::Pin::kStepX || p == hal::Pin::kDirX || p == hal::Pin::kStepY || p == hal::Pin::kDirY ||
+         p == hal::Pin::kGaugeReq;
+}
+
+bool is_step(int pin) { return pin == index(hal::Pin::kStepX) || pin == index(hal::Pin::kStepY); }
+
+// Switches are normally closed to ground: the pull-up makes an open switch (or a cut wire) read
+// asserted. The gauge's CK and DATA idle high through the level shifter.
+gpio::Bias input_bias(int pin) {
+  return is_output(pin) ? gpio::Bias::kAsIs : gpio::Bias::kPullUp;
+}
+
+}  // namespace
+
+PinMap raspberry_pi_pins() {
+  PinMap map;
+  const char* names[kPinCount] = {};
+  names[index(hal::Pin::kStepX)] = "GPIO17";
+  names[index(hal::Pin::kDirX)] = "GPIO27";
+  names[index(hal::Pin::kStepY)] = "GPIO22";
+  names[index(hal::Pin::kDirY)] = "GPIO23";
+  names[index(hal::Pin::kGaugeReq)] = "GPIO5";
+  names[index(hal::Pin::kGaugeClock)] = "GPIO6";
+  names[index(hal::Pin::kGaugeData)] = "GPIO13";
+  names[index(hal::Pin::kLimitXMin)] = "GPIO19";
+  names[index(hal::Pin::kLimitYMin)] = "GPIO26";
+  names[index(hal::Pin::kEstop)] = "GPIO16";
+  names[index(hal::Pin::kTouchProbe)] = "GPIO20";
+  for (int pin = 0; pin < kPinCount; ++pin) {
+    map.pins[pin].name = names[pin];
+    map.wired[pin] = true;
+  }
+  map.driver_enable.name = "GPIO24";
+  map.driver_enable.active_low = true;  // the drivers' EN input is active low
+  map.enable_wired = true;
+  return map;
+}
+
+bool pin_key(const std::string& key, int* pin) {
+  if (key == "enable") {
+    *pin = kEnableKey;
+    return true;
+  }
+  for (const PinName& name : kPinNames) {
+    if (key == name.key) {
+      *pin = index(name.pin);
+      return true;
+    }
+  }
+  return false;
+}
+
+bool apply_pin(const std::string& pair, PinMap* map, std::string* error) {
+  const size_t equals = pair.find('=');
+  int pin = 0;
+  if (equals == std::string::npos || !pin_key(pair.substr(0, equals), &pin)) {
+    *error = "'" + pair + "': expected KEY=LINE with KEY one of step_x dir_x step_y dir_y req ck data limit_x "
+             "limit_y estop touch enable";
+    return false;
+  }
+  const std::string value = pair.substr(equals + 1);
+  const bool none = value == "none";  // not wired: reads inactive, writes go nowhere
+  gpio::LineSpec spec;
+  if (!none && !gpio::parse_line_spec(value, &spec, error)) return false;
+  if (pin == kEnableKey) {
+    map->driver_enable = spec;
+    map->enable_wired = !none;
+  } else {
+    map->pins[pin] = spec;
+    map->wired[pin] = !none;
+  }
+  return true;
+}
+
+GpioBoard::GpioBoard(FunctionFsLink& link) : link_(link) {
+  prctl(PR_SET_TIMERSLACK, 1UL);
+  epoch_ns_ = now_ns();
+}
+
+uint64_t GpioBoard::now_ns() const {
+  timespec now{};
+  clock_gettime(CLOCK_MONOTONIC, &now);
+  return static_cast<uint64_t>(now.tv_sec) * 1000000000ull + static_cast<uint64_t>(now.tv_nsec) - epoch_ns_;
+}
+
+bool GpioBoard::open(const PinMap& map, std::string* error) {
+  for (int pin = 0; pin < kPinCount; ++pin) {
+    if (!map.wired[pin]) continue;
+    const auto p = static_cast<hal::Pin>(pin);
+    // CK and the touch probe raise "interrupts"; every other input is read when wanted.
+    const gpio::Direction direction = is_output(pin) ? gpio::Direction::kOutput
+                                      : (p == hal::Pin::kGaugeClock || p == hal::Pin::kTouchProbe)
+                                          ? gpio::Direction::kRisingEdges
+                                          : gpio::Direction::kInput;
+    if (!lines_[pin].request(map.pins[pin], "digitizer", direction, input_bias(pin), false, error)) return false;
+  }
+  if (map.enable_wired &&
+      !enable_.request(map.driver_enable, "digitizer", gpio::Direction::kOutput, gpio::Bias::kAsIs, true, error)) {
+    return false;
+  }
+  return true;
+}
+
+void GpioBoard::write_pin(hal::Pin pin, bool level) {
+  const int i = index(pin);
+  if (is_step(i)) {
+    if (level) {
+      step_high_ns_[i] = now_ns();
+    } else {
+      while (now_ns() - step_high_ns_[i] < kStepPulseNs) {
+      }
+    }
+  }
+  level_[i] = level;
+  lines_[i].set(level);
+}
+
+bool GpioBoard::read_pin(hal::Pin pin) {
+  const int i = index(pin);
+  if (is_output(i)) return level_[i];
+  return lines_[i].requested() && lines_[i].get();
+}
+
+void GpioBoard::on_rising_edge(hal::Pin pin, hal::EdgeHandler handler, void* context) {
+  edge_handler_[index(pin)] = handler;
+  edge_context_[index(pin)] = context;
+}
+
+void GpioBoard::start_step_timer(uint32_t delay_ns, hal::TimerHandler handler, void* context) {
+  timer_handler_ = handler;
+  timer_context_ = context;
+  timer_due_ns_ = now_ns() + delay_ns;
+}
+
+void GpioBoard::stop_step_timer() { timer_due_ns_ = kNever; }
+
+bool GpioBoard::run_step_timer() {
+  uint64_t now = now_ns();
+  while (timer_due_ns_ != kNever && timer_due_ns_ <= now) {
+    if (now - timer_due_ns_ > kLateNs) ++late_steps_;
+    const uint32_t next_ns = timer_handler_(timer_context_);
+    if (next_ns == 0) {
+      timer_due_ns_ = kNever;
+      return true;
+    }
+    timer_due_ns_ += next_ns;
+    now = now_ns();
+  }
+  return false;
+}
+
+bool GpioBoard::dispatch_edges(int pin) {
+  bool any = false;
+  for (int n = 0; n < 64; ++n) {  // what is queued now, at most
+    pollfd fd{lines_[pin].event_fd(), POLLIN, 0};
+    if (poll(&fd, 1, 0) <= 0) break;
+    const int edge = lines_[pin].read_edge(nullptr);
+    if (edge < 0) break;
+    if (edge == 1 && edge_handler_[pin] != nullptr) {
+      edge_handler_[pin](edge_context_[pin]);
+      any = true;
+    }
+  }
+  return any;
+}
+
+bool GpioBoard::wait(uint64_t deadline_us) {
+  const uint64_t deadline_ns = deadline_us == UINT64_MAX ? kNever : deadline_us * 1000;
+  const int edge_pins[] = {index(hal::Pin::kGaugeClock), index(hal::Pin::kTouchProbe)};
+  for (;;) {
+    if (link_.closed()) return false;
+    if (run_step_timer()) return true;  // a move ended: the firmware moves on
+    const uint64_t now = now_ns();
+    if (deadline_ns != kNever && deadline_ns <= now) return true;
+    const uint64_t next = timer_due_ns_ < deadline_ns ? timer_due_ns_ : deadline_ns;
+    pollfd fds[3];
+    int count = 0;
+    fds[count++] = {link_.wake_fd(), POLLIN, 0};
+    int polled_pin[3] = {-1, -1, -1};
+    for (int pin : edge_pins) {
+      if (lines_[pin].requested()) {
+        polled_pin[count] = pin;
+        fds[count++] = {lines_[pin].event_fd(), POLLIN, 0};
+      }
+    }
+    timespec timeout{};
+    if (next != kNever) {
+      const uint64_t wait_ns = next - now;
+      timeout.tv_sec = static_cast<time_t>(wait_ns / 1000000000ull);
+      timeout.tv_nsec = static_cast<long>(wait_ns % 1000000000ull);
+    }
+    const int ready = ppoll(fds, static_cast<nfds_t>(count), next == kNever ? nullptr : &timeout, nullptr);
+    if (ready <= 0) continue;  // a timer is due (or a signal): loop round
+    bool woke = false;
+    if (fds[0].revents & POLLIN) {
+      link_.drain_wake();
+      woke = true;
+    }
+    for (int i = 1; i < count; ++i) {
+      if ((fds[i].revents & POLLIN) && dispatch_edges(polled_pin[i])) woke = true;
+    }
+    if (woke) return true;
+  }
+}
+
+}  // namespace dg::gadget

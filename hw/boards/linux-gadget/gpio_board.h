@@ -1,0 +1,70 @@
+// The Linux-gadget board's pins and time: the firmware HAL on libgpiod lines, CLOCK_MONOTONIC and
+// the FunctionFS link. The firmware runs on one thread; "interrupts" (the step timer, CK and
+// touch edges) are dispatched inside wait(), as the firmware's main loop would see them.
+#pragma once
+#include <cstdint>
+#include <string>
+
+#include "firmware/hal/board.h"
+#include "hw/boards/linux-gadget/functionfs_link.h"
+#include "hw/gpio/gpio_line.h"
+
+namespace dg::gadget {
+
+constexpr int kPinCount = static_cast<int>(hal::Pin::kCount);
+
+struct PinMap {
+  gpio::LineSpec pins[kPinCount];
+  bool wired[kPinCount] = {};
+  gpio::LineSpec driver_enable;  // held active while the program runs (the drivers' EN)
+  bool enable_wired = false;
+};
+
+// The reference wiring on a Raspberry Pi's 40-pin header (BCM line names), as docs/hardware.md.
+PinMap raspberry_pi_pins();
+// The logical pin for a pin-map key ("step_x", "limit_y", "enable", ...): false if unknown.
+bool pin_key(const std::string& key, int* pin);
+// Applies "key=LINE" to the map; false with the reason.
+bool apply_pin(const std::string& pair, PinMap* map, std::string* error);
+
+class GpioBoard final : public hal::Board {
+ public:
+  explicit GpioBoard(FunctionFsLink& link);
+  // Requests every wired line; false with the first line that could not be had.
+  bool open(const PinMap& map, std::string* error);
+
+  void write_pin(hal::Pin pin, bool level) override;
+  bool read_pin(hal::Pin pin) override;
+  void on_rising_edge(hal::Pin pin, hal::EdgeHandler handler, void* context) override;
+  void start_step_timer(uint32_t delay_ns, hal::TimerHandler handler, void* context) override;
+  void stop_step_timer() override;
+  uint64_t now_us() override { return now_ns() / 1000; }
+  size_t link_write(const uint8_t* data, size_t size) override { return link_.write(data, size); }
+  size_t link_read(uint8_t* data, size_t capacity) override { return link_.read(data, capacity); }
+  bool wait(uint64_t deadline_us) override;
+
+  // Steps whose timer fired later than 50 us past due (a loaded Linux is not an MCU).
+  uint64_t late_steps() const { return late_steps_; }
+
+ private:
+  static constexpr uint64_t kNever = UINT64_MAX;
+  uint64_t now_ns() const;
+  // Runs the step handler for every tick now due; true when a move ended.
+  bool run_step_timer();
+  bool dispatch_edges(int pin);
+
+  FunctionFsLink& link_;
+  gpio::Line lines_[kPinCount];
+  gpio::Line enable_;
+  bool level_[kPinCount] = {};
+  uint64_t step_high_ns_[kPinCount] = {};
+  hal::EdgeHandler edge_handler_[kPinCount] = {};
+  void* edge_context_[kPinCount] = {};
+  hal::TimerHandler timer_handler_ = nullptr;
+  void* timer_context_ = nullptr;
+  uint64_t timer_due_ns_ = kNever;
+  uint64_t late_steps_ = 0;
+  uint64_t epoch_ns_ = 0;
+};
+
+}  // namespace dg::gadget

@@ -1,0 +1,161 @@
+// digitizer-gadget: the device firmware as a Linux process on a board with a USB device port (a
+// Raspberry Pi Zero 2 W, say): USB through FunctionFS, the steppers, switches and gauge through
+// libgpiod. With --simulate, the simulated table and gauge stand in for the pins (system tests and
+// demonstrations of the USB path). Wiring and set-up: docs/hardware.md.
+#include <csignal>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "firmware/core/device.h"
+#include "hw/boards/linux-gadget/configfs_gadget.h"
+#include "hw/boards/linux-gadget/functionfs_link.h"
+#include "hw/boards/linux-gadget/gpio_board.h"
+#include "hw/sim/sim_device.h"
+#include "hw/sim/sim_options.h"
+
+namespace {
+
+dg::gadget::FunctionFsLink* stop_target = nullptr;
+
+void usage() {
+  std::fprintf(stderr,
+               "usage: digitizer-gadget [options] [--pin KEY=LINE ...] [--simulate [key=value ...]]\n"
+               "  --ffs DIR       use the FunctionFS instance mounted at DIR (the gadget is made elsewhere)\n"
+               "  --udc NAME      bind to this USB device controller (default: the first in /sys/class/udc)\n"
+               "  --serial TEXT   the USB serial number (default: the board's serial or machine id)\n"
+               "  --pin KEY=LINE  wire a pin: KEY is step_x dir_x step_y dir_y req ck data limit_x limit_y\n"
+               "                  estop touch enable; LINE is CHIP:OFFSET or a line name, '/active-low'\n"
+               "                  after it inverts it, 'none' leaves the pin unwired (default: the\n"
+               "                  Raspberry Pi wiring in docs/hardware.md)\n"
+               "  --caliper       a 24-bit caliper on the gauge port instead of a Digimatic gauge\n"
+               "  --no-homing     allow scans without homing first (a table without switches)\n"
+               "  --simulate      the simulated table and gauge instead of GPIO (digitizer-sim's options)\n");
+}
+
+std::string read_first_line(const char* path) {
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  while (!line.empty() && (line.back() == '\0' || line.back() == '\n' || line.back() == ' ')) line.pop_back();
+  return line;
+}
+
+// A serial that tells two controllers on one host apart: the SoC's (a Raspberry Pi's device tree
+// has it), else the installation's machine id.
+std::string default_serial() {
+  std::string serial = read_first_line("/proc/device-tree/serial-number");
+  if (serial.empty()) serial = read_first_line("/etc/machine-id").substr(0, 16);
+  return serial.empty() ? "LINUX-GADGET" : serial;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  dg::gadget::GadgetSettings settings;
+  std::string ffs_dir;
+  dg::gadget::PinMap pins = dg::gadget::raspberry_pi_pins();
+  bool simulate = false, caliper = false, homing = true;
+  dg::sim::SimOptions sim;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    std::string error;
+    if (simulate) {
+      error = dg::sim::apply_sim_option(arg, &sim);
+    } else if (arg == "--ffs" && i + 1 < argc) {
+      ffs_dir = argv[++i];
+    } else if (arg == "--udc" && i + 1 < argc) {
+      settings.udc = argv[++i];
+    } else if (arg == "--serial" && i + 1 < argc) {
+      settings.serial = argv[++i];
+    } else if (arg == "--pin" && i + 1 < argc) {
+      dg::gadget::apply_pin(argv[++i], &pins, &error);
+    } else if (arg == "--caliper") {
+      caliper = true;
+    } else if (arg == "--no-homing") {
+      homing = false;
+    } else if (arg == "--simulate") {
+      simulate = true;
+    } else if (arg == "--help") {
+      usage();
+      return 0;
+    } else {
+      error = "unknown option '" + arg + "'";
+    }
+    if (!error.empty()) {
+      std::fprintf(stderr, "digitizer-gadget: %s\n", error.c_str());
+      usage();
+      return 2;
+    }
+  }
+  if (settings.serial.empty()) settings.serial = default_serial();
+
+  std::string error;
+  // Declared before the link, so the link closes its endpoint files before the gadget goes.
+  dg::gadget::ConfigfsGadget gadget;
+  const bool make_gadget = ffs_dir.empty();
+  if (make_gadget) {
+    if (!gadget.create(settings, &error)) {
+      std::fprintf(stderr, "digitizer-gadget: %s\n", error.c_str());
+      return 1;
+    }
+    ffs_dir = settings.mount_dir;
+  }
+  dg::gadget::FunctionFsLink link(ffs_dir);
+  if (!link.start(&error)) {
+    std::fprintf(stderr, "digitizer-gadget: %s\n", error.c_str());
+    return 1;
+  }
+  stop_target = &link;
+  std::signal(SIGTERM, [](int) { stop_target->request_stop(); });
+  std::signal(SIGINT, [](int) { stop_target->request_stop(); });
+
+  std::unique_ptr<dg::sim::SimBoard> sim_board;
+  std::unique_ptr<dg::gadget::GpioBoard> gpio_board;
+  dg::hal::Board* board = nullptr;
+  dg::DeviceConfig config;
+  if (simulate) {
+    sim.device_id = settings.serial;
+    sim_board = std::make_unique<dg::sim::SimBoard>(sim.config, &link);
+    config = dg::sim::simulated_device(sim);
+    board = sim_board.get();
+  } else {
+    gpio_board = std::make_unique<dg::gadget::GpioBoard>(link);
+    if (!gpio_board->open(pins, &error)) {
+      std::fprintf(stderr, "digitizer-gadget: %s\n", error.c_str());
+      return 1;
+    }
+    config.firmware_version = DIGITIZER_VERSION;
+    config.device_id = settings.serial.c_str();
+    if (caliper) {
+      config.probe = digitizer_ProbeType_PROBE_CALIPER_24BIT;
+      config.gauge_resolution_nm = 10000;
+    }
+    config.capabilities = (caliper ? digitizer_Capability_CAP_CALIPER_24BIT : digitizer_Capability_CAP_DIGIMATIC) |
+                          digitizer_Capability_CAP_DEVICE_FIT | digitizer_Capability_CAP_RESUME |
+                          digitizer_Capability_CAP_HOMING | digitizer_Capability_CAP_TOUCH_PROBE;
+    config.require_homing = homing;
+    board = gpio_board.get();
+  }
+  config.board = simulate ? "linux-gadget (simulated table)" : "linux-gadget";
+
+  if (make_gadget) {
+    if (!gadget.bind(&error)) {
+      std::fprintf(stderr, "digitizer-gadget: %s\n", error.c_str());
+      return 1;
+    }
+    std::printf("digitizer-gadget: serial %s on %s\n", settings.serial.c_str(), gadget.udc().c_str());
+  } else {
+    std::printf("digitizer-gadget: serial %s on %s\n", settings.serial.c_str(), ffs_dir.c_str());
+  }
+  std::fflush(stdout);
+  auto device = std::make_unique<dg::Device>(*board, config);
+  device->run();
+  std::printf("digitizer-gadget: stopped; the host dropped the link %u times", link.drops());
+  if (gpio_board) std::printf(", %llu steps were late by more than 50 us", static_cast<unsigned long long>(gpio_board->late_steps()));
+  std::printf("\n");
+  return 0;
+}

@@ -1,0 +1,214 @@
+// digitizer-hil: the hardware-in-the-loop rig. A Linux board (any with GPIO through libgpiod)
+// wired to a controller's driver and gauge pins plays the table and the dial gauge: it follows the
+// table by counting STEP edges with DIR, and answers each REQ by clocking out, bit by bit on CK and
+// DATA, a Digimatic reading of a virtual part at the table's position. It prints each reading it
+// sends, so a test can hold the controller's scan against it. Wiring: docs/hardware.md.
+#include <poll.h>
+#include <sys/prctl.h>
+
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <ctime>
+#include <string>
+#include <vector>
+
+#include "hw/gpio/gpio_line.h"
+#include "hw/hil/step_follower.h"
+#include "hw/sim/digimatic_gauge.h"
+#include "hw/sim/parts.h"
+
+namespace {
+
+volatile std::sig_atomic_t stop_requested = 0;
+
+enum LineIndex { kStepX, kDirX, kStepY, kDirY, kReq, kCk, kData, kLineCount };
+constexpr const char* kKeys[kLineCount] = {"step_x", "dir_x", "step_y", "dir_y", "req", "ck", "data"};
+
+void usage() {
+  std::fprintf(stderr,
+               "usage: digitizer-hil --pin KEY=LINE ... [options]\n"
+               "  --pin KEY=LINE   KEY: step_x dir_x step_y dir_y req ck data (all needed); LINE is\n"
+               "                   CHIP:OFFSET or a line name, '/active-low' after it inverts it\n"
+               "  --part NAME      dome (default), saddle, canister or flat\n"
+               "  --offset-mm Z    raise the part by Z\n"
+               "  --nm-per-step N  the table's travel per step (default 2500)\n"
+               "  --start X,Y      the table's position in steps when the rig starts (default 0,0)\n"
+               "  --clock-us N     each CK half period (default 200, the Digimatic specification's)\n"
+               "  --answer-us N    REQ to the first CK edge (default 5000)\n"
+               "  --noise-um S     Gaussian noise on each reading\n"
+               "  --inch           readings in inch at 0.0001\n"
+               "  --readings N     exit after N readings (default: run until SIGTERM)\n");
+}
+
+uint64_t now_ns() {
+  timespec now{};
+  clock_gettime(CLOCK_MONOTONIC, &now);
+  return static_cast<uint64_t>(now.tv_sec) * 1000000000ull + static_cast<uint64_t>(now.tv_nsec);
+}
+
+bool parse_number(const char* text, double* value) {
+  char* end = nullptr;
+  *value = std::strtod(text, &end);
+  return end != text && *end == '\0';
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  dg::gpio::LineSpec specs[kLineCount];
+  bool given[kLineCount] = {};
+  dg::sim::Part part;
+  dg::sim::GaugeConfig gauge_config;
+  double nm_per_step = 2500;
+  long long start_x = 0, start_y = 0;
+  long readings_wanted = -1;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const char* value = i + 1 < argc ? argv[i + 1] : nullptr;
+    double number = 0;
+    std::string error;
+    if (arg == "--pin" && value != nullptr) {
+      const std::string pair = argv[++i];
+      const size_t equals = pair.find('=');
+      int key = -1;
+      for (int k = 0; k < kLineCount && equals != std::string::npos; ++k) {
+        if (pair.compare(0, equals, kKeys[k]) == 0 && equals == std::strlen(kKeys[k])) key = k;
+      }
+      if (key < 0) {
+        error = "'" + pair + "': expected KEY=LINE with KEY one of step_x dir_x step_y dir_y req ck data";
+      } else if (dg::gpio::parse_line_spec(pair.substr(equals + 1), &specs[key], &error)) {
+        given[key] = true;
+      }
+    } else if (arg == "--part" && value != nullptr) {
+      if (!dg::sim::parse_part(argv[++i], &part.kind)) error = std::string("unknown part '") + value + "'";
+    } else if (arg == "--offset-mm" && value != nullptr && parse_number(value, &number)) {
+      part.offset_mm = number;
+      ++i;
+    } else if (arg == "--nm-per-step" && value != nullptr && parse_number(value, &number) && number > 0) {
+      nm_per_step = number;
+      ++i;
+    } else if (arg == "--start" && value != nullptr && std::sscanf(value, "%lld,%lld", &start_x, &start_y) == 2) {
+      ++i;
+    } else if (arg == "--clock-us" && value != nullptr && parse_number(value, &number) && number >= 1) {
+      gauge_config.clock_low_us = gauge_config.clock_high_us = static_cast<uint32_t>(number);
+      ++i;
+    } else if (arg == "--answer-us" && value != nullptr && parse_number(value, &number) && number >= 0) {
+      gauge_config.request_to_clock_us = static_cast<uint32_t>(number);
+      ++i;
+    } else if (arg == "--noise-um" && value != nullptr && parse_number(value, &number) && number >= 0) {
+      gauge_config.noise_sigma_mm = number / 1000.0;
+      ++i;
+    } else if (arg == "--readings" && value != nullptr && parse_number(value, &number) && number >= 1) {
+      readings_wanted = static_cast<long>(number);
+      ++i;
+    } else if (arg == "--inch") {
+      gauge_config.inch = true;
+    } else if (arg == "--help") {
+      usage();
+      return 0;
+    } else {
+      error = "unknown option or bad value: '" + arg + "'";
+    }
+    if (!error.empty()) {
+      std::fprintf(stderr, "digitizer-hil: %s\n", error.c_str());
+      usage();
+      return 2;
+    }
+  }
+  for (int k = 0; k < kLineCount; ++k) {
+    if (!given[k]) {
+      std::fprintf(stderr, "digitizer-hil: no line given for %s (--pin %s=LINE)\n", kKeys[k], kKeys[k]);
+      return 2;
+    }
+  }
+
+  dg::gpio::Line lines[kLineCount];
+  std::string error;
+  using dg::gpio::Bias;
+  using dg::gpio::Direction;
+  const Direction directions[kLineCount] = {Direction::kRisingEdges, Direction::kBothEdges, Direction::kRisingEdges,
+                                            Direction::kBothEdges,   Direction::kBothEdges, Direction::kOutput,
+                                            Direction::kOutput};
+  for (int k = 0; k < kLineCount; ++k) {
+    // CK idles high, as a gauge's does.
+    if (!lines[k].request(specs[k], "digitizer-hil", directions[k], Bias::kAsIs, k == kCk, &error)) {
+      std::fprintf(stderr, "digitizer-hil: %s\n", error.c_str());
+      return 1;
+    }
+  }
+  std::signal(SIGTERM, [](int) { stop_requested = 1; });
+  std::signal(SIGINT, [](int) { stop_requested = 1; });
+  prctl(PR_SET_TIMERSLACK, 1UL);
+
+  dg::hil::StepFollower table(start_x, start_y, lines[kDirX].get(), lines[kDirY].get());
+  dg::sim::DigimaticGauge gauge(gauge_config, 1);
+  bool request = lines[kReq].get();
+  const uint64_t epoch = now_ns();
+  long readings = 0;
+  uint32_t frames_seen = 0;
+  std::printf("digitizer-hil: following the table from (%lld, %lld) steps; %s part\n", start_x, start_y,
+              dg::sim::part_name(part.kind));
+  std::fflush(stdout);
+  std::vector<dg::hil::Edge> edges;
+  const int edge_lines[] = {kStepX, kDirX, kStepY, kDirY, kReq};
+  while (!stop_requested) {
+    if (readings_wanted > 0 && readings >= readings_wanted && gauge.next_event_ns() == UINT64_MAX) break;
+    pollfd fds[5];
+    for (int n = 0; n < 5; ++n) fds[n] = {lines[edge_lines[n]].event_fd(), POLLIN, 0};
+    const uint64_t due = gauge.next_event_ns();
+    const uint64_t now = now_ns() - epoch;
+    timespec timeout{};
+    if (due != UINT64_MAX) {
+      const uint64_t wait_ns = due > now ? due - now : 0;
+      timeout.tv_sec = static_cast<time_t>(wait_ns / 1000000000ull);
+      timeout.tv_nsec = static_cast<long>(wait_ns % 1000000000ull);
+    }
+    const int ready = ppoll(fds, 5, due == UINT64_MAX ? nullptr : &timeout, nullptr);
+    if (ready > 0) {
+      bool request_changed = false;
+      for (int n = 0; n < 5; ++n) {
+        if (!(fds[n].revents & POLLIN)) continue;
+        const int k = edge_lines[n];
+        uint64_t timestamp = 0;
+        const int edge = lines[k].read_edge(&timestamp);
+        if (edge < 0) continue;
+        if (k == kReq) {
+          request = edge == 1;
+          request_changed = true;
+        } else {
+          const int axis = (k == kStepX || k == kDirX) ? 0 : 1;
+          const auto line = (k == kStepX || k == kStepY) ? dg::hil::AxisLine::kStep : dg::hil::AxisLine::kDir;
+          edges.push_back({timestamp, axis, line, edge == 1});
+        }
+      }
+      // Steps first: the reading belongs to where the table is when REQ comes.
+      table.apply(edges);
+      if (request_changed) {
+        const double x_mm = static_cast<double>(table.x_steps()) * nm_per_step * 1e-6;
+        const double y_mm = static_cast<double>(table.y_steps()) * nm_per_step * 1e-6;
+        gauge.set_request(request, now_ns() - epoch, part.height_mm(x_mm, y_mm));
+      }
+    }
+    // Every CK change now due, DATA first so it is settled before CK rises.
+    while (gauge.next_event_ns() != UINT64_MAX && gauge.next_event_ns() <= now_ns() - epoch) {
+      gauge.advance();
+      lines[kData].set(gauge.data());
+      lines[kCk].set(gauge.clock());
+    }
+    if (gauge.frames_sent() != frames_seen) {
+      frames_seen = gauge.frames_sent();
+      ++readings;
+      const dg::DigimaticReading& reading = gauge.reading();
+      std::printf("reading %ld: x_steps=%lld y_steps=%lld value=%d decimals=%u unit=%s\n", readings,
+                  static_cast<long long>(table.x_steps()), static_cast<long long>(table.y_steps()), reading.value,
+                  reading.decimals, reading.unit == dg::GaugeUnit::kInch ? "inch" : "mm");
+      std::fflush(stdout);
+    }
+  }
+  std::printf("digitizer-hil: %ld readings, %llu steps followed, table at (%lld, %lld) steps\n", readings,
+              static_cast<unsigned long long>(table.steps()), static_cast<long long>(table.x_steps()),
+              static_cast<long long>(table.y_steps()));
+  return 0;
+}
