@@ -7,7 +7,9 @@
 // its ack field. A receiver that sees a new id forgets both directions of the old session (the
 // frames it still had in flight belong to a host that is gone) and says so through
 // take_restart(), so the application can replay what the new host has not confirmed. Copies of
-// the same sync frame are ordinary duplicates.
+// the same sync frame are ordinary duplicates. Both directions of a session number their frames
+// from the session id, not from 1: a USB pipe keeps bytes across hosts, and a frame the device
+// sent before this host came (an alarm at power-up, say) must not pass for the new session's first.
 #pragma once
 #include <cstddef>
 #include <cstdint>
@@ -76,7 +78,7 @@ class ReliableLink {
   // first frame.
   Status send_sync(const uint8_t* payload, size_t size, uint64_t now_us, uint16_t session_id) {
     reset();
-    session_ = session_id;
+    start_session(session_id);
     const Status status = send(payload, size, now_us);
     if (status == Status::kOk) slots_[index(oldest_)].sync = true;
     return status;
@@ -95,7 +97,7 @@ class ReliableLink {
     if (header.kind == FrameKind::kSync) {
       if (header.ack != session_) {
         reset();
-        session_ = header.ack;
+        start_session(header.ack);
         rx_expected_ = header.seq;
         restarted_ = true;
       }
@@ -185,6 +187,10 @@ class ReliableLink {
     uint64_t sent_us = 0;
   };
 
+  void start_session(uint16_t session_id) {
+    session_ = session_id;
+    next_seq_ = oldest_ = rx_expected_ = session_id;
+  }
   static size_t index(uint16_t seq) { return seq % kWindow; }
   // seq is queued and not yet acknowledged.
   bool in_window(uint16_t seq) const {

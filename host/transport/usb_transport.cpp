@@ -145,6 +145,21 @@ std::vector<UsbDeviceInfo> list_usb_devices(const UsbSelector& selector) {
 
 UsbTransport::UsbTransport(const std::string& uri) : uri_(uri), selector_(parse_usb_uri(uri)) {
   if (uri_ == "usb:") uri_ += ids_text(selector_);  // messages say which IDs were looked for
+  start_context();
+  try {
+    open_device();
+  } catch (...) {
+    stop_context();
+    throw;
+  }
+}
+
+UsbTransport::~UsbTransport() {
+  close_device();
+  stop_context();
+}
+
+void UsbTransport::start_context() {
   const int status = libusb_init(&context_);
   if (status != 0) throw TransportError(uri_ + ": cannot start libusb: " + usb_error(status));
   if (libusb_has_capability(LIBUSB_CAP_HAS_HOTPLUG)) {
@@ -154,19 +169,14 @@ UsbTransport::UsbTransport(const std::string& uri) : uri_(uri), selector_(parse_
                                      LIBUSB_HOTPLUG_NO_FLAGS, selector_.vendor, selector_.product,
                                      LIBUSB_HOTPLUG_MATCH_ANY, &UsbTransport::on_hotplug, this, &hotplug_handle_);
   }
-  try {
-    open_device();
-  } catch (...) {
-    if (hotplug_handle_ != 0) libusb_hotplug_deregister_callback(context_, hotplug_handle_);
-    libusb_exit(context_);
-    throw;
-  }
 }
 
-UsbTransport::~UsbTransport() {
-  close_device();
+void UsbTransport::stop_context() {
+  if (context_ == nullptr) return;
   if (hotplug_handle_ != 0) libusb_hotplug_deregister_callback(context_, hotplug_handle_);
+  hotplug_handle_ = 0;
   libusb_exit(context_);
+  context_ = nullptr;
 }
 
 int LIBUSB_CALL UsbTransport::on_hotplug(libusb_context*, libusb_device* device, libusb_hotplug_event event, void* self) {
@@ -324,6 +334,11 @@ void UsbTransport::disconnect() { close_device(); }
 
 void UsbTransport::reconnect() {
   close_device();
+  // A fresh context enumerates the bus again. Debian's libusb learns of devices that come and go
+  // from udevd's announcements; on a host without udevd (a container, a minimal system) the old
+  // context would never see the device come back.
+  stop_context();
+  start_context();
   open_device();
 }
 

@@ -59,6 +59,8 @@ class UsbTransport final : public Transport {
  private:
   static void LIBUSB_CALL on_transfer(libusb_transfer* transfer);
   static int LIBUSB_CALL on_hotplug(libusb_context* context, libusb_device* device, libusb_hotplug_event event, void* self);
+  void start_context();
+  void stop_context();
   void open_device();
   void close_device();
   void check_present() const;

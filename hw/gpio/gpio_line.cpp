@@ -120,4 +120,16 @@ int Line::read_edge(uint64_t* timestamp_ns) {
   return event.event_type == GPIOD_LINE_EVENT_RISING_EDGE ? 1 : 0;
 }
 
+int Line::read_edges(EdgeEvent* events, int capacity) {
+  gpiod_line_event raw[16];
+  if (line_ == nullptr || capacity <= 0) return 0;
+  const int got = gpiod_line_event_read_multiple(line_, raw, capacity < 16 ? static_cast<unsigned>(capacity) : 16u);
+  for (int i = 0; i < got; ++i) {
+    events[i].timestamp_ns =
+        static_cast<uint64_t>(raw[i].ts.tv_sec) * 1000000000ull + static_cast<uint64_t>(raw[i].ts.tv_nsec);
+    events[i].rising = raw[i].event_type == GPIOD_LINE_EVENT_RISING_EDGE;
+  }
+  return got < 0 ? 0 : got;
+}
+
 }  // namespace dg::gpio

@@ -45,6 +45,12 @@ class Line {
   int event_fd() const;
   // Reads one queued edge: 1 rising, 0 falling (logical), -1 none or an error.
   int read_edge(uint64_t* timestamp_ns);
+  // Reads up to `capacity` (at most 16, the kernel's queue) queued edges at once; returns how many.
+  struct EdgeEvent {
+    uint64_t timestamp_ns;
+    bool rising;
+  };
+  int read_edges(EdgeEvent* events, int capacity);
 
  private:
   gpiod_chip* chip_ = nullptr;

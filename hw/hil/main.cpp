@@ -171,16 +171,17 @@ int main(int argc, char** argv) {
       for (int n = 0; n < 5; ++n) {
         if (!(fds[n].revents & POLLIN)) continue;
         const int k = edge_lines[n];
-        uint64_t timestamp = 0;
-        const int edge = lines[k].read_edge(&timestamp);
-        if (edge < 0) continue;
-        if (k == kReq) {
-          request = edge == 1;
-          request_changed = true;
-        } else {
-          const int axis = (k == kStepX || k == kDirX) ? 0 : 1;
-          const auto line = (k == kStepX || k == kStepY) ? dg::hil::AxisLine::kStep : dg::hil::AxisLine::kDir;
-          edges.push_back({timestamp, axis, line, edge == 1});
+        dg::gpio::Line::EdgeEvent queued[16];
+        const int got = lines[k].read_edges(queued, 16);
+        for (int e = 0; e < got; ++e) {
+          if (k == kReq) {
+            request = queued[e].rising;
+            request_changed = true;
+          } else {
+            const int axis = (k == kStepX || k == kDirX) ? 0 : 1;
+            const auto line = (k == kStepX || k == kStepY) ? dg::hil::AxisLine::kStep : dg::hil::AxisLine::kDir;
+            edges.push_back({queued[e].timestamp_ns, axis, line, queued[e].rising});
+          }
         }
       }
       // Steps first: the reading belongs to where the table is when REQ comes.

@@ -185,13 +185,11 @@ bool GpioBoard::run_step_timer() {
 }
 
 bool GpioBoard::dispatch_edges(int pin) {
+  gpio::Line::EdgeEvent events[16];
+  const int got = lines_[pin].read_edges(events, 16);
   bool any = false;
-  for (int n = 0; n < 64; ++n) {  // what is queued now, at most
-    pollfd fd{lines_[pin].event_fd(), POLLIN, 0};
-    if (poll(&fd, 1, 0) <= 0) break;
-    const int edge = lines_[pin].read_edge(nullptr);
-    if (edge < 0) break;
-    if (edge == 1 && edge_handler_[pin] != nullptr) {
+  for (int i = 0; i < got; ++i) {
+    if (events[i].rising && edge_handler_[pin] != nullptr) {
       edge_handler_[pin](edge_context_[pin]);
       any = true;
     }

@@ -140,7 +140,7 @@ int main(int argc, char** argv) {
     config.require_homing = homing;
     board = gpio_board.get();
   }
-  config.board = simulate ? "linux-gadget (simulated table)" : "linux-gadget";
+  config.board = simulate ? "gadget (sim)" : "linux-gadget";
 
   if (make_gadget) {
     if (!gadget.bind(&error)) {

@@ -208,6 +208,34 @@ TEST(ReliableLink, ASyncFrameStartsANewSessionOnceAndDropsTheOldOnesFrames) {
   CHECK_FALSE(device.take_restart());
 }
 
+TEST(ReliableLink, AFrameSentBeforeTheSessionIsNotTakenForItsFirst) {
+  Link host, device;
+  dg::FrameDecoder at_device, at_host;
+  uint8_t wire[dg::kFrameMaxWire];
+  size_t size = 0, used = 0;
+  // Power-up: the device raises an alarm before any host is there; the frame waits in the pipe.
+  const uint8_t alarm[1] = {9};
+  device.send(alarm, 1, 0);
+  uint8_t stale[dg::kFrameMaxWire];
+  size_t stale_size = 0;
+  CHECK(device.next_frame(0, stale, sizeof stale, &stale_size));
+  // A host opens a session; the device takes it and answers.
+  const uint8_t hello[1] = {1};
+  CHECK(dg::Status::kOk == host.send_sync(hello, 1, 0, 0x2345));
+  CHECK(host.next_frame(0, wire, sizeof wire, &size));
+  CHECK(dg::Status::kOk == at_device.feed(wire, size, &used));
+  CHECK(device.receive(at_device.header()));
+  const uint8_t reply[1] = {2};
+  device.send(reply, 1, 0);
+  CHECK(device.next_frame(0, wire, sizeof wire, &size));
+  // The stale alarm reaches the host first: dropped, and the reply after it is delivered.
+  CHECK(dg::Status::kOk == at_host.feed(stale, stale_size, &used));
+  CHECK_FALSE(host.receive(at_host.header()));
+  CHECK(dg::Status::kOk == at_host.feed(wire, size, &used));
+  CHECK(host.receive(at_host.header()));
+  LONGS_EQUAL(2, at_host.payload()[0]);
+}
+
 TEST(ReliableLink, TwoAcksThatFreeNothingResendBeforeTheTimer) {
   Link link(50000);
   const uint8_t payload[1] = {1};
