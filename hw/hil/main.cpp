@@ -39,7 +39,7 @@ void usage() {
                "  --answer-us N    REQ to the first CK edge (default 5000)\n"
                "  --noise-um S     Gaussian noise on each reading\n"
                "  --inch           readings in inch at 0.0001\n"
-               "  --readings N     exit after N readings (default: run until SIGTERM)\n");
+               "  --readings N     exit after N readings, once REQ is released (default: run until SIGTERM)\n");
 }
 
 uint64_t now_ns() {
@@ -154,7 +154,9 @@ int main(int argc, char** argv) {
   std::vector<dg::hil::Edge> edges;
   const int edge_lines[] = {kStepX, kDirX, kStepY, kDirY, kReq};
   while (!stop_requested) {
-    if (readings_wanted > 0 && readings >= readings_wanted && gauge.next_event_ns() == UINT64_MAX) break;
+    // Done once the last frame is out and the reader has let REQ go: leaving earlier would release
+    // CK while the reader may not yet have seen its last rise.
+    if (readings_wanted > 0 && readings >= readings_wanted && gauge.next_event_ns() == UINT64_MAX && !request) break;
     pollfd fds[5];
     for (int n = 0; n < 5; ++n) fds[n] = {lines[edge_lines[n]].event_fd(), POLLIN, 0};
     const uint64_t due = gauge.next_event_ns();

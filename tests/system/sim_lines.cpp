@@ -112,15 +112,15 @@ int read_gauge(const std::string& dir, const int lines[7], long dx, long dy) {
   // Paced, so the kernel's queue of edges for the rig (16 deep) never overflows in an emulator.
   for (long i = 0; i < labs(dx); ++i) {
     step_x.drive(true);
-    usleep(200);
+    usleep(500);
     step_x.drive(false);
-    usleep(200);
+    usleep(500);
   }
   for (long i = 0; i < labs(dy); ++i) {
     step_y.drive(true);
-    usleep(200);
+    usleep(500);
     step_y.drive(false);
-    usleep(200);
+    usleep(500);
   }
   usleep(1000);
   req.drive(true);

@@ -122,13 +122,16 @@ bool GpioBoard::open(const PinMap& map, std::string* error) {
   for (int pin = 0; pin < kPinCount; ++pin) {
     if (!map.wired[pin]) continue;
     const auto p = static_cast<hal::Pin>(pin);
-    // CK and the touch probe raise "interrupts"; every other input is read when wanted.
+    // CK and the touch probe raise "interrupts"; DATA's edges are kept to know its level at each
+    // CK edge; every other input is read when wanted.
     const gpio::Direction direction = is_output(pin) ? gpio::Direction::kOutput
                                       : (p == hal::Pin::kGaugeClock || p == hal::Pin::kTouchProbe)
                                           ? gpio::Direction::kRisingEdges
-                                          : gpio::Direction::kInput;
+                                      : p == hal::Pin::kGaugeData ? gpio::Direction::kBothEdges
+                                                                  : gpio::Direction::kInput;
     if (!lines_[pin].request(map.pins[pin], "digitizer", direction, input_bias(pin), false, error)) return false;
   }
+  data_level_ = lines_[index(hal::Pin::kGaugeData)].get();
   if (map.enable_wired &&
       !enable_.request(map.driver_enable, "digitizer", gpio::Direction::kOutput, gpio::Bias::kAsIs, true, error)) {
     return false;
@@ -153,6 +156,7 @@ void GpioBoard::write_pin(hal::Pin pin, bool level) {
 bool GpioBoard::read_pin(hal::Pin pin) {
   const int i = index(pin);
   if (is_output(i)) return level_[i];
+  if (pin == hal::Pin::kGaugeData && in_clock_edge_) return data_level_;
   return lines_[i].requested() && lines_[i].get();
 }
 
@@ -184,15 +188,44 @@ bool GpioBoard::run_step_timer() {
   return false;
 }
 
+void GpioBoard::follow_data(uint64_t until_ns) {
+  gpio::Line& data = lines_[index(hal::Pin::kGaugeData)];
+  if (!data.requested()) return;
+  // Everything DATA did before now is queued already: take it all, then apply what is due.
+  for (;;) {
+    pollfd fd{data.event_fd(), POLLIN, 0};
+    if (poll(&fd, 1, 0) <= 0) break;
+    gpio::Line::EdgeEvent events[16];
+    const int got = data.read_edges(events, 16);
+    if (got <= 0) break;
+    for (int i = 0; i < got; ++i) {
+      if (data_count_ == kDataEdges) {  // far behind: keep the newest
+        data_head_ = (data_head_ + 1) % kDataEdges;
+        --data_count_;
+      }
+      data_edges_[(data_head_ + data_count_) % kDataEdges] = {events[i].timestamp_ns, events[i].rising};
+      ++data_count_;
+    }
+  }
+  while (data_count_ > 0 && data_edges_[data_head_].timestamp_ns <= until_ns) {
+    data_level_ = data_edges_[data_head_].level;
+    data_head_ = (data_head_ + 1) % kDataEdges;
+    --data_count_;
+  }
+}
+
 bool GpioBoard::dispatch_edges(int pin) {
   gpio::Line::EdgeEvent events[16];
   const int got = lines_[pin].read_edges(events, 16);
+  const bool clock = pin == index(hal::Pin::kGaugeClock);
   bool any = false;
   for (int i = 0; i < got; ++i) {
-    if (events[i].rising && edge_handler_[pin] != nullptr) {
-      edge_handler_[pin](edge_context_[pin]);
-      any = true;
-    }
+    if (!events[i].rising || edge_handler_[pin] == nullptr) continue;
+    if (clock) follow_data(events[i].timestamp_ns);
+    in_clock_edge_ = clock;
+    edge_handler_[pin](edge_context_[pin]);
+    in_clock_edge_ = false;
+    any = true;
   }
   return any;
 }

@@ -52,6 +52,8 @@ class GpioBoard final : public hal::Board {
   // Runs the step handler for every tick now due; true when a move ended.
   bool run_step_timer();
   bool dispatch_edges(int pin);
+  // Applies DATA's queued edges up to `until_ns` (kernel time) to data_level_.
+  void follow_data(uint64_t until_ns);
 
   FunctionFsLink& link_;
   gpio::Line lines_[kPinCount];
@@ -64,6 +66,17 @@ class GpioBoard final : public hal::Board {
   void* timer_context_ = nullptr;
   uint64_t timer_due_ns_ = kNever;
   uint64_t late_steps_ = 0;
+  // The gauge's DATA as it was at the CK edge being dispatched: a process may see the edge late,
+  // after DATA has moved on to the next bit, so DATA's own edges are kept with their timestamps.
+  struct DataEdge {
+    uint64_t timestamp_ns;
+    bool level;
+  };
+  static constexpr int kDataEdges = 128;
+  DataEdge data_edges_[kDataEdges] = {};
+  int data_head_ = 0, data_count_ = 0;
+  bool data_level_ = false;
+  bool in_clock_edge_ = false;
   uint64_t epoch_ns_ = 0;
 };
 
