@@ -145,7 +145,7 @@ int main(int argc, char** argv) {
   dg::hil::StepFollower table(start_x, start_y, lines[kDirX].get(), lines[kDirY].get());
   dg::sim::DigimaticGauge gauge(gauge_config, 1);
   bool request = lines[kReq].get();
-  const uint64_t epoch = now_ns();
+  uint64_t epoch = now_ns();  // the gauge model's time zero; slides when the rig runs late
   long readings = 0;
   uint32_t frames_seen = 0;
   std::printf("digitizer-hil: following the table from (%lld, %lld) steps; %s part\n", start_x, start_y,
@@ -194,8 +194,12 @@ int main(int argc, char** argv) {
         gauge.set_request(request, now_ns() - epoch, part.height_mm(x_mm, y_mm));
       }
     }
-    // Every CK change now due, DATA first so it is settled before CK rises.
-    while (gauge.next_event_ns() != UINT64_MAX && gauge.next_event_ns() <= now_ns() - epoch) {
+    // The CK change now due, DATA first so it is settled before CK rises. One change per pass: a
+    // rig that woke late shifts the rest of the frame by its lateness rather than catching up, so
+    // no CK phase is ever shorter than --clock-us (a collapsed pulse would be a lost bit).
+    const uint64_t now_after = now_ns() - epoch;
+    if (gauge.next_event_ns() != UINT64_MAX && gauge.next_event_ns() <= now_after) {
+      epoch += now_after - gauge.next_event_ns();
       gauge.advance();
       lines[kData].set(gauge.data());
       lines[kCk].set(gauge.clock());

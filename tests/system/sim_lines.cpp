@@ -79,7 +79,7 @@ int play_gauge(const std::string& dir, int req_line, int ck_line, int data_line,
   config.clock_low_us = config.clock_high_us = 1000;
   config.request_to_clock_us = 2000;
   dg::sim::DigimaticGauge gauge(config, 1);
-  const uint64_t epoch = now_ns();
+  uint64_t epoch = now_ns();
   size_t next = 0;
   bool request = false;
   for (;;) {
@@ -95,6 +95,8 @@ int play_gauge(const std::string& dir, int req_line, int ck_line, int data_line,
     }
     while (gauge.next_event_ns() != UINT64_MAX) {
       sleep_until(epoch + gauge.next_event_ns());
+      // Woken late: shift the rest of the frame instead of catching up, so no phase is cut short.
+      epoch += now_ns() - (epoch + gauge.next_event_ns());
       gauge.advance();
       data.drive(gauge.data());
       ck.drive(gauge.clock());
@@ -109,18 +111,20 @@ int read_gauge(const std::string& dir, const int lines[7], long dx, long dy) {
   dir_x.drive(dx >= 0);
   dir_y.drive(dy >= 0);
   usleep(1000);
-  // Paced, so the kernel's queue of edges for the rig (16 deep) never overflows in an emulator.
+  // Paced: gpiolib reports an edge from a threaded interrupt handler, and two edges that come
+  // before the thread runs are reported as one. Under software emulation the thread can be
+  // milliseconds late.
   for (long i = 0; i < labs(dx); ++i) {
     step_x.drive(true);
-    usleep(500);
+    usleep(1000);
     step_x.drive(false);
-    usleep(500);
+    usleep(2000);
   }
   for (long i = 0; i < labs(dy); ++i) {
     step_y.drive(true);
-    usleep(500);
+    usleep(1000);
     step_y.drive(false);
-    usleep(500);
+    usleep(2000);
   }
   usleep(1000);
   req.drive(true);
