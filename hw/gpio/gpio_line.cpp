@@ -27,6 +27,10 @@ bool parse_line_spec(const std::string& text, LineSpec* spec, std::string* error
   }
   const size_t colon = body.rfind(':');
   if (colon == std::string::npos) {
+    if (body.find('/') != std::string::npos) {
+      *error = "'" + text + "' is not CHIP:OFFSET (for example gpiochip0:17) or a line name";
+      return false;
+    }
     out.name = body;
   } else {
     const std::string number = body.substr(colon + 1);

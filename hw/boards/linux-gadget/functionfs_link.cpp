@@ -138,8 +138,8 @@ void FunctionFsLink::event_loop() {
   usb_functionfs_event events[8];
   while (!stop_.load()) {
     const ssize_t got = ::read(ep0_, events, sizeof events);
-    if (got < 0) {
-      if (errno != EINTR) usleep(10000);
+    if (got <= 0) {
+      if (got == 0 || errno != EINTR) usleep(10000);  // not FunctionFS, or it is going away
       continue;
     }
     for (size_t i = 0; i < static_cast<size_t>(got) / sizeof events[0]; ++i) {
