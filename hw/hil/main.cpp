@@ -186,6 +186,19 @@ int main(int argc, char** argv) {
           }
         }
       }
+      // Each line's edges are queued by its own interrupt thread, so a DIR edge that came before
+      // a STEP edge may not be queued yet: until DIR's queued edges end at the level the line has
+      // now, wait for the rest (bounded) before counting steps.
+      for (int axis = 0; axis < 2; ++axis) {
+        dg::gpio::Line& dir = lines[axis == 0 ? kDirX : kDirY];
+        for (int tries = 0; tries < 20 && table.dir_after(edges, axis) != dir.get(); ++tries) {
+          pollfd fd{dir.event_fd(), POLLIN, 0};
+          if (poll(&fd, 1, 1) <= 0) continue;
+          dg::gpio::Line::EdgeEvent queued[16];
+          const int got = dir.read_edges(queued, 16);
+          for (int e = 0; e < got; ++e) edges.push_back({queued[e].timestamp_ns, axis, dg::hil::AxisLine::kDir, queued[e].rising});
+        }
+      }
       // Steps first: the reading belongs to where the table is when REQ comes.
       table.apply(edges);
       if (request_changed) {

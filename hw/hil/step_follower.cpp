@@ -23,4 +23,18 @@ void StepFollower::apply(std::vector<Edge>& edges) {
   edges.clear();
 }
 
+bool StepFollower::dir_after(const std::vector<Edge>& pending, int axis) const {
+  bool level = dir_[axis];
+  uint64_t latest = 0;
+  bool seen = false;
+  for (const Edge& edge : pending) {
+    if (edge.axis == axis && edge.line == AxisLine::kDir && (!seen || edge.timestamp_ns >= latest)) {
+      level = edge.rising;
+      latest = edge.timestamp_ns;
+      seen = true;
+    }
+  }
+  return level;
+}
+
 }  // namespace dg::hil

@@ -26,6 +26,10 @@ class StepFollower {
   // Applies a batch of edges, in timestamp order whatever order they come in.
   void apply(std::vector<Edge>& edges);
 
+  // DIR of `axis` once `pending` (edges not yet applied) is: what the line should read now if no
+  // edge is still on its way from the kernel.
+  bool dir_after(const std::vector<Edge>& pending, int axis) const;
+
   int64_t x_steps() const { return position_[0]; }
   int64_t y_steps() const { return position_[1]; }
   uint64_t steps() const { return steps_; }

@@ -116,15 +116,15 @@ int read_gauge(const std::string& dir, const int lines[7], long dx, long dy) {
   // milliseconds late.
   for (long i = 0; i < labs(dx); ++i) {
     step_x.drive(true);
-    usleep(1000);
-    step_x.drive(false);
     usleep(2000);
+    step_x.drive(false);
+    usleep(4000);
   }
   for (long i = 0; i < labs(dy); ++i) {
     step_y.drive(true);
-    usleep(1000);
-    step_y.drive(false);
     usleep(2000);
+    step_y.drive(false);
+    usleep(4000);
   }
   usleep(1000);
   req.drive(true);
@@ -132,7 +132,7 @@ int read_gauge(const std::string& dir, const int lines[7], long dx, long dy) {
   dg::DigimaticBits bits;
   int count = 0;
   bool clock = ck.value();
-  const uint64_t give_up = now_ns() + 5000000000ull;
+  const uint64_t give_up = now_ns() + 10000000000ull;
   while (count < dg::kDigimaticBits && now_ns() < give_up) {
     const bool level = ck.value();
     if (level && !clock) bits.set_bit(count++, data.value());

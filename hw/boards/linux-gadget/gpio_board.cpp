@@ -60,7 +60,7 @@ bool GpioBoard::open(const PinMap& map, std::string* error) {
                                                                   : gpio::Direction::kInput;
     if (!lines_[pin].request(map.pins[pin], "digitizer", direction, input_bias(pin), false, error)) return false;
   }
-  data_level_ = lines_[index(hal::Pin::kGaugeData)].get();
+  data_ = ClockedData(lines_[index(hal::Pin::kGaugeData)].get());
   if (map.enable_wired &&
       !enable_.request(map.driver_enable, "digitizer", gpio::Direction::kOutput, gpio::Bias::kAsIs, true, error)) {
     return false;
@@ -85,7 +85,7 @@ void GpioBoard::write_pin(hal::Pin pin, bool level) {
 bool GpioBoard::read_pin(hal::Pin pin) {
   const int i = index(pin);
   if (is_output(i)) return level_[i];
-  if (pin == hal::Pin::kGaugeData && in_clock_edge_) return data_level_;
+  if (pin == hal::Pin::kGaugeData && in_clock_edge_) return data_at_clock_;
   return lines_[i].requested() && lines_[i].get();
 }
 
@@ -106,6 +106,7 @@ bool GpioBoard::run_step_timer() {
   uint64_t now = now_ns();
   while (timer_due_ns_ != kNever && timer_due_ns_ <= now) {
     if (now - timer_due_ns_ > kLateNs) ++late_steps_;
+    ++timer_ticks_;
     const uint32_t next_ns = timer_handler_(timer_context_);
     if (next_ns == 0) {
       timer_due_ns_ = kNever;
@@ -117,40 +118,50 @@ bool GpioBoard::run_step_timer() {
   return false;
 }
 
-void GpioBoard::follow_data(uint64_t until_ns) {
+void GpioBoard::take_data_edges() {
   gpio::Line& data = lines_[index(hal::Pin::kGaugeData)];
-  if (!data.requested()) return;
-  // Everything DATA did before now is queued already: take it all, then apply what is due.
   for (;;) {
     pollfd fd{data.event_fd(), POLLIN, 0};
-    if (poll(&fd, 1, 0) <= 0) break;
+    if (poll(&fd, 1, 0) <= 0) return;
     gpio::Line::EdgeEvent events[16];
     const int got = data.read_edges(events, 16);
-    if (got <= 0) break;
-    for (int i = 0; i < got; ++i) {
-      if (data_count_ == kDataEdges) {  // far behind: keep the newest
-        data_head_ = (data_head_ + 1) % kDataEdges;
-        --data_count_;
-      }
-      data_edges_[(data_head_ + data_count_) % kDataEdges] = {events[i].timestamp_ns, events[i].rising};
-      ++data_count_;
-    }
+    if (got <= 0) return;
+    for (int i = 0; i < got; ++i) data_.add(events[i].timestamp_ns, events[i].rising);
   }
-  while (data_count_ > 0 && data_edges_[data_head_].timestamp_ns <= until_ns) {
-    data_level_ = data_edges_[data_head_].level;
-    data_head_ = (data_head_ + 1) % kDataEdges;
-    --data_count_;
+}
+
+void GpioBoard::settle_data() {
+  gpio::Line& data = lines_[index(hal::Pin::kGaugeData)];
+  if (!data.requested()) return;
+  // The kernel queues each line's edges from its own interrupt thread, so a DATA edge that came
+  // before a CK edge may not be queued yet when the CK edge is. Until the queued edges end at
+  // the level DATA has now, one is still on its way: wait for it (bounded).
+  for (int tries = 0; tries < 20; ++tries) {
+    take_data_edges();
+    if (data_.queued_level() == data.get()) return;
+    pollfd fd{data.event_fd(), POLLIN, 0};
+    poll(&fd, 1, 1);
   }
+  data_.mark_doubtful();
 }
 
 bool GpioBoard::dispatch_edges(int pin) {
   gpio::Line::EdgeEvent events[16];
   const int got = lines_[pin].read_edges(events, 16);
   const bool clock = pin == index(hal::Pin::kGaugeClock);
+  if (clock && got > 0) settle_data();
   bool any = false;
   for (int i = 0; i < got; ++i) {
     if (!events[i].rising || edge_handler_[pin] == nullptr) continue;
-    if (clock) follow_data(events[i].timestamp_ns);
+    if (clock) {
+      data_at_clock_ = data_.level_at(events[i].timestamp_ns);
+      if (data_.take_doubtful()) {
+        // This bit, or one before it, may be wrong: without this edge the reader times the frame
+        // out and reads it again.
+        ++dropped_clock_edges_;
+        continue;
+      }
+    }
     in_clock_edge_ = clock;
     edge_handler_[pin](edge_context_[pin]);
     in_clock_edge_ = false;

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "firmware/hal/board.h"
+#include "hw/boards/linux-gadget/clocked_data.h"
 #include "hw/boards/linux-gadget/functionfs_link.h"
 #include "hw/boards/linux-gadget/pin_map.h"
 #include "hw/gpio/gpio_line.h"
@@ -28,8 +29,11 @@ class GpioBoard final : public hal::Board {
   size_t link_read(uint8_t* data, size_t capacity) override { return link_.read(data, capacity); }
   bool wait(uint64_t deadline_us) override;
 
-  // Steps whose timer fired later than 50 us past due (a loaded Linux is not an MCU).
+  // Step timer ticks, and those that fired later than 50 us past due (a loaded Linux is not an MCU).
+  uint64_t timer_ticks() const { return timer_ticks_; }
   uint64_t late_steps() const { return late_steps_; }
+  // CK edges left out because DATA's record at them was doubtful (each costs a gauge reading).
+  uint64_t dropped_clock_edges() const { return dropped_clock_edges_; }
 
  private:
   static constexpr uint64_t kNever = UINT64_MAX;
@@ -37,8 +41,9 @@ class GpioBoard final : public hal::Board {
   // Runs the step handler for every tick now due; true when a move ended.
   bool run_step_timer();
   bool dispatch_edges(int pin);
-  // Applies DATA's queued edges up to `until_ns` (kernel time) to data_level_.
-  void follow_data(uint64_t until_ns);
+  // Moves DATA's queued edges into data_edges_; settle_data() also waits for any still on its way.
+  void take_data_edges();
+  void settle_data();
 
   FunctionFsLink& link_;
   gpio::Line lines_[kPinCount];
@@ -51,16 +56,11 @@ class GpioBoard final : public hal::Board {
   void* timer_context_ = nullptr;
   uint64_t timer_due_ns_ = kNever;
   uint64_t late_steps_ = 0;
-  // The gauge's DATA as it was at the CK edge being dispatched: a process may see the edge late,
-  // after DATA has moved on to the next bit, so DATA's own edges are kept with their timestamps.
-  struct DataEdge {
-    uint64_t timestamp_ns;
-    bool level;
-  };
-  static constexpr int kDataEdges = 128;
-  DataEdge data_edges_[kDataEdges] = {};
-  int data_head_ = 0, data_count_ = 0;
-  bool data_level_ = false;
+  uint64_t timer_ticks_ = 0;
+  // The gauge's DATA as it was at the CK edge being dispatched (a process sees edges late).
+  ClockedData data_;
+  bool data_at_clock_ = false;
+  uint64_t dropped_clock_edges_ = 0;
   bool in_clock_edge_ = false;
   uint64_t epoch_ns_ = 0;
 };

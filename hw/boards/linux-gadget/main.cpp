@@ -155,7 +155,12 @@ int main(int argc, char** argv) {
   auto device = std::make_unique<dg::Device>(*board, config);
   device->run();
   std::printf("digitizer-gadget: stopped; the host dropped the link %u times", link.drops());
-  if (gpio_board) std::printf(", %llu steps were late by more than 50 us", static_cast<unsigned long long>(gpio_board->late_steps()));
+  if (gpio_board) {
+    std::printf(", %llu of %llu step ticks were late by more than 50 us, %llu gauge clock edges were left out (DATA doubtful)",
+                static_cast<unsigned long long>(gpio_board->late_steps()),
+                static_cast<unsigned long long>(gpio_board->timer_ticks()),
+                static_cast<unsigned long long>(gpio_board->dropped_clock_edges()));
+  }
   std::printf("\n");
   return 0;
 }

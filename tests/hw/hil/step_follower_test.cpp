@@ -58,3 +58,13 @@ TEST(StepFollower, EdgesOfAnAxisThatDoesNotExistAreIgnored) {
   LONGS_EQUAL(0, table.y_steps());
   LONGS_EQUAL(0, table.steps());
 }
+
+TEST(StepFollower, TellsWhatDirShouldReadOncePendingEdgesAreApplied) {
+  StepFollower table(0, 0, true, false);
+  std::vector<Edge> pending = {{30, 0, AxisLine::kDir, true}, {10, 0, AxisLine::kDir, false}, {20, 1, AxisLine::kDir, true}};
+  CHECK(table.dir_after(pending, 0));  // the latest x edge, whatever the order read
+  CHECK(table.dir_after(pending, 1));
+  pending.clear();
+  CHECK(table.dir_after(pending, 0));
+  CHECK_FALSE(table.dir_after(pending, 1));
+}
