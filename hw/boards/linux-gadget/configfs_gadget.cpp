@@ -23,6 +23,12 @@ std::string hex4(unsigned value) {
   return text;
 }
 
+std::string hex2(unsigned value) {
+  char text[8];
+  std::snprintf(text, sizeof text, "0x%02x", value);
+  return text;
+}
+
 // hw/usb's string descriptor as ASCII (its strings are ASCII).
 std::string usb_string(uint8_t index) {
   uint8_t descriptor[128];
@@ -94,6 +100,20 @@ bool ConfigfsGadget::create(const GadgetSettings& settings, std::string* error) 
     return false;
   }
   made_.push_back(link);
+  // Microsoft OS 1.0 descriptors (string 0xEE and its vendor request) for the configuration, so
+  // Windows reads the interface's WINUSB compatible ID from the function's descriptors.
+  const std::string os_desc = root_ + "/os_desc";
+  if (!write_attribute(os_desc + "/use", "1", error) ||
+      !write_attribute(os_desc + "/b_vendor_code", hex2(usb::kMsVendorCode), error) ||
+      !write_attribute(os_desc + "/qw_sign", "MSFT100", error)) {
+    return false;
+  }
+  const std::string os_link = os_desc + "/c.1";
+  if (symlink(config.c_str(), os_link.c_str()) != 0 && errno != EEXIST) {
+    *error = os_link + ": " + std::strerror(errno);
+    return false;
+  }
+  made_.push_back(os_link);
   mkdir(settings.mount_dir.c_str(), 0755);
   if (mount(settings.name.c_str(), settings.mount_dir.c_str(), "functionfs", 0, nullptr) != 0) {
     *error = "cannot mount FunctionFS '" + settings.name + "' at " + settings.mount_dir + ": " + std::strerror(errno) +

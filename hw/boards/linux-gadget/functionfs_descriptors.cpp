@@ -41,19 +41,46 @@ void patch_length(std::vector<uint8_t>& out) {
   for (int i = 0; i < 4; ++i) out[4 + i] = static_cast<uint8_t>(length >> (8 * i));
 }
 
+// Microsoft OS 1.0 extended compat ID descriptor for the interface: compatible ID "WINUSB", so
+// Windows binds WinUSB without a driver install (FunctionFS cannot carry the BOS descriptor and
+// MS OS 2.0 set the STM32 board uses; it serves these through the composite framework's 0xEE
+// string and vendor request). Layout: struct usb_os_desc_header and usb_ext_compat_desc.
+std::vector<uint8_t> winusb_compat_id() {
+  std::vector<uint8_t> out;
+  out.push_back(usb::kInterfaceNumber);  // interface
+  put32(out, 11 + 24);                   // dwLength: this 11-byte header and one function section
+  // bcdVersion: 1.00 would be 0x0100, but FunctionFS up to Linux 6.1 accepts only the value 1
+  // (later kernels take both), and the host never sees this field: the kernel writes its own.
+  out.push_back(0x01);
+  out.push_back(0x00);
+  out.push_back(0x04);                   // wIndex 4: extended compat ID
+  out.push_back(0x00);
+  out.push_back(1);                      // bCount
+  out.push_back(0);                      // reserved
+  out.push_back(usb::kInterfaceNumber);  // bFirstInterfaceNumber
+  out.push_back(1);                      // Reserved1 (1, as the specification says)
+  const char compatible[8] = {'W', 'I', 'N', 'U', 'S', 'B', 0, 0};
+  out.insert(out.end(), compatible, compatible + 8);
+  out.insert(out.end(), 8 + 6, 0);  // SubCompatibleID, Reserved2
+  return out;
+}
+
 }  // namespace
 
 std::vector<uint8_t> functionfs_descriptors() {
   const std::vector<uint8_t> full = interface_descriptors(usb::kBulkPacketSize);
   const std::vector<uint8_t> high = interface_descriptors(512);
+  const std::vector<uint8_t> os = winusb_compat_id();
   std::vector<uint8_t> out;
   put32(out, FUNCTIONFS_DESCRIPTORS_MAGIC_V2);
   put32(out, 0);  // length, patched below
-  put32(out, FUNCTIONFS_HAS_FS_DESC | FUNCTIONFS_HAS_HS_DESC);
+  put32(out, FUNCTIONFS_HAS_FS_DESC | FUNCTIONFS_HAS_HS_DESC | FUNCTIONFS_HAS_MS_OS_DESC);
   put32(out, static_cast<uint32_t>(count_descriptors(full)));
   put32(out, static_cast<uint32_t>(count_descriptors(high)));
+  put32(out, 1);  // MS OS descriptors
   out.insert(out.end(), full.begin(), full.end());
   out.insert(out.end(), high.begin(), high.end());
+  out.insert(out.end(), os.begin(), os.end());
   patch_length(out);
   return out;
 }
