@@ -1,8 +1,13 @@
 // Step timing on Linux: each tick is due at the previous tick's due time plus the handler's
-// interval (chained, as on the STM32 board, so wake-up latency does not accumulate into the
-// motion), and ticks already past are run at once. ppoll sleeps to the next due time with a 1 us
-// timer slack; the STEP pulse is held 2 us by spinning (drivers such as the DRV8825 need 1.9 us).
+// interval (chained, as on the STM32 board, so a few microseconds of wake-up latency do not
+// accumulate into the motion). A tick more than 50 us late starts the schedule again from now
+// instead: catching up would send the missed steps in a burst faster than the motors can follow
+// (a stalled stepper loses them), whereas a stretched interval only slows the move. ppoll sleeps
+// to the next due time with a 1 us timer slack; the STEP pulse is held 2 us by spinning (drivers
+// such as the DRV8825 need 1.9 us).
 #include "hw/boards/linux-gadget/gpio_board.h"
+
+#include "hw/boards/linux-gadget/step_schedule.h"
 
 #include <poll.h>
 #include <sys/prctl.h>
@@ -15,7 +20,6 @@ namespace dg::gadget {
 namespace {
 
 constexpr uint64_t kStepPulseNs = 2000;
-constexpr uint64_t kLateNs = 50000;
 
 
 int index(hal::Pin pin) { return static_cast<int>(pin); }
@@ -105,14 +109,14 @@ void GpioBoard::stop_step_timer() { timer_due_ns_ = kNever; }
 bool GpioBoard::run_step_timer() {
   uint64_t now = now_ns();
   while (timer_due_ns_ != kNever && timer_due_ns_ <= now) {
-    if (now - timer_due_ns_ > kLateNs) ++late_steps_;
+    if (step_late(timer_due_ns_, now)) ++late_steps_;
     ++timer_ticks_;
     const uint32_t next_ns = timer_handler_(timer_context_);
     if (next_ns == 0) {
       timer_due_ns_ = kNever;
       return true;
     }
-    timer_due_ns_ += next_ns;
+    timer_due_ns_ = next_step_due(timer_due_ns_, now, next_ns);
     now = now_ns();
   }
   return false;
