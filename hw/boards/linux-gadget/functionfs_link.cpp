@@ -24,8 +24,10 @@ namespace dg::gadget {
 
 namespace {
 
-// Bytes queued for the host beyond this are refused: the firmware keeps them and tries again.
-constexpr size_t kTxCapacity = 64 * 1024;
+// Bytes queued for the host beyond this are refused: the firmware keeps them and tries again. Small,
+// because what waits here while no program on the host reads (retransmissions, mostly) reaches the
+// next one as stale bytes it must skip.
+constexpr size_t kTxCapacity = 4096;
 // One bulk IN write. FunctionFS sends no zero-length packet, so a write that fills whole packets
 // would leave the host's transfer waiting for more; the writer trims such a write by one byte.
 constexpr size_t kWriteChunk = 4096;
@@ -217,6 +219,8 @@ void FunctionFsLink::write_loop() {
 }
 
 size_t FunctionFsLink::write(const uint8_t* data, size_t size) {
+  // No host has the interface: refuse, as a device's full IN FIFO would.
+  if (!enabled_.load()) return 0;
   size_t taken = 0;
   {
     std::lock_guard<std::mutex> lock(mutex_);
