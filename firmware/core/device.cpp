@@ -547,4 +547,18 @@ void Device::transmit() {
   }
 }
 
+DeviceConfig hardware_device_config(bool caliper) {
+  DeviceConfig config;
+  config.firmware_version = DIGITIZER_VERSION;
+  if (caliper) {
+    config.probe = digitizer_ProbeType_PROBE_CALIPER_24BIT;
+    config.gauge_resolution_nm = 10000;
+  }
+  config.capabilities = (caliper ? digitizer_Capability_CAP_CALIPER_24BIT : digitizer_Capability_CAP_DIGIMATIC) |
+                        digitizer_Capability_CAP_DEVICE_FIT | digitizer_Capability_CAP_RESUME |
+                        digitizer_Capability_CAP_HOMING | digitizer_Capability_CAP_TOUCH_PROBE;
+  config.require_homing = true;
+  return config;
+}
+
 }  // namespace dg

@@ -73,6 +73,12 @@ struct DeviceConfig {
   uint32_t touch_overtravel_steps = 400;
 };
 
+// A controller on real hardware: the reference table's motion (the MotionConfig defaults), the
+// probe its gauge port carries (a Digimatic gauge, or a 24-bit caliper at 0.01 mm), the
+// capabilities a real board has, and homing required before anything moves (after power-up the
+// firmware cannot know where the table is). The caller names the device and the board.
+DeviceConfig hardware_device_config(bool caliper);
+
 class Device : private PointSink {
  public:
   Device(hal::Board& board, const DeviceConfig& config);

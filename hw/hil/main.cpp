@@ -15,8 +15,8 @@
 #include <vector>
 
 #include "hw/gpio/gpio_line.h"
+#include "hw/hil/real_time_gauge.h"
 #include "hw/hil/step_follower.h"
-#include "hw/sim/digimatic_gauge.h"
 #include "hw/sim/parts.h"
 
 namespace {
@@ -143,9 +143,8 @@ int main(int argc, char** argv) {
   prctl(PR_SET_TIMERSLACK, 1UL);
 
   dg::hil::StepFollower table(start_x, start_y, lines[kDirX].get(), lines[kDirY].get());
-  dg::sim::DigimaticGauge gauge(gauge_config, 1);
+  dg::hil::RealTimeGauge gauge(gauge_config, now_ns());
   bool request = lines[kReq].get();
-  uint64_t epoch = now_ns();  // the gauge model's time zero; slides when the rig runs late
   long readings = 0;
   uint32_t frames_seen = 0;
   std::printf("digitizer-hil: following the table from (%lld, %lld) steps; %s part\n", start_x, start_y,
@@ -156,11 +155,11 @@ int main(int argc, char** argv) {
   while (!stop_requested) {
     // Done once the last frame is out and the reader has let REQ go: leaving earlier would release
     // CK while the reader may not yet have seen its last rise.
-    if (readings_wanted > 0 && readings >= readings_wanted && gauge.next_event_ns() == UINT64_MAX && !request) break;
+    if (readings_wanted > 0 && readings >= readings_wanted && gauge.due_ns() == UINT64_MAX && !request) break;
     pollfd fds[5];
     for (int n = 0; n < 5; ++n) fds[n] = {lines[edge_lines[n]].event_fd(), POLLIN, 0};
-    const uint64_t due = gauge.next_event_ns();
-    const uint64_t now = now_ns() - epoch;
+    const uint64_t due = gauge.due_ns();
+    const uint64_t now = now_ns();
     timespec timeout{};
     if (due != UINT64_MAX) {
       const uint64_t wait_ns = due > now ? due - now : 0;
@@ -204,23 +203,18 @@ int main(int argc, char** argv) {
       if (request_changed) {
         const double x_mm = static_cast<double>(table.x_steps()) * nm_per_step * 1e-6;
         const double y_mm = static_cast<double>(table.y_steps()) * nm_per_step * 1e-6;
-        gauge.set_request(request, now_ns() - epoch, part.height_mm(x_mm, y_mm));
+        gauge.set_request(request, now_ns(), part.height_mm(x_mm, y_mm));
       }
     }
-    // The CK change now due, DATA first so it is settled before CK rises. One change per pass: a
-    // rig that woke late shifts the rest of the frame by its lateness rather than catching up, so
-    // no CK phase is ever shorter than --clock-us (a collapsed pulse would be a lost bit).
-    const uint64_t now_after = now_ns() - epoch;
-    if (gauge.next_event_ns() != UINT64_MAX && gauge.next_event_ns() <= now_after) {
-      epoch += now_after - gauge.next_event_ns();
-      gauge.advance();
+    // The CK change now due (one per pass), DATA first so it is settled before CK rises.
+    if (gauge.advance(now_ns())) {
       lines[kData].set(gauge.data());
       lines[kCk].set(gauge.clock());
     }
-    if (gauge.frames_sent() != frames_seen) {
-      frames_seen = gauge.frames_sent();
+    if (gauge.model().frames_sent() != frames_seen) {
+      frames_seen = gauge.model().frames_sent();
       ++readings;
-      const dg::DigimaticReading& reading = gauge.reading();
+      const dg::DigimaticReading& reading = gauge.model().reading();
       std::printf("reading %ld: x_steps=%lld y_steps=%lld value=%d decimals=%u unit=%s\n", readings,
                   static_cast<long long>(table.x_steps()), static_cast<long long>(table.y_steps()), reading.value,
                   reading.decimals, reading.unit == dg::GaugeUnit::kInch ? "inch" : "mm");

@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "firmware/core/digimatic.h"
-#include "hw/sim/digimatic_gauge.h"
+#include "hw/hil/real_time_gauge.h"
 
 namespace {
 
@@ -78,26 +78,23 @@ int play_gauge(const std::string& dir, int req_line, int ck_line, int data_line,
   dg::sim::GaugeConfig config;
   config.clock_low_us = config.clock_high_us = 1000;
   config.request_to_clock_us = 2000;
-  dg::sim::DigimaticGauge gauge(config, 1);
-  uint64_t epoch = now_ns();
+  dg::hil::RealTimeGauge gauge(config, now_ns());
   size_t next = 0;
   bool request = false;
   for (;;) {
     const bool asserted = req.value();
     if (asserted != request) {
       request = asserted;
-      gauge.set_request(request, now_ns() - epoch, values[next % values.size()]);
-      if (request && gauge.next_event_ns() != UINT64_MAX) {
+      gauge.set_request(request, now_ns(), values[next % values.size()]);
+      if (request && gauge.due_ns() != UINT64_MAX) {
         std::printf("gauge: sending %.3f\n", values[next % values.size()]);
         std::fflush(stdout);
         ++next;
       }
     }
-    while (gauge.next_event_ns() != UINT64_MAX) {
-      sleep_until(epoch + gauge.next_event_ns());
-      // Woken late: shift the rest of the frame instead of catching up, so no phase is cut short.
-      epoch += now_ns() - (epoch + gauge.next_event_ns());
-      gauge.advance();
+    while (gauge.due_ns() != UINT64_MAX) {
+      sleep_until(gauge.due_ns());
+      gauge.advance(now_ns());
       data.drive(gauge.data());
       ck.drive(gauge.clock());
     }

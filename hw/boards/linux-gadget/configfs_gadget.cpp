@@ -17,15 +17,10 @@ namespace dg::gadget {
 
 namespace {
 
-std::string hex4(unsigned value) {
-  char text[8];
-  std::snprintf(text, sizeof text, "0x%04x", value);
-  return text;
-}
-
-std::string hex2(unsigned value) {
-  char text[8];
-  std::snprintf(text, sizeof text, "0x%02x", value);
+// configfs takes IDs and codes as hex text, "0x1209".
+std::string hex(unsigned value, int digits) {
+  char text[12];
+  std::snprintf(text, sizeof text, "0x%0*x", digits, value);
   return text;
 }
 
@@ -85,9 +80,9 @@ bool ConfigfsGadget::create(const GadgetSettings& settings, std::string* error) 
       !make_dir(config + "/strings/0x409", error) || !make_dir(function, error)) {
     return false;
   }
-  if (!write_attribute(root_ + "/idVendor", hex4(usb::kVendorId), error) ||
-      !write_attribute(root_ + "/idProduct", hex4(usb::kProductId), error) ||
-      !write_attribute(root_ + "/bcdDevice", hex4(usb::kDeviceRelease), error) ||
+  if (!write_attribute(root_ + "/idVendor", hex(usb::kVendorId, 4), error) ||
+      !write_attribute(root_ + "/idProduct", hex(usb::kProductId, 4), error) ||
+      !write_attribute(root_ + "/bcdDevice", hex(usb::kDeviceRelease, 4), error) ||
       !write_attribute(strings + "/manufacturer", usb_string(usb::kManufacturer), error) ||
       !write_attribute(strings + "/product", usb_string(usb::kProduct), error) ||
       !write_attribute(strings + "/serialnumber", settings.serial, error) ||
@@ -104,7 +99,7 @@ bool ConfigfsGadget::create(const GadgetSettings& settings, std::string* error) 
   // Windows reads the interface's WINUSB compatible ID from the function's descriptors.
   const std::string os_desc = root_ + "/os_desc";
   if (!write_attribute(os_desc + "/use", "1", error) ||
-      !write_attribute(os_desc + "/b_vendor_code", hex2(usb::kMsVendorCode), error) ||
+      !write_attribute(os_desc + "/b_vendor_code", hex(usb::kMsVendorCode, 2), error) ||
       !write_attribute(os_desc + "/qw_sign", "MSFT100", error)) {
     return false;
   }

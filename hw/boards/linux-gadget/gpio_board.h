@@ -41,7 +41,7 @@ class GpioBoard final : public hal::Board {
   // Runs the step handler for every tick now due; true when a move ended.
   bool run_step_timer();
   bool dispatch_edges(int pin);
-  // Moves DATA's queued edges into data_edges_; settle_data() also waits for any still on its way.
+  // Moves DATA's queued edges into data_; settle_data() also waits for any still on its way.
   void take_data_edges();
   void settle_data();
 

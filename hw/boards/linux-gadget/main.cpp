@@ -128,15 +128,8 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "digitizer-gadget: %s\n", error.c_str());
       return 1;
     }
-    config.firmware_version = DIGITIZER_VERSION;
+    config = dg::hardware_device_config(caliper);
     config.device_id = settings.serial.c_str();
-    if (caliper) {
-      config.probe = digitizer_ProbeType_PROBE_CALIPER_24BIT;
-      config.gauge_resolution_nm = 10000;
-    }
-    config.capabilities = (caliper ? digitizer_Capability_CAP_CALIPER_24BIT : digitizer_Capability_CAP_DIGIMATIC) |
-                          digitizer_Capability_CAP_DEVICE_FIT | digitizer_Capability_CAP_RESUME |
-                          digitizer_Capability_CAP_HOMING | digitizer_Capability_CAP_TOUCH_PROBE;
     config.require_homing = homing;
     board = gpio_board.get();
   }

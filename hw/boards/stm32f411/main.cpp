@@ -54,21 +54,9 @@ int main() {
   dg::stm32::interrupts = {board, usb};
   board->start();
 
-  dg::DeviceConfig config;  // the motion defaults are the reference table's (docs/hardware.md)
-  config.firmware_version = DIGITIZER_VERSION;
+  dg::DeviceConfig config = dg::hardware_device_config(DIGITIZER_STM32_CALIPER != 0);
   config.device_id = serial;
   config.board = crystal_ok ? "stm32f411-blackpill" : "stm32f411-blackpill (no crystal: HSI clock)";
-#if DIGITIZER_STM32_CALIPER
-  config.probe = digitizer_ProbeType_PROBE_CALIPER_24BIT;
-  config.gauge_resolution_nm = 10000;
-  const uint32_t gauge_capability = digitizer_Capability_CAP_CALIPER_24BIT;
-#else
-  const uint32_t gauge_capability = digitizer_Capability_CAP_DIGIMATIC;
-#endif
-  config.capabilities = gauge_capability | digitizer_Capability_CAP_DEVICE_FIT | digitizer_Capability_CAP_RESUME |
-                        digitizer_Capability_CAP_HOMING | digitizer_Capability_CAP_TOUCH_PROBE;
-  // Nothing moves until the axes are homed: after power-up the firmware cannot know where it is.
-  config.require_homing = true;
   auto* device = new (device_storage) dg::Device(*board, config);
   usb->start();
   device->run();
