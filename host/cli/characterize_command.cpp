@@ -5,8 +5,8 @@
 #include <sstream>
 
 #include "host/scan/point_reader.h"
-#include "host/surface/atomic_file.h"
-#include "host/surface/characterize.h"
+#include "host/io/atomic_file.h"
+#include "host/fit/characterize.h"
 
 namespace dg::host {
 

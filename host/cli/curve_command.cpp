@@ -4,12 +4,12 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
-#include "host/scan/file_name.h"
+#include "host/io/file_name.h"
 #include "host/scan/point_reader.h"
-#include "host/surface/atomic_file.h"
-#include "host/surface/iges_writer.h"
-#include "host/surface/profile_curve.h"
-#include "host/surface/step_writer.h"
+#include "host/io/atomic_file.h"
+#include "host/cad/iges_writer.h"
+#include "host/fit/profile_curve.h"
+#include "host/cad/step_writer.h"
 
 namespace dg::host {
 

@@ -5,14 +5,15 @@
 #include <stdexcept>
 
 #include "host/scan/point_reader.h"
-#include "host/surface/bezier_ips.h"
-#include "host/surface/closest_point.h"
-#include "host/surface/crease_detect.h"
-#include "host/surface/noise_estimate.h"
-#include "host/surface/fit_error.h"
-#include "host/surface/hermite_fit.h"
-#include "host/surface/surface_json.h"
-#include "host/surface/tolerance_fit.h"
+#include "host/fit/bezier_ips.h"
+#include "host/geometry/closest_point.h"
+#include "host/fit/crease_detect.h"
+#include "host/fit/noise_estimate.h"
+#include "host/fit/fit_error.h"
+#include "host/fit/hermite_fit.h"
+#include "host/cad/surface_json.h"
+#include "host/fit/tolerance_fit.h"
+#include "host/fit/orthogonal_distances.h"
 
 namespace dg::host {
 
@@ -37,7 +38,7 @@ void parse_ctrl(const std::string& text, int& nu, int& nv) {
   if (nu < 2 || nv < 2 || nu > 4096 || nv > 4096) throw std::invalid_argument("--ctrl: control points must be 2..4096");
 }
 
-void print_stats(const SurfaceFile& f) {
+void print_stats(const FittedSurface& f) {
   const auto& d = f.distance;
   std::printf("%s %s, degree %d x %d, %d x %d control points, %s parameters\n", f.model.c_str(), f.method.c_str(),
               f.surface.degree_u, f.surface.degree_v, f.surface.count_u, f.surface.count_v, f.parameterization.c_str());
@@ -59,7 +60,7 @@ void print_creases(const FitArgs& a, const Parameters& params, const Creases& cr
   }
 }
 
-void print_summary(const FitArgs& a, const SurfaceFile& out) {
+void print_summary(const FitArgs& a, const FittedSurface& out) {
   if (a.quiet) return;
   print_stats(out);
   if (a.tolerance_mm > 0) {
@@ -75,7 +76,7 @@ int run_fit_ips(const FitArgs& a, const PointCloud& cloud) {
   if (a.tolerance_mm > 0) throw std::invalid_argument("--tolerance refines B-splines; a single Bezier patch has a fixed net");
   if (!a.ctrl.empty() && a.ctrl != "4" && a.ctrl != "4x4") throw std::invalid_argument("a bicubic Bezier patch has 4x4 control points");
   const Parameters params = parameterize(cloud, Parameterization::kChordLength);
-  SurfaceFile out;
+  FittedSurface out;
   out.model = a.model;
   out.method = a.method;
   out.parameterization = parameterization_name(Parameterization::kChordLength);
@@ -96,7 +97,7 @@ int run_fit_hermite(const FitArgs& a, const PointCloud& cloud) {
   if (!a.ctrl.empty()) throw std::invalid_argument("a Hermite surface has one patch per grid cell: --ctrl does not apply");
   const HermiteGrid grid = hermite_grid(cloud, a.input);
   const HermiteResult r = fit_hermite(grid);
-  SurfaceFile out;
+  FittedSurface out;
   out.model = "hermite";
   out.method = "normals";
   out.parameterization = "chord";
@@ -155,7 +156,7 @@ int run_fit(const FitArgs& a) {
   }
   const std::vector<double>* w = weights.empty() ? nullptr : &weights;
 
-  SurfaceFile out;
+  FittedSurface out;
   out.model = a.model;
   out.method = a.method;
   out.parameterization = a.param;

@@ -4,19 +4,19 @@
 #include <algorithm>
 #include <cstdio>
 
-#include "host/scan/file_name.h"
+#include "host/io/file_name.h"
 #include "host/scan/point_reader.h"
 #include <ctime>
 
 #include "host/scan/scan_file.h"
-#include "host/surface/atomic_file.h"
-#include "host/surface/html_report.h"
-#include "host/surface/iges_reader.h"
-#include "host/surface/rigid_align.h"
-#include "host/surface/step_reader.h"
-#include "host/surface/inspect.h"
-#include "host/surface/inspection_json.h"
-#include "host/surface/surface_json.h"
+#include "host/io/atomic_file.h"
+#include "host/inspect/html_report.h"
+#include "host/cad/iges_reader.h"
+#include "host/fit/rigid_align.h"
+#include "host/cad/step_reader.h"
+#include "host/inspect/inspect.h"
+#include "host/inspect/inspection_json.h"
+#include "host/cad/surface_json.h"
 
 namespace dg::host {
 
@@ -67,7 +67,7 @@ std::string without_extension(const std::string& path) {
   return dot != std::string::npos && (slash == std::string::npos || dot > slash) ? path.substr(0, dot) : path;
 }
 
-void write_report(const InspectArgs& a, const Inspection& r, const SurfaceFile& surface, const std::string& alignment) {
+void write_report(const InspectArgs& a, const Inspection& r, const FittedSurface& surface, const std::string& alignment) {
   std::string svg;
   ReportInputs in;
   in.pictures = inspection_pictures(r, &svg);
@@ -92,7 +92,7 @@ void write_report(const InspectArgs& a, const Inspection& r, const SurfaceFile& 
 
 int run_inspect(const InspectArgs& a) {
   PointCloud cloud = read_points(a.points);
-  SurfaceFile surface;
+  FittedSurface surface;
   const bool iges = ends_with(a.surface, ".igs") || ends_with(a.surface, ".iges");
   const bool step = ends_with(a.surface, ".stp") || ends_with(a.surface, ".step");
   if (iges || step) {

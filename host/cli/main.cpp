@@ -17,18 +17,18 @@
 #include "host/cli/scan_command.h"
 #include "host/cli/superquadric_command.h"
 #include "host/cli/units.h"
-#include "host/scan/file_name.h"
+#include "host/io/file_name.h"
 #include "host/scan/lts_filter.h"
 #include "host/scan/point_export.h"
 #include "host/scan/point_reader.h"
 #include "host/scan/segment.h"
 #include "host/scan/scan_file.h"
-#include "host/surface/bspline_curve.h"
-#include "host/surface/clamp.h"
-#include "host/surface/iges_writer.h"
-#include "host/surface/mesh_writer.h"
-#include "host/surface/step_writer.h"
-#include "host/surface/surface_json.h"
+#include "host/geometry/bspline_curve.h"
+#include "host/geometry/clamp.h"
+#include "host/cad/iges_writer.h"
+#include "host/cad/mesh_writer.h"
+#include "host/cad/step_writer.h"
+#include "host/cad/surface_json.h"
 #include "host/transport/transport.h"
 
 namespace {
@@ -42,7 +42,7 @@ constexpr int kExitUsage = 2;
 
 // A surface file to CAD (IGES 5.3 entity 128, STEP AP214) or a mesh (STL, OBJ, PLY), in millimetres.
 int run_export_surface(const std::string& input, const std::string& output, double chord_mm, bool edges) {
-  const SurfaceFile surface = read_surface_json(input);
+  const FittedSurface surface = read_surface_json(input);
   const bool iges = ends_with(output, ".igs") || ends_with(output, ".iges");
   const bool step = ends_with(output, ".stp") || ends_with(output, ".step");
   if (ends_with(output, ".stl") || ends_with(output, ".obj") || ends_with(output, ".ply")) {

@@ -14,8 +14,8 @@
 #include "host/cli/units.h"
 #include "host/device/capture.h"
 #include "host/device/pull_fit.h"
-#include "host/surface/device_fit_surface.h"
-#include "host/surface/surface_json.h"
+#include "host/fit/device_fit_surface.h"
+#include "host/cad/surface_json.h"
 #include "host/transport/transport.h"
 
 namespace dg::host {
@@ -33,7 +33,7 @@ void write_device_fit(Session& session, const digitizer_Hello& device, const std
       model == "bspline" ? digitizer_DeviceFitModel_DEVICE_FIT_NET : digitizer_DeviceFitModel_DEVICE_FIT_BEZIER;
   const digitizer_FitResult fit = pull_fit(session, device, which, 5000);
   const std::string source = std::string("device ") + device.device_id + " scan " + std::to_string(fit.scan_id);
-  const SurfaceFile surface = surface_from_device_fit(fit, source);
+  const FittedSurface surface = surface_from_device_fit(fit, source);
   write_surface_json(path, surface);
   if (!quiet) {
     std::printf("device fit: %s, %u x %u control points from %u points (%u rejected)%s\n", surface.model.c_str(),

@@ -5,9 +5,9 @@
 #include <nlohmann/json.hpp>
 
 #include "host/scan/point_reader.h"
-#include "host/surface/atomic_file.h"
-#include "host/surface/superquadric.h"
-#include "host/surface/surface_json.h"
+#include "host/io/atomic_file.h"
+#include "host/fit/superquadric.h"
+#include "host/cad/surface_json.h"
 
 namespace dg::host {
 
@@ -67,7 +67,7 @@ int run_superquadric(const SuperquadricArgs& a) {
       for (const RevolutionSlice& s : rev.slices) std::printf("  at %.3f mm along the axis: radius %.4f mm (RMS %.4f)\n", s.s_mm, s.radius_mm, s.rms_mm);
     }
     if (!a.revolution.empty()) {
-      SurfaceFile surface;
+      FittedSurface surface;
       surface.model = "revolution";
       surface.method = "superquadric";
       surface.parameterization = "axis";

@@ -21,7 +21,7 @@ bool seq_before(uint32_t a, uint32_t b) { return static_cast<int32_t>(a - b) < 0
 
 class Capture {
  public:
-  Capture(Session& session, ScanFileWriter& file, const CaptureOptions& options, const digitizer_ScanRequest& request)
+  Capture(Session& session, ScanSink& file, const CaptureOptions& options, const digitizer_ScanRequest& request)
       : session_(session), file_(file), options_(options), scan_id_(request.scan_id) {
     ScanGrid grid;
     if (scan_grid(request, &grid)) progress_.points_total = static_cast<uint32_t>(grid.points());
@@ -259,7 +259,7 @@ class Capture {
   }
 
   Session& session_;
-  ScanFileWriter& file_;
+  ScanSink& file_;
   const CaptureOptions& options_;
   uint32_t scan_id_;
   CaptureResult result_;
@@ -282,7 +282,7 @@ class Capture {
 }  // namespace
 
 CaptureResult capture_scan(Session& session, const digitizer_Hello& device, digitizer_ScanRequest request,
-                           ScanFileWriter& file, const CaptureOptions& options) {
+                           ScanSink& file, const CaptureOptions& options) {
   digitizer_Envelope message = digitizer_Envelope_init_zero;
   message.which_body = digitizer_Envelope_hello_tag;
   message.body.hello = device;
@@ -298,9 +298,9 @@ CaptureResult capture_scan(Session& session, const digitizer_Hello& device, digi
   return capture.run(id, false);
 }
 
-CaptureResult resume_capture(Session& session, const ScanData& stored, ScanFileWriter& file,
+CaptureResult resume_capture(Session& session, const ScanData& stored, ScanSink& file,
                              const CaptureOptions& options) {
-  if (!stored.request) throw ScanFileError(file.path() + ": has no scan request; there is nothing to resume");
+  if (!stored.request) throw ScanRefused(file.path() + ": has no scan request; there is nothing to resume");
   Capture capture(session, file, options, *stored.request);
   return capture.resume(stored);
 }

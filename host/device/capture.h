@@ -1,4 +1,4 @@
-// Capturing a scan from a device into a scan file, point by point, acknowledging what is stored;
+// Capturing a scan from a device into a sink (the scan file), point by point, acknowledging what is stored;
 // after a pulled cable, a restarted host or Ctrl-C, continuing it from the last stored point.
 #pragma once
 #include <cstdint>
@@ -7,7 +7,7 @@
 
 #include "digitizer.pb.h"
 #include "host/device/session.h"
-#include "host/scan/scan_file.h"
+#include "host/scan/scan_sink.h"
 
 namespace dg::host {
 
@@ -55,12 +55,12 @@ struct CaptureOptions {
 // sends until ScanDone. Throws DeviceError when the device refuses the scan or falls silent, and
 // TransportError when the link is gone for good; everything received so far stays in the file.
 CaptureResult capture_scan(Session& session, const digitizer_Hello& device, digitizer_ScanRequest request,
-                           ScanFileWriter& file, const CaptureOptions& options);
+                           ScanSink& file, const CaptureOptions& options);
 
 // Continues the scan whose file holds `stored` (read from `file`'s path): the device frees the
 // points the file has and sends the rest from its ring. Throws DeviceError when the device no
 // longer has that scan or those points.
-CaptureResult resume_capture(Session& session, const ScanData& stored, ScanFileWriter& file,
+CaptureResult resume_capture(Session& session, const ScanData& stored, ScanSink& file,
                              const CaptureOptions& options);
 
 }  // namespace dg::host

@@ -3,7 +3,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "host/scan/point3.h"
+#include "host/geometry/point3.h"
 
 namespace dg::host {
 

@@ -4,7 +4,7 @@
 #include <vector>
 
 #include "common/proto/point_batch.h"
-#include "host/scan/point3.h"
+#include "host/geometry/point3.h"
 
 namespace dg::host {
 

@@ -1,7 +1,7 @@
 // Strict point readers: every value must be a finite number, every row complete, so a
 // fit never silently runs on damaged data.
 #include "host/scan/point_reader.h"
-#include "host/scan/whole_file.h"
+#include "host/io/whole_file.h"
 
 #include <cerrno>
 #include <cmath>
@@ -12,7 +12,7 @@
 #include <sstream>
 #include <tuple>
 
-#include "host/scan/file_name.h"
+#include "host/io/file_name.h"
 #include "host/scan/ply_reader.h"
 #include "host/scan/scan_file.h"
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "host/scan/point3.h"
+#include "host/geometry/point3.h"
 
 namespace dg::host {
 

@@ -1,7 +1,7 @@
 // Scan file records are encoded with nanopb: field 1 of ScanFile, holding a ScanRecord
 // (the Envelope and a CRC-32 of its encoded bytes).
 #include "host/scan/scan_file.h"
-#include "host/scan/whole_file.h"
+#include "host/io/whole_file.h"
 
 #include <fcntl.h>
 #include <pb_decode.h>

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "common/proto/point_batch.h"
 #include "digitizer.pb.h"
+#include "host/scan/scan_sink.h"
 
 namespace dg::host {
 
@@ -17,7 +17,7 @@ class ScanFileError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-class ScanFileWriter {
+class ScanFileWriter : public ScanSink {
  public:
   // Creates (or truncates) the file.
   explicit ScanFileWriter(const std::string& path);
@@ -25,16 +25,16 @@ class ScanFileWriter {
   // reader found; a record cut off by a crash goes) and appends after them.
   static ScanFileWriter continue_file(const std::string& path, uint64_t keep_bytes);
   ScanFileWriter(ScanFileWriter&& other) noexcept;
-  ~ScanFileWriter();
+  ~ScanFileWriter() override;
   ScanFileWriter(const ScanFileWriter&) = delete;
   ScanFileWriter& operator=(const ScanFileWriter&) = delete;
 
   // Appends one record with a single write(2): a crash leaves whole records and at
   // most one cut-off record at the end, which readers detect and skip.
-  void append(const digitizer_Envelope& message);
+  void append(const digitizer_Envelope& message) override;
   // Forces everything appended so far to the disk (at each line's end).
-  void sync();
-  const std::string& path() const { return path_; }
+  void sync() override;
+  const std::string& path() const override { return path_; }
   uint64_t bytes_written() const { return bytes_; }
 
  private:
@@ -44,18 +44,6 @@ class ScanFileWriter {
   uint64_t bytes_ = 0;
 };
 
-// Everything a scan file says, with points expanded.
-struct ScanData {
-  std::optional<digitizer_Hello> device;
-  std::optional<digitizer_ScanRequest> request;
-  std::vector<PointSample> points;
-  std::vector<digitizer_LineDone> lines;
-  std::optional<digitizer_ScanDone> done;
-  std::vector<digitizer_Fault> faults;
-  std::vector<std::string> warnings;  // e.g. a cut-off last record
-  uint64_t records = 0;
-  uint64_t complete_bytes = 0;  // length of the whole records (less than the file after a crash)
-};
 
 // Reads a whole scan file. A damaged record in the middle is an error naming the
 // byte offset; a cut-off final record (a crash while writing) is a warning.

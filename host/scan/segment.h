@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "host/scan/point3.h"
+#include "host/geometry/point3.h"
 
 namespace dg::host {
 

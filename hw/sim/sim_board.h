@@ -7,23 +7,15 @@
 #include <vector>
 
 #include "firmware/hal/board.h"
+#include "firmware/hal/link_port.h"
 #include "hw/sim/caliper_gauge.h"
 #include "hw/sim/digimatic_gauge.h"
 #include "hw/sim/parts.h"
 
 namespace dg::sim {
 
-// Where the device's link bytes go: a socket to the host, or memory in tests.
-class LinkPort {
- public:
-  virtual ~LinkPort() = default;
-  virtual size_t write(const uint8_t* data, size_t size) = 0;  // takes all unless closed
-  virtual size_t read(uint8_t* data, size_t capacity) = 0;      // non-blocking
-  // Blocks until the host has written something (true), the time runs out or the link closed
-  // (false); timeout_ms < 0 waits without end.
-  virtual bool wait_readable(int timeout_ms = -1) = 0;
-  virtual bool closed() const = 0;
-};
+using hal::LinkPort;
+
 
 struct SimConfig {
   Part part{};

@@ -7,10 +7,11 @@
 #include <string>
 #include <random>
 
-#include "host/surface/bspline_fit.h"
-#include "host/surface/closest_point.h"
-#include "host/surface/inspect.h"
-#include "host/surface/tolerance_fit.h"
+#include "host/fit/bspline_fit.h"
+#include "host/geometry/closest_point.h"
+#include "host/inspect/inspect.h"
+#include "host/fit/tolerance_fit.h"
+#include "host/fit/orthogonal_distances.h"
 
 using namespace dg::host;
 

@@ -5,11 +5,11 @@
 #include <cstdio>
 #include <random>
 
-#include "host/surface/characterize.h"
-#include "host/surface/hermite_fit.h"
-#include "host/surface/profile_curve.h"
-#include "host/surface/superquadric.h"
-#include "host/surface/vec3.h"
+#include "host/fit/characterize.h"
+#include "host/fit/hermite_fit.h"
+#include "host/fit/profile_curve.h"
+#include "host/fit/superquadric.h"
+#include "host/geometry/vec3.h"
 
 using namespace dg::host;
 

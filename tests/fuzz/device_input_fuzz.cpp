@@ -8,7 +8,7 @@
 
 namespace {
 
-class FuzzLink final : public dg::sim::LinkPort {
+class FuzzLink final : public dg::hal::LinkPort {
  public:
   size_t write(const uint8_t*, size_t size) override { return size; }
   size_t read(uint8_t* data, size_t capacity) override {

@@ -1,7 +1,7 @@
 // Fuzzes the IGES surface reader: damaged files give IgesError, never a crash.
 #include <string>
 
-#include "host/surface/iges_reader.h"
+#include "host/cad/iges_reader.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   try {

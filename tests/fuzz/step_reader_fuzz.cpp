@@ -1,7 +1,7 @@
 // Fuzzes the STEP surface reader: damaged files give StepError, never a crash.
 #include <string>
 
-#include "host/surface/step_reader.h"
+#include "host/cad/step_reader.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   try {

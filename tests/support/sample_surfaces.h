@@ -2,7 +2,7 @@
 #pragma once
 #include <cmath>
 
-#include "host/surface/bspline_surface.h"
+#include "host/geometry/bspline_surface.h"
 
 namespace dg::test {
 

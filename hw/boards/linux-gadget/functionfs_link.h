@@ -11,11 +11,11 @@
 #include <string>
 #include <thread>
 
-#include "hw/sim/sim_board.h"
+#include "firmware/hal/link_port.h"
 
 namespace dg::gadget {
 
-class FunctionFsLink final : public sim::LinkPort {
+class FunctionFsLink final : public hal::LinkPort {
  public:
   // `mount_dir`: where the function's FunctionFS instance is mounted (holds ep0).
   explicit FunctionFsLink(std::string mount_dir);

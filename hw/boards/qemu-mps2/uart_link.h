@@ -1,11 +1,11 @@
 // The link to the host on the CMSDK APB UART0 of QEMU's mps2-an386 (bridged by QEMU to a socket):
 // polled, no interrupts, bytes in and out through the data register.
 #pragma once
-#include "hw/sim/sim_board.h"
+#include "firmware/hal/link_port.h"
 
 namespace dg::board {
 
-class UartLink final : public sim::LinkPort {
+class UartLink final : public hal::LinkPort {
  public:
   UartLink();
   size_t write(const uint8_t* data, size_t size) override;

@@ -16,7 +16,7 @@
 namespace {
 
 // The wire as bytes in memory; a pulled cable loses what the device writes.
-class MemoryLink final : public dg::sim::LinkPort {
+class MemoryLink final : public dg::hal::LinkPort {
  public:
   size_t write(const uint8_t* data, size_t size) override {
     if (connected) to_host.insert(to_host.end(), data, data + size);

@@ -16,10 +16,10 @@
 #include <unistd.h>
 #include <vector>
 
-#include "host/surface/bspline_curve.h"
-#include "host/surface/clamp.h"
-#include "host/surface/iges_writer.h"
-#include "host/surface/step_writer.h"
+#include "host/geometry/bspline_curve.h"
+#include "host/geometry/clamp.h"
+#include "host/cad/iges_writer.h"
+#include "host/cad/step_writer.h"
 #include "tests/support/sample_surfaces.h"
 
 using namespace dg::host;

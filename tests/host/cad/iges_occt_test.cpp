@@ -15,7 +15,7 @@
 #include <string>
 #include <unistd.h>
 
-#include "host/surface/iges_writer.h"
+#include "host/cad/iges_writer.h"
 #include "tests/host/cad/occt_compare.h"
 #include "tests/support/sample_surfaces.h"
 

@@ -5,7 +5,7 @@
 #include <Geom_BSplineSurface.hxx>
 #include <cmath>
 
-#include "host/surface/bspline_surface.h"
+#include "host/geometry/bspline_surface.h"
 
 namespace dg::test {
 

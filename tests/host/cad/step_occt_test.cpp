@@ -21,8 +21,8 @@
 #include <unistd.h>
 #include <vector>
 
-#include "host/surface/step_reader.h"
-#include "host/surface/step_writer.h"
+#include "host/cad/step_reader.h"
+#include "host/cad/step_writer.h"
 #include "tests/host/cad/occt_compare.h"
 #include "tests/support/sample_surfaces.h"
 

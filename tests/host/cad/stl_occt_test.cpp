@@ -8,7 +8,7 @@
 #include <string>
 #include <unistd.h>
 
-#include "host/surface/mesh_writer.h"
+#include "host/cad/mesh_writer.h"
 #include "tests/support/sample_surfaces.h"
 
 using namespace dg::host;

@@ -1,0 +1,202 @@
+// Banded assembly of the B-spline normal equations and their sparse solution with Eigen.
+#include "host/fit/bspline_fit.h"
+
+#include <Eigen/Sparse>
+#include <Eigen/SparseCholesky>
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "common/fit/bspline_basis.h"
+#include "host/fit/fit_error.h"
+#include "host/geometry/vec3.h"
+
+namespace dg::host {
+
+namespace {
+
+constexpr int kMaxBasis = fit::kMaxDegree + 1;
+
+// Every row and column of control points needs points in its support, or nothing determines it.
+void check_support(const std::vector<double>& knots, int degree, int count, const std::vector<UV>& uv, bool along_u,
+                   const Parameters& params) {
+  std::vector<int> hits(static_cast<size_t>(count), 0);
+  for (const auto& p : uv) {
+    const double t = along_u ? p.u : p.v;
+    const int span = fit::find_span(count, degree, t, knots.data());
+    for (int k = span - degree; k <= span; ++k) ++hits[k];
+  }
+  for (int i = 0; i < count; ++i) {
+    if (hits[i] > 0) continue;
+    const char* axis = along_u ? "u" : "v";
+    std::string where = std::string(axis) + " " + std::to_string(knots[i]) + ".." + std::to_string(knots[i + degree + 1]);
+    if (params.kind == Parameterization::kTableXy) {
+      const double lo = along_u ? params.x_min : params.y_min, hi = along_u ? params.x_max : params.y_max;
+      where = std::string(along_u ? "x " : "y ") + std::to_string(lo + (hi - lo) * knots[i]) + ".." +
+              std::to_string(lo + (hi - lo) * knots[i + degree + 1]) + " mm";
+    }
+    throw FitError("not enough points for " + std::to_string(count) + " control points along " + axis +
+                   ": no point in the support of control point " + std::to_string(i) + " (" + where + ")");
+  }
+}
+
+// The lower band of a symmetric matrix: entry (row, row - d) for d = 0..width.
+class Band {
+ public:
+  Band(int n, int width) : n_(n), width_(width), data_(static_cast<size_t>(n) * (width + 1), 0.0) {}
+  double& operator()(int row, int col) { return data_[static_cast<size_t>(row) * (width_ + 1) + (row - col)]; }
+  double diagonal_mean() const {
+    double sum = 0;
+    for (int i = 0; i < n_; ++i) sum += data_[static_cast<size_t>(i) * (width_ + 1)];
+    return sum / n_;
+  }
+  Eigen::SparseMatrix<double> lower() const {
+    std::vector<Eigen::Triplet<double>> entries;
+    entries.reserve(data_.size() / 2);
+    for (int row = 0; row < n_; ++row) {
+      for (int d = 0; d <= width_ && d <= row; ++d) {
+        const double value = data_[static_cast<size_t>(row) * (width_ + 1) + d];
+        if (value != 0.0) entries.emplace_back(row, row - d, value);
+      }
+    }
+    Eigen::SparseMatrix<double> m(n_, n_);
+    m.setFromTriplets(entries.begin(), entries.end());
+    return m;
+  }
+
+ private:
+  int n_, width_;
+  std::vector<double> data_;
+};
+
+// Adds lambda * D^T D for the second divided differences of the control values along one direction.
+void add_smoothing(Band& band, const BSplineSurface& s, bool along_u, double lambda) {
+  const std::vector<double>& knots = along_u ? s.knots_u : s.knots_v;
+  const int degree = along_u ? s.degree_u : s.degree_v;
+  const int count = along_u ? s.count_u : s.count_v, other_count = along_u ? s.count_v : s.count_u;
+  const int count_v = s.count_v;
+  const double h = 1.0 / std::max(1, count - 1);
+  for (int i = 1; i + 1 < count; ++i) {
+    const double g0 = greville(knots, degree, i - 1), g1 = greville(knots, degree, i), g2 = greville(knots, degree, i + 1);
+    if (!(g1 > g0) || !(g2 > g1)) continue;
+    // h^2 * ((f2 - f1)/(g2 - g1) - (f1 - f0)/(g1 - g0)) / ((g2 - g0) / 2): about (1, -2, 1) on uniform knots.
+    const double scale = h * h * 2.0 / (g2 - g0);
+    const double c[3] = {scale / (g1 - g0), -scale * (1.0 / (g1 - g0) + 1.0 / (g2 - g1)), scale / (g2 - g1)};
+    for (int j = 0; j < other_count; ++j) {
+      int index[3];
+      for (int k = 0; k < 3; ++k) index[k] = along_u ? (i - 1 + k) * count_v + j : j * count_v + (i - 1 + k);
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b)
+          if (index[a] >= index[b]) band(index[a], index[b]) += lambda * c[a] * c[b];
+    }
+  }
+}
+
+}  // namespace
+
+BSplineSurface fit_least_squares(const std::vector<Point3>& points, const Parameters& params,
+                                 const std::vector<double>* weights, const LsqSpec& spec) {
+  BSplineSurface s;
+  s.degree_u = spec.degree_u;
+  s.degree_v = spec.degree_v;
+  s.knots_u = spec.knots_u;
+  s.knots_v = spec.knots_v;
+  s.count_u = static_cast<int>(spec.knots_u.size()) - spec.degree_u - 1;
+  s.count_v = static_cast<int>(spec.knots_v.size()) - spec.degree_v - 1;
+  if (spec.degree_u < 1 || spec.degree_v < 1 || spec.degree_u > fit::kMaxDegree || spec.degree_v > fit::kMaxDegree) {
+    throw FitError("degree must be 1.." + std::to_string(fit::kMaxDegree));
+  }
+  if (s.count_u <= s.degree_u || s.count_v <= s.degree_v) throw FitError("a net needs at least degree + 1 control points per direction");
+  const size_t unknowns = static_cast<size_t>(s.count_u) * s.count_v;
+  if (points.size() < unknowns) {
+    throw FitError("not enough points: " + std::to_string(points.size()) + " points for " + std::to_string(s.count_u) +
+                   " x " + std::to_string(s.count_v) + " control points");
+  }
+  check_support(s.knots_u, s.degree_u, s.count_u, params.uv, true, params);
+  check_support(s.knots_v, s.degree_v, s.count_v, params.uv, false, params);
+
+  const bool height_field = params.kind == Parameterization::kTableXy;
+  const int rhs_count = height_field ? 1 : 3;
+  const int n = static_cast<int>(unknowns);
+  Band band(n, s.degree_u * s.count_v + s.degree_v);
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n, rhs_count);
+  const int pu = s.degree_u + 1, pv = s.degree_v + 1, m = pu * pv;
+  // Every point of a cell (a pair of knot spans) touches the same m unknowns, so each cell sums its
+  // points' products in a small dense block of its own, contiguous and vectorisable, and the blocks
+  // go into the band at the end. Points are read in their order; the blocks take about as much
+  // memory as the band for nets of 40 x 40 and less for larger ones.
+  const int cells_u = s.count_u - s.degree_u, cells_v = s.count_v - s.degree_v;
+  const size_t block_size = static_cast<size_t>(m) * (m + 1) / 2 + static_cast<size_t>(m) * 3;
+  std::vector<double> blocks(static_cast<size_t>(cells_u) * cells_v * block_size, 0.0);
+  for (size_t k = 0; k < points.size(); ++k) {
+    const double u = params.uv[k].u, v = params.uv[k].v;
+    const int su = fit::find_span(s.count_u, s.degree_u, u, s.knots_u.data());
+    const int sv = fit::find_span(s.count_v, s.degree_v, v, s.knots_v.data());
+    double nu[kMaxBasis], nv[kMaxBasis];
+    fit::bspline_basis(su, s.degree_u, u, s.knots_u.data(), nu);
+    fit::bspline_basis(sv, s.degree_v, v, s.knots_v.data(), nv);
+    const double w = weights ? (*weights)[k] : 1.0;
+    double c[kMaxBasis * kMaxBasis];
+    for (int a = 0; a < pu; ++a) {
+      for (int b = 0; b < pv; ++b) c[a * pv + b] = nu[a] * nv[b];
+    }
+    const Point3& p = points[k];
+    const double value[3] = {height_field ? p.z : p.x, p.y, p.z};
+    double* row = &blocks[(static_cast<size_t>(su - s.degree_u) * cells_v + (sv - s.degree_v)) * block_size];
+    double* block_rhs = row + static_cast<size_t>(m) * (m + 1) / 2;
+    for (int a = 0; a < m; ++a) {
+      const double wc = w * c[a];
+      for (int b = 0; b <= a; ++b) row[b] += wc * c[b];
+      row += a + 1;
+      for (int r = 0; r < rhs_count; ++r) block_rhs[a * 3 + r] += wc * value[r];
+    }
+  }
+  // Block unknown a of cell (cu, cv) is control point (cu + a / pv, cv + a % pv); indices ascend with
+  // a, so (a, b <= a) lies in the lower band.
+  for (int cu = 0; cu < cells_u; ++cu) {
+    for (int cv = 0; cv < cells_v; ++cv) {
+      const double* row = &blocks[(static_cast<size_t>(cu) * cells_v + cv) * block_size];
+      const double* block_rhs = row + static_cast<size_t>(m) * (m + 1) / 2;
+      int index[kMaxBasis * kMaxBasis];
+      for (int a = 0; a < m; ++a) index[a] = (cu + a / pv) * s.count_v + (cv + a % pv);
+      for (int a = 0; a < m; ++a) {
+        for (int b = 0; b <= a; ++b) band(index[a], index[b]) += row[b];
+        row += a + 1;
+        for (int r = 0; r < rhs_count; ++r) rhs(index[a], r) += block_rhs[a * 3 + r];
+      }
+    }
+  }
+  const double lambda = 1e-6 * band.diagonal_mean();
+  add_smoothing(band, s, true, lambda);
+  add_smoothing(band, s, false, lambda);
+
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver(band.lower());
+  if (solver.info() != Eigen::Success) throw FitError("the normal equations are singular: the points do not determine the net");
+  const Eigen::MatrixXd solution = solver.solve(rhs);
+  if (solver.info() != Eigen::Success || !solution.allFinite()) throw FitError("solving the normal equations failed");
+
+  s.control.resize(unknowns);
+  for (int i = 0; i < s.count_u; ++i) {
+    for (int j = 0; j < s.count_v; ++j) {
+      const int k = i * s.count_v + j;
+      Point3& q = s.at(i, j);
+      if (height_field) {
+        q.x = params.x_min + (params.x_max - params.x_min) * greville(s.knots_u, s.degree_u, i);
+        q.y = params.y_min + (params.y_max - params.y_min) * greville(s.knots_v, s.degree_v, j);
+        q.z = solution(k, 0);
+      } else {
+        q = Point3{solution(k, 0), solution(k, 1), solution(k, 2)};
+      }
+    }
+  }
+  return s;
+}
+
+std::vector<double> parameter_distances(const BSplineSurface& surface, const std::vector<Point3>& points,
+                                        const Parameters& params) {
+  std::vector<double> d(points.size());
+  for (size_t k = 0; k < points.size(); ++k) d[k] = norm(points[k] - surface.evaluate(params.uv[k].u, params.uv[k].v));
+  return d;
+}
+
+}  // namespace dg::host

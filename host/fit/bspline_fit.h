@@ -1,0 +1,32 @@
+// Least-squares B-spline surfaces of any degree for scattered points (seed 004 section 5.4).
+#pragma once
+#include <vector>
+
+#include "host/geometry/bspline_surface.h"
+#include "host/fit/parameterize.h"
+
+namespace dg::host {
+
+struct LsqSpec {
+  int degree_u = 3, degree_v = 3;
+  std::vector<double> knots_u, knots_v;  // clamped, on [0, 1]
+};
+
+// Solves seed 004 eq. 8, C^T C B = C^T S, without forming C: each point adds the outer product of
+// its (degree_u + 1)(degree_v + 1) non-zero basis values to a band of the normal matrix, which Eigen's
+// sparse LDL^T then solves. `weights` (1 / sigma^2, optional) weight each point. For the table-XY
+// parameterization the surface is a height field: x and y of the control points are fixed at the
+// Greville abscissae (so S(u, v) lies exactly above the point) and only z is fitted.
+// A vanishing second-divided-difference penalty (1e-6 of the data's scale) keeps control points over
+// holes in the data determined; it is zero for surfaces linear in each parameter, so those come back
+// exactly. Throws FitError when the points cannot determine the net: fewer points than control
+// points, or a row or column of control points whose support holds no point.
+BSplineSurface fit_least_squares(const std::vector<Point3>& points, const Parameters& params,
+                                 const std::vector<double>* weights, const LsqSpec& spec);
+
+// Distance from each point to the surface point with the same parameters: an upper bound of the
+// orthogonal distance, cheap enough to screen millions of points.
+std::vector<double> parameter_distances(const BSplineSurface& surface, const std::vector<Point3>& points,
+                                        const Parameters& params);
+
+}  // namespace dg::host

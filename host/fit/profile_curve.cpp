@@ -1,0 +1,254 @@
+// Seed 003's curves. Its section 3 keeps, where the trend cubic lies above a point, the offset
+// point with the smaller z, and the other where it lies below: the curve goes to the far side of
+// each point's uncertainty circle from the trend, which keeps the point's own deviation from the
+// trend in the model instead of smoothing it away. The text is followed as written.
+#include "host/fit/profile_curve.h"
+
+#include <Eigen/Dense>
+#include <Eigen/Sparse>
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <unordered_map>
+
+#include "common/fit/bspline_basis.h"
+#include "host/fit/fit_error.h"
+#include "host/geometry/vec3.h"
+
+namespace dg::host {
+
+namespace {
+
+std::vector<double> chord_parameters(const std::vector<Point3>& p) {
+  std::vector<double> t(p.size(), 0.0);
+  for (size_t k = 1; k < p.size(); ++k) t[k] = t[k - 1] + norm(p[k] - p[k - 1]);
+  return t;
+}
+
+// Clamped cubic knots with one interior knot at every interior parameter (the spline's joints).
+std::vector<double> joint_knots(const std::vector<double>& t) {
+  std::vector<double> k(4, t.front());
+  for (size_t i = 1; i + 1 < t.size(); ++i) k.push_back(t[i]);
+  k.insert(k.end(), 4, t.back());
+  return k;
+}
+
+// The span of t and the cubic's four non-zero basis values and first derivatives there.
+void basis_row(const std::vector<double>& knots, int count, double t, int* span, double n[4], double d1[4]) {
+  *span = fit::find_span(count, 3, t, knots.data());
+  fit::bspline_basis(*span, 3, t, knots.data(), n, d1);
+}
+
+Point3 derivative(const BSplineCurve& c, double t) {
+  double n[4], d1[4];
+  int span = 0;
+  basis_row(c.knots, static_cast<int>(c.control.size()), t, &span, n, d1);
+  Point3 d;
+  for (int a = 0; a <= 3; ++a) d += d1[a] * c.control[static_cast<size_t>(span - 3 + a)];
+  return d;
+}
+
+}  // namespace
+
+void check_profile(const std::vector<Point3>& p, const std::string& name) {
+  if (p.size() < 4) {
+    throw FitError(name + ": a profile needs at least 4 points (the trend is a cubic); got " + std::to_string(p.size()));
+  }
+  for (size_t k = 0; k < p.size(); ++k) {
+    if (!std::isfinite(p[k].x + p[k].y + p[k].z)) throw FitError(name + ": point " + std::to_string(k + 1) + " is not finite");
+    if (std::fabs(p[k].y - p[0].y) > 1e-3) {
+      throw FitError(name + ": point " + std::to_string(k + 1) + " leaves the profile's plane y = " + std::to_string(p[0].y) +
+                     " (a profile is planar: x and z)");
+    }
+    if (k > 0 && norm(p[k] - p[k - 1]) <= 0) {
+      throw FitError(name + ": points " + std::to_string(k) + " and " + std::to_string(k + 1) + " are the same");
+    }
+  }
+}
+
+ProfileCubic fit_profile_cubic(const std::vector<Point3>& p) {
+  Eigen::MatrixXd a(static_cast<Eigen::Index>(p.size()), 4);
+  Eigen::VectorXd z(static_cast<Eigen::Index>(p.size()));
+  for (size_t k = 0; k < p.size(); ++k) {
+    const double x = p[k].x;
+    a.row(static_cast<Eigen::Index>(k)) << x * x * x, x * x, x, 1.0;
+    z(static_cast<Eigen::Index>(k)) = p[k].z;
+  }
+  const Eigen::Vector4d c = a.colPivHouseholderQr().solve(z);
+  return {c(0), c(1), c(2), c(3)};
+}
+
+BSplineCurve interpolate_natural(const std::vector<Point3>& p) {
+  const std::vector<double> t = chord_parameters(p);
+  BSplineCurve c;
+  c.degree = 3;
+  c.knots = joint_knots(t);
+  const int count = static_cast<int>(p.size()) + 2;
+  // Rows: the curve through every point, and zero second derivative at both ends. At a clamped
+  // end the second derivative is a multiple of (P2 - P1) / (k5 - k2) - (P1 - P0) / (k4 - k1)
+  // (k the knots): the difference of the first two control points of the derivative curve.
+  std::vector<Eigen::Triplet<double>> entries;
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(count, 3);
+  for (size_t k = 0; k < p.size(); ++k) {
+    double n[4], d1[4];
+    int span = 0;
+    basis_row(c.knots, count, t[k], &span, n, d1);
+    for (int a = 0; a <= 3; ++a) {
+      if (n[a] != 0) entries.emplace_back(static_cast<int>(k), span - 3 + a, n[a]);
+    }
+    rhs.row(static_cast<Eigen::Index>(k)) << p[k].x, p[k].y, p[k].z;
+  }
+  const std::vector<double>& u = c.knots;
+  const int r0 = static_cast<int>(p.size()), r1 = r0 + 1;
+  {
+    const double e = u[4] - u[1], f = u[5] - u[2];
+    entries.emplace_back(r0, 0, 1.0 / e);
+    entries.emplace_back(r0, 1, -1.0 / e - 1.0 / f);
+    entries.emplace_back(r0, 2, 1.0 / f);
+  }
+  {
+    const size_t m = u.size() - 1;  // the last knot
+    const double e = u[m - 1] - u[m - 4], f = u[m - 2] - u[m - 5];
+    const int last = count - 1;
+    entries.emplace_back(r1, last, 1.0 / e);
+    entries.emplace_back(r1, last - 1, -1.0 / e - 1.0 / f);
+    entries.emplace_back(r1, last - 2, 1.0 / f);
+  }
+  Eigen::SparseMatrix<double> m(count, count);
+  m.setFromTriplets(entries.begin(), entries.end());
+  Eigen::SparseLU<Eigen::SparseMatrix<double>> lu(m);
+  if (lu.info() != Eigen::Success) throw FitError("the interpolation equations are singular (points repeated?)");
+  const Eigen::MatrixXd x = lu.solve(rhs);
+  for (int i = 0; i < count; ++i) c.control.push_back({x(i, 0), x(i, 1), x(i, 2)});
+  return c;
+}
+
+BSplineCurve approximate_clamped(const std::vector<Point3>& p, int control_count) {
+  if (control_count < 4) throw FitError("a clamped cubic needs at least 4 control points");
+  if (control_count > static_cast<int>(p.size())) {
+    throw FitError("more control points (" + std::to_string(control_count) + ") than points (" + std::to_string(p.size()) + ")");
+  }
+  const std::vector<double> t = chord_parameters(p);
+  BSplineCurve c;
+  c.degree = 3;
+  c.knots = clamped_uniform_knots(control_count, 3);
+  for (double& k : c.knots) k *= t.back();
+  // The ends are the end points; the inner control points by least squares (normal equations).
+  const int inner = control_count - 2;
+  Eigen::MatrixXd ata = Eigen::MatrixXd::Zero(inner, inner);
+  Eigen::MatrixXd atb = Eigen::MatrixXd::Zero(inner, 3);
+  for (size_t k = 0; k < p.size(); ++k) {
+    double n[4], d1[4];
+    int span = 0;
+    basis_row(c.knots, control_count, t[k], &span, n, d1);
+    Eigen::Vector3d target(p[k].x, p[k].y, p[k].z);
+    for (int a = 0; a <= 3; ++a) {
+      const int i = span - 3 + a;
+      if (i == 0) target -= n[a] * Eigen::Vector3d(p.front().x, p.front().y, p.front().z);
+      if (i == control_count - 1) target -= n[a] * Eigen::Vector3d(p.back().x, p.back().y, p.back().z);
+    }
+    for (int a = 0; a <= 3; ++a) {
+      const int i = span - 3 + a - 1;
+      if (i < 0 || i >= inner) continue;
+      atb.row(i) += n[a] * target.transpose();
+      for (int b = 0; b <= 3; ++b) {
+        const int j = span - 3 + b - 1;
+        if (j >= 0 && j < inner) ata(i, j) += n[a] * n[b];
+      }
+    }
+  }
+  const Eigen::MatrixXd x = ata.ldlt().solve(atb);
+  c.control.push_back(p.front());
+  for (int i = 0; i < inner; ++i) c.control.push_back({x(i, 0), x(i, 1), x(i, 2)});
+  c.control.push_back(p.back());
+  return c;
+}
+
+BSplineCurve control_polygon_curve(const std::vector<Point3>& p) {
+  BSplineCurve c;
+  c.degree = 3;
+  c.control = p;
+  c.knots = clamped_uniform_knots(static_cast<int>(p.size()), 3);
+  return c;
+}
+
+CeCurve curve_within_uncertainty(const std::vector<Point3>& p, double distance_mm) {
+  CeCurve ce;
+  const BSplineCurve first = interpolate_natural(p);
+  ce.trend = fit_profile_cubic(p);
+  const std::vector<double> t = chord_parameters(p);
+  for (size_t k = 0; k < p.size(); ++k) {
+    // The normal in the x-z plane of the interpolating curve at the point.
+    const Point3 d = derivative(first, t[k]);
+    Point3 normal{-d.z, 0, d.x};
+    normal = (1.0 / norm(normal)) * normal;
+    const Point3 a = p[k] + distance_mm * normal, b = p[k] - distance_mm * normal;
+    const Point3 lower = a.z < b.z ? a : b, upper = a.z < b.z ? b : a;
+    ce.offset_points.push_back(ce.trend.at(p[k].x) > p[k].z ? lower : upper);
+  }
+  ce.curve = interpolate_natural(ce.offset_points);
+  return ce;
+}
+
+std::vector<double> curve_distances(const BSplineCurve& c, const std::vector<Point3>& points) {
+  // Starts from the nearest of a dense sampling (16 per knot span), found through a bucket grid in
+  // the profile's plane (x, z), then Gauss-Newton on the foot-point condition
+  // (C(t) - q) . C'(t) = 0, kept within the curve.
+  std::vector<double> samples;
+  const std::vector<double> spans = distinct_knots(c.knots, c.t_min(), c.t_max());
+  for (size_t s = 0; s + 1 < spans.size(); ++s) {
+    for (int k = 0; k < 16; ++k) samples.push_back(spans[s] + (spans[s + 1] - spans[s]) * k / 16.0);
+  }
+  samples.push_back(c.t_max());
+  std::vector<Point3> at;
+  double length = 0;
+  for (double t : samples) {
+    at.push_back(c.evaluate(t));
+    if (at.size() > 1) length += norm(at.back() - at[at.size() - 2]);
+  }
+  const double cell = std::max(4 * length / static_cast<double>(at.size()), 1e-9);
+  auto key = [cell](double x, double z) {
+    // Two's-complement bits of the cell indices side by side (shifting a negative value is undefined).
+    return (static_cast<uint64_t>(static_cast<int64_t>(std::floor(x / cell))) << 32) ^
+           (static_cast<uint64_t>(static_cast<int64_t>(std::floor(z / cell))) & 0xffffffffu);
+  };
+  std::unordered_map<uint64_t, std::vector<size_t>> buckets;
+  for (size_t k = 0; k < at.size(); ++k) buckets[key(at[k].x, at[k].z)].push_back(k);
+  std::vector<double> out;
+  for (const Point3& q : points) {
+    // Rings of cells around q until the best sample found is nearer than the ring's inner edge.
+    size_t best = 0;
+    double best_distance = 1e300;
+    const double qx = std::floor(q.x / cell), qz = std::floor(q.z / cell);
+    for (int ring = 0; ring < 1 << 20; ++ring) {
+      for (int dx = -ring; dx <= ring; ++dx) {
+        for (int dz = -ring; dz <= ring; ++dz) {
+          if (std::abs(dx) != ring && std::abs(dz) != ring) continue;
+          const auto found = buckets.find(key((qx + dx + 0.5) * cell, (qz + dz + 0.5) * cell));
+          if (found == buckets.end()) continue;
+          for (size_t k : found->second) {
+            const double d = norm(at[k] - q);
+            if (d < best_distance) {
+              best_distance = d;
+              best = k;
+            }
+          }
+        }
+      }
+      if (best_distance <= ring * cell) break;
+      if (ring > 0 && static_cast<size_t>(ring) * static_cast<size_t>(ring) > 4 * at.size() && best_distance < 1e300) break;
+    }
+    double t = samples[best];
+    for (int iteration = 0; iteration < 50; ++iteration) {
+      const Point3 d = derivative(c, t);
+      const double step = dot(q - c.evaluate(t), d) / std::max(dot(d, d), 1e-300);
+      t = std::clamp(t + step, c.t_min(), c.t_max());
+      if (std::fabs(step) < 1e-13 * (1 + std::fabs(t))) break;
+    }
+    out.push_back(norm(q - c.evaluate(t)));
+  }
+  return out;
+}
+
+}  // namespace dg::host

@@ -1,0 +1,98 @@
+// ICP with point-to-plane residuals, solved by Eigen.
+#include "host/fit/rigid_align.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+
+#include "host/geometry/vec3.h"
+
+namespace dg::host {
+
+Point3 RigidTransform::apply(const Point3& p) const {
+  const auto& r = rotation;
+  return {r[0][0] * p.x + r[0][1] * p.y + r[0][2] * p.z + translation.x,
+          r[1][0] * p.x + r[1][1] * p.y + r[1][2] * p.z + translation.y,
+          r[2][0] * p.x + r[2][1] * p.y + r[2][2] * p.z + translation.z};
+}
+
+double RigidTransform::angle_deg() const {
+  const double trace = rotation[0][0] + rotation[1][1] + rotation[2][2];
+  return std::acos(std::clamp((trace - 1) / 2, -1.0, 1.0)) * 180.0 / M_PI;
+}
+
+namespace {
+
+double rms_of(const std::vector<Point3>& points, const RigidTransform& t, const SurfaceLocator& nominal) {
+  double sum = 0;
+  for (const Point3& p : points) {
+    const double d = nominal.closest(t.apply(p)).distance;
+    sum += d * d;
+  }
+  return std::sqrt(sum / static_cast<double>(std::max<size_t>(1, points.size())));
+}
+
+}  // namespace
+
+Alignment align_to_surface(const std::vector<Point3>& all, const SurfaceLocator& nominal, size_t max_points) {
+  std::vector<Point3> points;
+  const size_t stride = std::max<size_t>(1, all.size() / std::max<size_t>(1, max_points));
+  for (size_t k = 0; k < all.size(); k += stride) points.push_back(all[k]);
+  Alignment out;
+  // Rotations about the points' centroid keep the linear system well conditioned.
+  Point3 centroid;
+  for (const Point3& p : points) centroid += p;
+  centroid = (1.0 / static_cast<double>(std::max<size_t>(1, points.size()))) * centroid;
+  out.rms_before_mm = rms_of(points, out.transform, nominal);
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+  for (int iteration = 1; iteration <= 50; ++iteration) {
+    Eigen::Matrix<double, 6, 6> normal = Eigen::Matrix<double, 6, 6>::Zero();
+    Eigen::Matrix<double, 6, 1> rhs = Eigen::Matrix<double, 6, 1>::Zero();
+    for (const Point3& p : points) {
+      const Point3 moved = out.transform.apply(p);
+      const Closest c = nominal.closest(moved);
+      // The surface normal at the foot: the tangent plane the point may slide along.
+      Point3 s, su, sv;
+      nominal.surface().evaluate(c.u, c.v, s, su, sv);
+      Point3 n = cross(su, sv);
+      const double length = norm(n);
+      if (!(length > 0)) continue;
+      n = (1.0 / length) * n;
+      const double residual = dot(moved - c.point, n);
+      const Point3 arm = moved - centroid;
+      const Point3 a = cross(arm, n);
+      Eigen::Matrix<double, 6, 1> row;
+      row << a.x, a.y, a.z, n.x, n.y, n.z;
+      normal += row * row.transpose();
+      rhs -= row * residual;
+    }
+    // A plane or a cylinder lets points slide along it without changing a distance: a tiny ridge
+    // keeps those directions at no move instead of an arbitrary one.
+    normal.diagonal().array() += 1e-9 * normal.trace() / 6 + 1e-300;
+    const Eigen::Matrix<double, 6, 1> step = normal.ldlt().solve(rhs);
+    if (!step.allFinite()) break;
+    // The small rotation as an exact one (Rodrigues), about the centroid.
+    const Eigen::Vector3d omega = step.head<3>();
+    const double angle = omega.norm();
+    const Eigen::Matrix3d delta = angle > 0 ? Eigen::AngleAxisd(angle, omega / angle).toRotationMatrix() : Eigen::Matrix3d::Identity();
+    const Eigen::Vector3d c(centroid.x, centroid.y, centroid.z);
+    rotation = delta * rotation;
+    translation = delta * (translation - c) + c + step.tail<3>();
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) out.transform.rotation[i][j] = rotation(i, j);
+    out.transform.translation = {translation.x(), translation.y(), translation.z()};
+    out.iterations = iteration;
+    // The largest move of a point: the rotation's arm times its angle, plus the translation.
+    double reach = 0;
+    for (const Point3& p : points) reach = std::max(reach, norm(p - centroid));
+    if (angle * reach + step.tail<3>().norm() < 1e-7) {
+      out.converged = true;
+      break;
+    }
+  }
+  out.rms_after_mm = rms_of(points, out.transform, nominal);
+  return out;
+}
+
+}  // namespace dg::host

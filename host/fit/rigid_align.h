@@ -1,0 +1,31 @@
+// Rigid best-fit alignment of measured points to a nominal surface, as CMM software does before
+// comparing: the rotation and translation that minimise the squared orthogonal distances.
+#pragma once
+#include <array>
+#include <vector>
+
+#include "host/geometry/surface_locator.h"
+
+namespace dg::host {
+
+struct RigidTransform {
+  std::array<std::array<double, 3>, 3> rotation{{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+  Point3 translation;  // mm
+  Point3 apply(const Point3& p) const;
+  double angle_deg() const;  // the rotation's angle
+};
+
+struct Alignment {
+  RigidTransform transform;  // measured -> nominal
+  int iterations = 0;
+  double rms_before_mm = 0, rms_after_mm = 0;
+  bool converged = false;
+};
+
+// Point-to-plane ICP (Chen and Medioni's linearisation): each step finds every point's closest
+// nominal point and normal, solves the 6 x 6 least-squares problem for a small rotation and a
+// translation, and applies it as an exact rotation. At most `max_points` points, evenly strided,
+// take part. Stops when a step moves no point by more than 1e-7 mm, or after 50 steps.
+Alignment align_to_surface(const std::vector<Point3>& points, const SurfaceLocator& nominal, size_t max_points = 20000);
+
+}  // namespace dg::host

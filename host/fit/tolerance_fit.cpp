@@ -1,0 +1,204 @@
+// The tolerance loop: fit, measure orthogonal distances, insert knots where they exceed the tolerance.
+#include "host/fit/tolerance_fit.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <set>
+
+#include "common/fit/bspline_basis.h"
+#include "host/geometry/closest_point.h"
+#include "host/fit/fit_error.h"
+#include "host/fit/noise_estimate.h"
+#include "host/fit/orthogonal_distances.h"
+
+namespace dg::host {
+
+namespace {
+
+std::string mm_text(double mm) {
+  char text[48];
+  std::snprintf(text, sizeof text, "%.4f mm", mm);
+  return text;
+}
+
+// Knots of a clamped vector with `count` control points, plus the extra (crease) knots.
+std::vector<double> start_knots(int count, int degree, const std::vector<double>& extra) {
+  std::vector<double> knots = clamped_uniform_knots(count, degree);
+  for (double k : extra) knots.push_back(k);
+  std::sort(knots.begin(), knots.end());
+  return knots;
+}
+
+// Inserts the midpoints of the flagged spans; returns how many were inserted. A span narrower than
+// `min_width` (about one point spacing) is not split: the points cannot support it.
+int insert_midpoints(std::vector<double>& knots, const std::set<int>& spans, double min_width) {
+  std::vector<double> added;
+  for (int span : spans) {
+    const double lo = knots[span], hi = knots[span + 1];
+    if (hi - lo >= 2 * min_width) added.push_back(0.5 * (lo + hi));
+  }
+  for (double k : added) knots.push_back(k);
+  std::sort(knots.begin(), knots.end());
+  return static_cast<int>(added.size());
+}
+
+// A typical distance between neighbouring parameters along one direction: the spacing of a grid of
+// the same number of points.
+double typical_spacing(size_t points) { return 1.0 / std::max(1.0, std::sqrt(static_cast<double>(points))); }
+
+// Large scans: the coarse nets at the start of the loop are determined by far fewer points than a
+// million, so the loop first runs on an evenly strided sample of the points and the full set starts
+// from the knots it reached. The full set then confirms (or refines further): the contract is
+// judged on every point as before. The sample has a quarter of options.sample_above points; lines
+// are left out of it, since its points are no longer neighbours along a line.
+ToleranceResult refine(const PointCloud& cloud, const Parameters& params, const std::vector<double>* weights,
+                       const ToleranceOptions& options, bool sample_first);
+
+}  // namespace
+
+ToleranceResult fit_to_tolerance(const PointCloud& cloud, const Parameters& params, const std::vector<double>* weights,
+                                 const ToleranceOptions& options) {
+  return refine(cloud, params, weights, options, true);
+}
+
+namespace {
+
+ToleranceResult refine(const PointCloud& cloud, const Parameters& params, const std::vector<double>* weights,
+                       const ToleranceOptions& options, bool sample_first) {
+  if (!(options.tolerance_mm > 0)) throw FitError("the tolerance must be a positive number of mm");
+  std::vector<double> sampled_knots_u, sampled_knots_v;
+  int sampled_iterations = 0;
+  if (sample_first && options.sample_above >= 4 && cloud.points.size() > options.sample_above) {
+    const size_t stride = cloud.points.size() / (options.sample_above / 4);
+    PointCloud sample;
+    Parameters sample_params = params;
+    sample_params.uv.clear();
+    std::vector<double> sample_weights;
+    for (size_t k = 0; k < cloud.points.size(); k += stride) {
+      sample.points.push_back(cloud.points[k]);
+      sample_params.uv.push_back(params.uv[k]);
+      if (weights) sample_weights.push_back((*weights)[k]);
+    }
+    try {
+      const ToleranceResult coarse = refine(sample, sample_params, weights ? &sample_weights : nullptr, options, false);
+      sampled_knots_u = coarse.surface.knots_u;
+      sampled_knots_v = coarse.surface.knots_v;
+      sampled_iterations = coarse.iterations;
+    } catch (const FitError&) {
+      // The sample could not carry a fit: start from the coarse net with every point.
+    }
+  }
+  ToleranceResult best;
+  best.max_distance_mm = HUGE_VAL;
+  const double noise = estimate_noise(cloud, params);
+  best.noise_sigma_mm = noise;
+  const std::vector<Point3>& points = cloud.points;
+  LsqSpec spec;
+  spec.degree_u = options.degree_u;
+  spec.degree_v = options.degree_v;
+  spec.knots_u = start_knots(options.start_count_u > 0 ? options.start_count_u : options.degree_u + 1, options.degree_u,
+                             options.extra_knots_u);
+  spec.knots_v = start_knots(options.start_count_v > 0 ? options.start_count_v : options.degree_v + 1, options.degree_v,
+                             options.extra_knots_v);
+  if (!sampled_knots_u.empty()) {
+    spec.knots_u = sampled_knots_u;
+    spec.knots_v = sampled_knots_v;
+  }
+  const double min_width = typical_spacing(points.size());
+  double previous_rms = HUGE_VAL;
+  std::string refusal;
+  for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
+    BSplineSurface surface;
+    try {
+      surface = fit_least_squares(points, params, weights, spec);
+    } catch (const FitError& e) {
+      refusal = std::string("not enough points to refine further: ") + e.what();
+      break;
+    }
+    // Upper bounds first; project only the points they do not clear, and only while the projection
+    // can still flag a span: once both of a point's spans are flagged, its bound stands in for its
+    // distance (the best surface's distances are computed exactly at the end). On a coarse net
+    // most points exceed the tolerance, and this keeps those iterations from projecting them all.
+    const std::vector<double> bound = parameter_distances(surface, points, params);
+    std::vector<char> flagged_u(static_cast<size_t>(surface.count_u), 0), flagged_v(static_cast<size_t>(surface.count_v), 0);
+    double worst = 0, sum_sq = 0;
+    for (size_t k = 0; k < points.size(); ++k) {
+      sum_sq += bound[k] * bound[k];
+      double d = bound[k];
+      if (bound[k] > options.tolerance_mm) {
+        const int su = fit::find_span(surface.count_u, surface.degree_u, params.uv[k].u, surface.knots_u.data());
+        const int sv = fit::find_span(surface.count_v, surface.degree_v, params.uv[k].v, surface.knots_v.data());
+        if (!flagged_u[static_cast<size_t>(su)] || !flagged_v[static_cast<size_t>(sv)]) {
+          d = std::fabs(closest_point(surface, points[k], params.uv[k].u, params.uv[k].v).distance);
+          if (d > options.tolerance_mm) {
+            flagged_u[static_cast<size_t>(su)] = flagged_v[static_cast<size_t>(sv)] = 1;
+          }
+        }
+      }
+      worst = std::max(worst, d);
+    }
+    std::set<int> spans_u, spans_v;
+    for (int i = 0; i < surface.count_u; ++i) {
+      if (flagged_u[static_cast<size_t>(i)]) spans_u.insert(i);
+    }
+    for (int j = 0; j < surface.count_v; ++j) {
+      if (flagged_v[static_cast<size_t>(j)]) spans_v.insert(j);
+    }
+    const double rms = std::sqrt(sum_sq / static_cast<double>(points.size()));
+    if (spans_u.empty() || worst < best.max_distance_mm) {
+      best.surface = surface;
+      best.max_distance_mm = worst;  // an upper bound until the exact distances at the end
+      best.iterations = sampled_iterations + iteration;
+    }
+    if (spans_u.empty()) {
+      best.kept = true;
+      break;
+    }
+    // The noise floor: the residual is the noise, so what is left above the tolerance is noise.
+    if (noise > 0 && rms <= 1.15 * noise) {
+      refusal = "the scan's noise (sigma " + mm_text(noise) + ", RMS residual " + mm_text(rms) +
+                ") is above what the tolerance allows: " + std::to_string(points.size()) +
+                " points of that noise reach about " + mm_text(noise * std::sqrt(2 * std::log(static_cast<double>(points.size())))) +
+                "; filter the scan or give a larger tolerance";
+      break;
+    }
+    if (iteration >= 3 && rms > 0.97 * previous_rms) {
+      refusal = "refinement stopped improving at RMS residual " + mm_text(rms) + " (noise or outliers; try digitizer filter)";
+      break;
+    }
+    previous_rms = rms;
+    const int added = insert_midpoints(spec.knots_u, spans_u, min_width) + insert_midpoints(spec.knots_v, spans_v, min_width);
+    if (added == 0) {
+      refusal = "not enough points to refine further: the spans that exceed the tolerance are already one point spacing wide";
+      break;
+    }
+    if (iteration == options.max_iterations) refusal = "no convergence in " + std::to_string(options.max_iterations) + " refinements";
+  }
+  if (best.surface.control.empty()) throw FitError(refusal.empty() ? "no fit" : refusal);
+  best.distances = orthogonal_distances(best.surface, points, params);
+  best.max_distance_mm = 0;
+  for (double d : best.distances) best.max_distance_mm = std::max(best.max_distance_mm, std::fabs(d));
+  // The contract: success only with every distance within the tolerance.
+  if (best.kept && best.max_distance_mm > options.tolerance_mm) {
+    best.kept = false;
+    refusal = "largest orthogonal distance " + mm_text(best.max_distance_mm) + " exceeds the tolerance";
+  }
+  if (!best.kept) {
+    size_t worst_index = 0;
+    for (size_t k = 1; k < best.distances.size(); ++k) {
+      if (std::fabs(best.distances[k]) > std::fabs(best.distances[worst_index])) worst_index = k;
+    }
+    const Point3& w = points[worst_index];
+    char where[96];
+    std::snprintf(where, sizeof where, " at point %zu (%.3f, %.3f, %.3f)", worst_index + 1, w.x, w.y, w.z);
+    best.reason = refusal + "; best fit: " + std::to_string(best.surface.count_u) + " x " + std::to_string(best.surface.count_v) +
+                  " control points, largest distance " + mm_text(best.max_distance_mm) + where + " > tolerance " +
+                  mm_text(options.tolerance_mm);
+  }
+  return best;
+}
+
+}  // namespace
+
+}  // namespace dg::host

@@ -1,0 +1,42 @@
+// Fitting to a tolerance: refine a B-spline by knot insertion until every point is within it, or refuse.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "host/scan/point_reader.h"
+#include "host/fit/bspline_fit.h"
+
+namespace dg::host {
+
+struct ToleranceOptions {
+  double tolerance_mm = 0.01;
+  int degree_u = 3, degree_v = 3;
+  int start_count_u = 0, start_count_v = 0;  // 0: degree + 1 (one Bezier patch)
+  int max_iterations = 24;
+  std::vector<double> extra_knots_u, extra_knots_v;  // knots that must stay (creases), parameters
+  // Above this many points the loop first refines on an evenly strided sample of a quarter as many
+  // and continues from its knots with every point (coarse nets need few points; the contract is
+  // still judged on all of them).
+  size_t sample_above = 400000;
+};
+
+struct ToleranceResult {
+  BSplineSurface surface;         // the best surface found (the last one when kept)
+  bool kept = false;              // every orthogonal distance <= tolerance
+  std::string reason;             // why it was refused, when not kept
+  double max_distance_mm = 0;     // largest orthogonal distance of `surface`
+  double noise_sigma_mm = 0;      // estimated measurement noise
+  int iterations = 0;
+  std::vector<double> distances;  // signed orthogonal distances of `surface`
+};
+
+// Seed 004 section 5.4's refinement: start coarse, fit, and insert a knot in the middle of every
+// knot span (in u and in v) that holds a point farther than the tolerance; repeat. The test is the
+// maximum orthogonal distance: the cheap same-parameter distance bounds it from above, so only the
+// points it does not clear are projected. Stops and refuses, with the best surface and the reason,
+// when the residual is down to the estimated noise (more knots would fit noise), when refinement no
+// longer improves, or when the points cannot support more knots.
+ToleranceResult fit_to_tolerance(const PointCloud& cloud, const Parameters& params, const std::vector<double>* weights,
+                                 const ToleranceOptions& options);
+
+}  // namespace dg::host

@@ -1,0 +1,76 @@
+// Closest points on a surface by Gauss-Newton projection.
+#include "host/geometry/closest_point.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "host/geometry/vec3.h"
+
+namespace dg::host {
+
+Closest closest_point(const BSplineSurface& surface, const Point3& p, double u0, double v0) {
+  const double u_lo = surface.u_min(), u_hi = surface.u_max(), v_lo = surface.v_min(), v_hi = surface.v_max();
+  double u = std::clamp(u0, u_lo, u_hi), v = std::clamp(v0, v_lo, v_hi);
+  Point3 s, su, sv;
+  surface.evaluate(u, v, s, su, sv);
+  for (int iteration = 0; iteration < 30; ++iteration) {
+    const Point3 r = p - s;
+    double a = dot(su, su), b = dot(su, sv), c = dot(sv, sv);
+    double gu = dot(r, su), gv = dot(r, sv);
+    // At a boundary with the gradient pointing out, move along the edge only.
+    const bool pinned_u = (u <= u_lo && gu < 0) || (u >= u_hi && gu > 0);
+    const bool pinned_v = (v <= v_lo && gv < 0) || (v >= v_hi && gv > 0);
+    double du = 0, dv = 0;
+    if (pinned_u && pinned_v) break;
+    if (pinned_u) {
+      dv = c > 0 ? gv / c : 0;
+    } else if (pinned_v) {
+      du = a > 0 ? gu / a : 0;
+    } else {
+      const double det = a * c - b * b;
+      if (!(det > 1e-300)) break;
+      du = (c * gu - b * gv) / det;
+      dv = (a * gv - b * gu) / det;
+    }
+    const double nu = std::clamp(u + du, u_lo, u_hi), nv = std::clamp(v + dv, v_lo, v_hi);
+    // The proposed move on the surface, to first order, in mm: below 1e-7 mm the distance is settled.
+    if (norm((nu - u) * su + (nv - v) * sv) < 1e-7) break;
+    Point3 ns, nsu, nsv;
+    surface.evaluate(nu, nv, ns, nsu, nsv);
+    // Accept only steps that do not move away (Gauss-Newton can overshoot on a curved surface).
+    if (dot(p - ns, p - ns) > dot(r, r) * (1.0 + 1e-12) + 1e-24) {
+      double t = 0.5;
+      bool improved = false;
+      for (int halving = 0; halving < 20 && !improved; ++halving, t *= 0.5) {
+        const double hu = std::clamp(u + t * du, u_lo, u_hi), hv = std::clamp(v + t * dv, v_lo, v_hi);
+        surface.evaluate(hu, hv, ns, nsu, nsv);
+        if (dot(p - ns, p - ns) <= dot(r, r)) {
+          u = hu;
+          v = hv;
+          s = ns;
+          su = nsu;
+          sv = nsv;
+          improved = true;
+        }
+      }
+      if (!improved) break;
+      continue;
+    }
+    u = nu;
+    v = nv;
+    s = ns;
+    su = nsu;
+    sv = nsv;
+  }
+  Closest result;
+  result.u = u;
+  result.v = v;
+  result.point = s;
+  const Point3 r = p - s;
+  const Point3 normal = cross(su, sv);
+  const double length = norm(r);
+  result.distance = dot(r, normal) < 0 ? -length : length;
+  return result;
+}
+
+}  // namespace dg::host

@@ -1,0 +1,19 @@
+// Orthogonal (closest-point) distance from measured points to a B-spline surface.
+#pragma once
+#include <vector>
+
+#include "host/geometry/bspline_surface.h"
+
+namespace dg::host {
+
+struct Closest {
+  double u = 0, v = 0;
+  Point3 point;
+  double distance = 0;  // signed: positive on the side of S_u x S_v (above a height field)
+};
+
+// Gauss-Newton on |P - S(u, v)|^2 from (u0, v0), clamped to the domain; at a boundary the
+// iteration continues along the edge. Converges in a few steps from a point's own parameters.
+Closest closest_point(const BSplineSurface& surface, const Point3& p, double u0, double v0);
+
+}  // namespace dg::host

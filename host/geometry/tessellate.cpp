@@ -1,0 +1,86 @@
+// Uniform subdivision of each knot span, doubled until the chord tolerance holds.
+#include "host/geometry/tessellate.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "host/geometry/vec3.h"
+
+namespace dg::host {
+namespace {
+
+// Parameters: every distinct knot in the domain, each span cut into `per_span` equal parts.
+std::vector<double> grid_parameters(const std::vector<double>& knots, double lo, double hi, int per_span) {
+  const std::vector<double> distinct = distinct_knots(knots, lo, hi);
+  std::vector<double> t;
+  for (size_t s = 0; s + 1 < distinct.size(); ++s) {
+    for (int k = 0; k < per_span; ++k) t.push_back(distinct[s] + (distinct[s + 1] - distinct[s]) * k / per_span);
+  }
+  t.push_back(distinct.back());
+  return t;
+}
+
+// Distance from p to the segment a-b.
+double to_segment(const Point3& p, const Point3& a, const Point3& b) {
+  const Point3 d = b - a;
+  const double len2 = dot(d, d);
+  const double t = len2 > 0 ? std::clamp(dot(p - a, d) / len2, 0.0, 1.0) : 0.0;
+  return norm(p - (a + t * d));
+}
+
+}  // namespace
+
+double distance_to_triangle(const Point3& p, const Point3& a, const Point3& b, const Point3& c) {
+  const Point3 n = cross(b - a, c - a);
+  const double n2 = dot(n, n);
+  if (n2 > 0) {
+    const Point3 foot = p - (dot(p - a, n) / n2) * n;
+    const bool inside = dot(cross(b - a, foot - a), n) >= 0 && dot(cross(c - b, foot - b), n) >= 0 &&
+                        dot(cross(a - c, foot - c), n) >= 0;
+    if (inside) return std::fabs(dot(p - a, n)) / std::sqrt(n2);
+  }
+  return std::min({to_segment(p, a, b), to_segment(p, b, c), to_segment(p, c, a)});
+}
+
+Mesh tessellate(const BSplineSurface& s, double chord_mm, size_t max_triangles) {
+  if (!(chord_mm > 0)) throw std::invalid_argument("the chord tolerance must be a positive number of mm");
+  int per_u = 1, per_v = 1;
+  for (;;) {
+    const std::vector<double> us = grid_parameters(s.knots_u, s.u_min(), s.u_max(), per_u);
+    const std::vector<double> vs = grid_parameters(s.knots_v, s.v_min(), s.v_max(), per_v);
+    const size_t nu = us.size(), nv = vs.size();
+    if (2 * (nu - 1) * (nv - 1) > max_triangles) {
+      throw std::invalid_argument("a chord tolerance of " + std::to_string(chord_mm) + " mm needs more than " +
+                                  std::to_string(max_triangles) + " triangles");
+    }
+    Mesh mesh;
+    mesh.vertices.resize(nu * nv);
+    for (size_t i = 0; i < nu; ++i)
+      for (size_t j = 0; j < nv; ++j) mesh.vertices[i * nv + j] = s.evaluate(us[i], vs[j]);
+    // Check each cell's centre and its edge midpoints along u and v against its two triangles.
+    double worst_u = 0, worst_v = 0;
+    for (size_t i = 0; i + 1 < nu; ++i) {
+      for (size_t j = 0; j + 1 < nv; ++j) {
+        const uint32_t a = static_cast<uint32_t>(i * nv + j), b = static_cast<uint32_t>((i + 1) * nv + j),
+                       c = static_cast<uint32_t>((i + 1) * nv + j + 1), d = static_cast<uint32_t>(i * nv + j + 1);
+        const Point3 &pa = mesh.vertices[a], &pb = mesh.vertices[b], &pc = mesh.vertices[c], &pd = mesh.vertices[d];
+        const double um = 0.5 * (us[i] + us[i + 1]), vm = 0.5 * (vs[j] + vs[j + 1]);
+        const Point3 centre = s.evaluate(um, vm);
+        const double e_centre = std::min(distance_to_triangle(centre, pa, pb, pc), distance_to_triangle(centre, pa, pc, pd));
+        const double e_u = to_segment(s.evaluate(um, vs[j]), pa, pb);  // an edge along u
+        const double e_v = to_segment(s.evaluate(us[i], vm), pa, pd);  // an edge along v
+        worst_u = std::max({worst_u, e_u, 0.5 * e_centre});
+        worst_v = std::max({worst_v, e_v, 0.5 * e_centre});
+        mesh.chord_error_mm = std::max({mesh.chord_error_mm, e_centre, e_u, e_v});
+        mesh.triangles.push_back({a, b, c});
+        mesh.triangles.push_back({a, c, d});
+      }
+    }
+    if (mesh.chord_error_mm <= chord_mm) return mesh;
+    if (worst_u >= worst_v) per_u *= 2;
+    else per_v *= 2;
+  }
+}
+
+}  // namespace dg::host

@@ -1,0 +1,26 @@
+// Triangles for a surface to a chord tolerance: what STL, OBJ and PLY meshes carry.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "host/geometry/bspline_surface.h"
+
+namespace dg::host {
+
+struct Mesh {
+  std::vector<Point3> vertices;               // mm
+  std::vector<std::array<uint32_t, 3>> triangles;  // counter-clockwise seen from S_u x S_v
+  double chord_error_mm = 0;                  // the largest deviation found at the check points
+};
+
+// A grid in (u, v) refined by halving, in the direction that errs more, until the surface is within
+// `chord_mm` of the triangles at every cell's centre and edge midpoints (and the knots are grid
+// lines, so creases stay sharp). Throws std::invalid_argument for chord_mm <= 0 or a grid that
+// would exceed max_triangles.
+// Distance from p to the triangle a-b-c (mm).
+double distance_to_triangle(const Point3& p, const Point3& a, const Point3& b, const Point3& c);
+
+Mesh tessellate(const BSplineSurface& surface, double chord_mm, size_t max_triangles = 20000000);
+
+}  // namespace dg::host

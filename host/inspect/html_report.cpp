@@ -1,0 +1,120 @@
+// HTML assembly: escaped text, tables, and pictures as data: URIs so the file stands alone.
+#include "host/inspect/html_report.h"
+
+#include <cstdio>
+
+#include "host/inspect/deviation_map.h"
+
+namespace dg::host {
+
+namespace {
+
+std::string escape(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    switch (c) {
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '&': out += "&amp;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+std::string number(double v, const char* format = "%.4f") {
+  char text[48];
+  std::snprintf(text, sizeof text, format, v);
+  return text;
+}
+
+std::string row(const std::string& name, const std::string& value) {
+  return "<tr><th>" + escape(name) + "</th><td>" + escape(value) + "</td></tr>\n";
+}
+
+}  // namespace
+
+std::string base64(const std::string& bytes) {
+  static const char* kAlphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve((bytes.size() + 2) / 3 * 4);
+  for (size_t i = 0; i < bytes.size(); i += 3) {
+    const uint32_t b0 = static_cast<uint8_t>(bytes[i]);
+    const uint32_t b1 = i + 1 < bytes.size() ? static_cast<uint8_t>(bytes[i + 1]) : 0;
+    const uint32_t b2 = i + 2 < bytes.size() ? static_cast<uint8_t>(bytes[i + 2]) : 0;
+    const uint32_t n = b0 << 16 | b1 << 8 | b2;
+    out += kAlphabet[n >> 18 & 63];
+    out += kAlphabet[n >> 12 & 63];
+    out += i + 1 < bytes.size() ? kAlphabet[n >> 6 & 63] : '=';
+    out += i + 2 < bytes.size() ? kAlphabet[n & 63] : '=';
+  }
+  return out;
+}
+
+std::vector<ReportPicture> inspection_pictures(const Inspection& inspection, std::string* svg) {
+  std::vector<MapPoint> deviation, ex, ey, ez;
+  for (const PointDeviation& d : inspection.points) {
+    deviation.push_back({d.point.x, d.point.y, d.distance});
+    ex.push_back({d.point.x, d.point.y, d.point.x - d.foot.x});
+    ey.push_back({d.point.x, d.point.y, d.point.y - d.foot.y});
+    ez.push_back({d.point.x, d.point.y, d.point.z - d.foot.z});
+  }
+  const MapPicture picture;
+  if (svg) *svg = deviation_map_svg(deviation, picture, "signed orthogonal deviation, mm");
+  MapPicture small;
+  small.width = 600;
+  small.height = 400;
+  return {{"Signed orthogonal deviation over the part (red: material above the surface, blue: below)",
+           deviation_map_png(deviation, picture)},
+          {"X error map: x of each point minus x of its closest surface point (seed 000, Fig. 17a)", deviation_map_png(ex, small)},
+          {"Y error map (Fig. 17b)", deviation_map_png(ey, small)},
+          {"Z error map (Fig. 17c)", deviation_map_png(ez, small)}};
+}
+
+std::string html_report(const ReportInputs& in) {
+  std::string h = "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>" + escape(in.title) +
+                  "</title>\n<style>body{font-family:sans-serif;margin:2em;max-width:1000px}"
+                  "table{border-collapse:collapse;margin:1em 0}th,td{border:1px solid #ccc;padding:4px 10px;text-align:left}"
+                  "th{background:#f3f3f3}figure{margin:1.5em 0}figcaption{color:#444}img{max-width:100%}</style>"
+                  "</head><body>\n";
+  h += "<h1>" + escape(in.title) + "</h1>\n<p>" + escape(in.created) + "</p>\n";
+  h += "<h2>What was measured</h2>\n<table>\n" + row("points", in.points_file) + row("surface", in.surface_file);
+  for (const std::string& fact : in.scan_facts) h += "<tr><td colspan=\"2\">" + escape(fact) + "</td></tr>\n";
+  h += "</table>\n";
+  if (in.inspection) {
+    const DistanceStats& s = in.inspection->stats;
+    h += "<h2>Orthogonal deviation (mm)</h2>\n<table>\n" + row("points", std::to_string(s.count)) + row("mean", number(s.mean)) +
+         row("median", number(s.median)) + row("standard deviation", number(s.stddev)) + row("RMS", number(s.rms)) +
+         row("max", number(s.max)) + row("min", number(s.min)) + "</table>\n";
+    if (!in.inspection->bands.empty()) {
+      h += "<h2>Within tolerance bands</h2>\n<table><tr><th>|deviation| &le; mm</th><th>points</th><th>share</th></tr>\n";
+      for (const Band& b : in.inspection->bands) {
+        h += "<tr><td>" + number(b.limit_mm) + "</td><td>" + std::to_string(b.count) + "</td><td>" + number(100 * b.share, "%.1f") +
+             " %</td></tr>\n";
+      }
+      h += "</table>\n";
+    }
+  }
+  if (in.surface) {
+    const FittedSurface& f = *in.surface;
+    h += "<h2>The surface</h2>\n<table>\n" + row("model", f.model) + row("method", f.method) +
+         row("degree", std::to_string(f.surface.degree_u) + " x " + std::to_string(f.surface.degree_v)) +
+         row("control points", std::to_string(f.surface.count_u) + " x " + std::to_string(f.surface.count_v)) +
+         row("parameterization", f.parameterization);
+    if (f.tolerance_mm > 0) {
+      h += row("tolerance", number(f.tolerance_mm) + " mm, " + (f.tolerance_kept ? "kept" : "NOT kept"));
+    }
+    if (f.noise_sigma_mm > 0) h += row("estimated noise (sigma)", number(f.noise_sigma_mm) + " mm");
+    if (!f.source.empty()) h += row("fitted from", f.source);
+    h += "</table>\n";
+  }
+  for (const ReportPicture& p : in.pictures) {
+    h += "<figure><img alt=\"" + escape(p.caption) + "\" src=\"data:image/png;base64," + base64(p.png) + "\"><figcaption>" +
+         escape(p.caption) + "</figcaption></figure>\n";
+  }
+  h += "<p>Written by the bench digitizer.</p>\n</body></html>\n";
+  return h;
+}
+
+}  // namespace dg::host

@@ -1,0 +1,34 @@
+// The inspection report: one self-contained HTML file with the pictures embedded, the statistics,
+// the fit's parameters and what was measured.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "host/inspect/inspect.h"
+#include "host/geometry/fitted_surface.h"
+
+namespace dg::host {
+
+struct ReportPicture {
+  std::string caption;
+  std::string png;  // the picture's bytes
+};
+
+struct ReportInputs {
+  std::string title = "Inspection report";
+  std::string created;            // when, as text
+  std::string points_file, surface_file;
+  std::vector<std::string> scan_facts;  // lines about the scan (device, points, lines, time)
+  const FittedSurface* surface = nullptr;
+  const Inspection* inspection = nullptr;
+  std::vector<ReportPicture> pictures;
+};
+
+std::string html_report(const ReportInputs& inputs);
+std::string base64(const std::string& bytes);
+
+// The report's pictures for an inspection: the signed deviation and seed 000's X, Y and Z error
+// maps (the components of point - foot), each as PNG; `svg` receives the deviation map as SVG.
+std::vector<ReportPicture> inspection_pictures(const Inspection& inspection, std::string* svg);
+
+}  // namespace dg::host

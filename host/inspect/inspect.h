@@ -1,0 +1,32 @@
+// Inspection: the signed orthogonal deviation of every measured point from a surface, its
+// statistics, and the share of points within tolerance bands (seed 002 eq. 8 counts them).
+#pragma once
+#include <vector>
+
+#include "host/geometry/bspline_surface.h"
+#include "host/geometry/distance_stats.h"
+
+namespace dg::host {
+
+struct PointDeviation {
+  Point3 point;     // measured, mm
+  Point3 foot;      // its closest surface point
+  double distance;  // signed: positive on the side of S_u x S_v
+};
+
+struct Band {
+  double limit_mm = 0;  // |deviation| <= limit
+  size_t count = 0;
+  double share = 0;  // count / points
+};
+
+struct Inspection {
+  std::vector<PointDeviation> points;
+  DistanceStats stats;
+  std::vector<Band> bands;
+};
+
+// Every point's closest point by SurfaceLocator; `bands_mm` in ascending order.
+Inspection inspect(const std::vector<Point3>& points, const BSplineSurface& surface, const std::vector<double>& bands_mm);
+
+}  // namespace dg::host

@@ -1,0 +1,39 @@
+// What a scan holds, and where a capture stores it as it arrives: the interface between the link and
+// whatever keeps the scan (the scan file implements it), so the device code knows no file format.
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/proto/point_batch.h"
+#include "digitizer.pb.h"
+
+namespace dg::host {
+
+// Everything a stored scan says, with points expanded.
+struct ScanData {
+  std::optional<digitizer_Hello> device;
+  std::optional<digitizer_ScanRequest> request;
+  std::vector<PointSample> points;
+  std::vector<digitizer_LineDone> lines;
+  std::optional<digitizer_ScanDone> done;
+  std::vector<digitizer_Fault> faults;
+  std::vector<std::string> warnings;  // e.g. a cut-off last record
+  uint64_t records = 0;
+  uint64_t complete_bytes = 0;  // length of the whole records (less than the file after a crash)
+};
+
+// Receives every message of a scan in the order it arrived. The capture acknowledges points to the
+// device only after sync() returns, so a sink must hold what it was given by then; it throws when it
+// cannot (the capture stops and the device keeps the unacknowledged points).
+class ScanSink {
+ public:
+  virtual ~ScanSink() = default;
+  virtual void append(const digitizer_Envelope& message) = 0;
+  virtual void sync() = 0;
+  // Where the points are, for messages ("part.scan").
+  virtual const std::string& path() const = 0;
+};
+
+}  // namespace dg::host

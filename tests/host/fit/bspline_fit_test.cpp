@@ -1,0 +1,153 @@
+// Least-squares B-spline surfaces: exact reproduction, convergence, parameterizations, weights, errors.
+#include "host/fit/bspline_fit.h"
+
+#include <CppUTest/TestHarness.h>
+
+#include <cmath>
+#include <random>
+
+#include "host/geometry/closest_point.h"
+#include "host/fit/fit_error.h"
+#include "host/geometry/vec3.h"
+#include "host/fit/orthogonal_distances.h"
+
+using namespace dg::host;
+
+namespace {
+
+PointCloud grid(int nx, int ny, double step, double (*z)(double, double), bool serpentine = false) {
+  PointCloud c;
+  c.line = std::vector<uint32_t>();
+  for (int j = 0; j < ny; ++j) {
+    for (int k = 0; k < nx; ++k) {
+      const int i = serpentine && (j % 2) ? nx - 1 - k : k;
+      const double x = i * step, y = j * step;
+      c.points.push_back({x, y, z(x, y)});
+      c.line->push_back(static_cast<uint32_t>(j));
+    }
+  }
+  return c;
+}
+
+double wave(double x, double y) { return 2.0 + std::sin(x / 7.0) * std::cos(y / 9.0); }
+
+LsqSpec cubic(int nu, int nv) {
+  LsqSpec s;
+  s.knots_u = clamped_uniform_knots(nu, 3);
+  s.knots_v = clamped_uniform_knots(nv, 3);
+  return s;
+}
+
+double max_vertical_error(const BSplineSurface& s, double (*z)(double, double)) {
+  double worst = 0;
+  for (double u = 0; u <= 1.0; u += 1.0 / 97) {
+    for (double v = 0; v <= 1.0; v += 1.0 / 89) {
+      const Point3 q = s.evaluate(u, v);
+      worst = std::fmax(worst, std::fabs(q.z - z(q.x, q.y)));
+    }
+  }
+  return worst;
+}
+
+}  // namespace
+
+TEST_GROUP(BSplineFit){};
+
+TEST(BSplineFit, ReproducesABilinearSurfaceFromScatteredPointsToRounding) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> along(0.0, 50.0);
+  PointCloud c;
+  for (int i = 0; i < 2000; ++i) {
+    const double x = along(rng), y = along(rng) * 0.8;
+    c.points.push_back({x, y, 5 + 0.05 * x - 0.04 * y + 0.004 * x * y});
+  }
+  const Parameters p = parameterize(c, Parameterization::kTableXy);
+  const BSplineSurface s = fit_least_squares(c.points, p, nullptr, cubic(7, 5));
+  for (const double d : orthogonal_distances(s, c.points, p)) DOUBLES_EQUAL(0.0, d, 1e-9);
+}
+
+TEST(BSplineFit, CubicErrorFallsAboutSixteenfoldWhenSpansHalve) {
+  const PointCloud c = grid(161, 161, 0.5, wave);
+  const Parameters p = parameterize(c, Parameterization::kTableXy);
+  double previous = 0;
+  for (int spans : {4, 8, 16, 32}) {
+    const BSplineSurface s = fit_least_squares(c.points, p, nullptr, cubic(spans + 3, spans + 3));
+    const double error = max_vertical_error(s, wave);
+    if (previous > 0) CHECK_TEXT(previous / error > 10.0, "convergence slower than third order");
+    previous = error;
+  }
+  CHECK(previous < 1e-4);
+}
+
+TEST(BSplineFit, EveryParameterizationFitsASerpentineGrid) {
+  const PointCloud c = grid(41, 31, 1.0, wave, true);
+  for (auto kind : {Parameterization::kUniform, Parameterization::kChordLength, Parameterization::kCentripetal,
+                    Parameterization::kTableXy}) {
+    const Parameters p = parameterize(c, kind);
+    // The serpentine's reversed lines are turned around: u grows with x on every line.
+    CHECK(p.uv[40].u > p.uv[39].u);  // line 0, forwards
+    CHECK(p.uv[41].u > p.uv[42].u);  // line 1, recorded backwards
+    const BSplineSurface s = fit_least_squares(c.points, p, nullptr, cubic(10, 10));
+    double worst = 0;
+    for (double d : orthogonal_distances(s, c.points, p)) worst = std::fmax(worst, std::fabs(d));
+    CHECK_TEXT(worst < 2e-3, parameterization_name(kind));
+  }
+}
+
+TEST(BSplineFit, ChordParametersFollowEquation6) {
+  PointCloud c;
+  c.line = std::vector<uint32_t>{0, 0, 0, 1, 1, 1};
+  c.points = {{0, 0, 0}, {1, 0, 0}, {4, 0, 0}, {0, 2, 0}, {1, 2, 0}, {4, 2, 0}};
+  const Parameters chord = parameterize(c, Parameterization::kChordLength);
+  DOUBLES_EQUAL(0.25, chord.uv[1].u, 1e-15);
+  const Parameters centripetal = parameterize(c, Parameterization::kCentripetal);
+  DOUBLES_EQUAL(1.0 / (1.0 + std::sqrt(3.0)), centripetal.uv[1].u, 1e-15);
+  DOUBLES_EQUAL(1.0, centripetal.uv[5].v, 0.0);
+}
+
+TEST(BSplineFit, SigmaWeightsSilenceAnUncertainPoint) {
+  PointCloud c = grid(21, 21, 1.0, [](double, double) { return 1.0; });
+  c.points[220].z = 5.0;  // a wild point in the middle
+  const Parameters p = parameterize(c, Parameterization::kTableXy);
+  std::vector<double> w(c.points.size(), 1.0);
+  w[220] = 1e-12;
+  const BSplineSurface weighted = fit_least_squares(c.points, p, &w, cubic(6, 6));
+  const BSplineSurface plain = fit_least_squares(c.points, p, nullptr, cubic(6, 6));
+  DOUBLES_EQUAL(1.0, weighted.evaluate(0.5, 0.5).z, 1e-6);
+  CHECK(plain.evaluate(0.5, 0.5).z > 1.05);
+}
+
+TEST(BSplineFit, DegenerateInputsAreClearErrors) {
+  PointCloud line;
+  for (int i = 0; i < 50; ++i) line.points.push_back({i * 1.0, 2 * i * 1.0, 0.1 * i});
+  CHECK_THROWS(FitError, parameterize(line, Parameterization::kTableXy));
+  line.line = std::vector<uint32_t>(50, 0);
+  CHECK_THROWS(FitError, parameterize(line, Parameterization::kChordLength));
+  PointCloud no_lines = grid(5, 5, 1.0, wave);
+  no_lines.line.reset();
+  CHECK_THROWS(FitError, parameterize(no_lines, Parameterization::kCentripetal));
+  // 25 points cannot determine 6 x 6 control points.
+  const PointCloud small = grid(5, 5, 1.0, wave);
+  const Parameters p = parameterize(small, Parameterization::kTableXy);
+  CHECK_THROWS(FitError, fit_least_squares(small.points, p, nullptr, cubic(6, 6)));
+  // Enough points, but all of them in the left half: the right columns have nothing.
+  PointCloud left = grid(41, 41, 1.0, wave);
+  for (auto& q : left.points) q.x = q.x < 20 ? q.x : (q.x == 40 ? 40 : q.x * 0.4);
+  const Parameters pl = parameterize(left, Parameterization::kTableXy);
+  try {
+    fit_least_squares(left.points, pl, nullptr, cubic(20, 6));
+    FAIL("expected a FitError");
+  } catch (const FitError& e) {
+    STRCMP_CONTAINS("no point in the support", e.what());
+  }
+}
+
+TEST(BSplineFit, OrthogonalDistanceToATiltedPlaneIsTheNormalDistance) {
+  const PointCloud c = grid(11, 11, 1.0, [](double x, double) { return 0.5 * x; });
+  const Parameters p = parameterize(c, Parameterization::kTableXy);
+  const BSplineSurface s = fit_least_squares(c.points, p, nullptr, cubic(4, 4));
+  const Closest above = closest_point(s, {5.0, 5.0, 2.5 + 1.0}, 0.5, 0.5);
+  DOUBLES_EQUAL(1.0 / std::sqrt(1.25), above.distance, 1e-9);  // cos of the slope angle
+  const Closest below = closest_point(s, {5.0, 5.0, 2.5 - 1.0}, 0.5, 0.5);
+  DOUBLES_EQUAL(-1.0 / std::sqrt(1.25), below.distance, 1e-9);
+}

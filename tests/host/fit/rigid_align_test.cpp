@@ -1,0 +1,48 @@
+// Rigid alignment: points of a nominal surface moved by a known rotation and translation come back
+// onto it, and the transform found undoes the one applied.
+#include "host/fit/rigid_align.h"
+
+#include <CppUTest/TestHarness.h>
+
+#include <cmath>
+
+#include "host/geometry/vec3.h"
+#include "tests/support/sample_surfaces.h"
+
+using namespace dg::host;
+
+TEST_GROUP(RigidAlign){};
+
+TEST(RigidAlign, UndoesAKnownMisplacement) {
+  const BSplineSurface nominal = dg::test::clamped_sample();
+  const SurfaceLocator locator(nominal);
+  // Points on the nominal, then turned 1.5 degrees about a tilted axis and shifted 0.4 mm.
+  const double angle = 1.5 * M_PI / 180;
+  const Point3 axis{0.3, -0.2, 0.93};
+  const double k = 1.0 / norm(axis);
+  const Point3 u = k * axis;
+  auto turn = [&](const Point3& p) {
+    return std::cos(angle) * p + std::sin(angle) * cross(u, p) + (1 - std::cos(angle)) * dot(u, p) * u +
+           Point3{0.4, -0.25, 0.3};
+  };
+  std::vector<Point3> measured;
+  for (int a = 1; a < 30; ++a)
+    for (int b = 1; b < 30; ++b) measured.push_back(turn(nominal.evaluate(a / 30.0, b / 30.0)));
+  const Alignment r = align_to_surface(measured, locator);
+  CHECK(r.converged);
+  CHECK(r.rms_before_mm > 0.1);
+  CHECK(r.rms_after_mm < 1e-5);
+  DOUBLES_EQUAL(1.5, r.transform.angle_deg(), 0.01);
+}
+
+TEST(RigidAlign, LeavesAlignedPointsWhereTheyAre) {
+  const BSplineSurface nominal = dg::test::clamped_sample();
+  const SurfaceLocator locator(nominal);
+  std::vector<Point3> measured;
+  for (int a = 0; a <= 20; ++a)
+    for (int b = 0; b <= 20; ++b) measured.push_back(nominal.evaluate(a / 20.0, b / 20.0));
+  const Alignment r = align_to_surface(measured, locator);
+  CHECK(r.rms_after_mm < 1e-6);  // the closest-point iteration settles to 1e-7 mm
+  CHECK(r.transform.angle_deg() < 1e-6);
+  CHECK(norm(r.transform.translation) < 1e-6);
+}

@@ -1,0 +1,84 @@
+// Inspection against parts whose true distances are known: a plane and a sphere cap, points on
+// both sides, far away, and beyond the edges; the bands count what seed 002 eq. 8 counts.
+#include "host/inspect/inspect.h"
+
+#include <CppUTest/TestHarness.h>
+
+#include <cmath>
+#include <random>
+
+#include "host/fit/bspline_fit.h"
+#include "host/geometry/surface_locator.h"
+#include "host/geometry/vec3.h"
+
+using namespace dg::host;
+
+namespace {
+
+// A bilinear patch is exactly a plane here: z = 1 + 0.1 x over 0..40 x 0..30.
+BSplineSurface tilted_plane() {
+  BSplineSurface s;
+  s.degree_u = s.degree_v = 1;
+  s.count_u = s.count_v = 2;
+  s.knots_u = s.knots_v = {0, 0, 1, 1};
+  s.control = {{0, 0, 1}, {0, 30, 1}, {40, 0, 5}, {40, 30, 5}};
+  return s;
+}
+
+// A fitted sphere cap of radius 50 (centre (20, 15, -40)): bicubic 12 x 12, a few um from the sphere.
+BSplineSurface sphere_cap() {
+  PointCloud c;
+  for (int j = 0; j <= 60; ++j)
+    for (int i = 0; i <= 80; ++i) {
+      const double x = 0.5 * i, y = 0.5 * j;
+      c.points.push_back({x, y, -40 + std::sqrt(2500 - (x - 20) * (x - 20) - (y - 15) * (y - 15))});
+    }
+  LsqSpec spec;
+  spec.knots_u = spec.knots_v = clamped_uniform_knots(12, 3);
+  return fit_least_squares(c.points, parameterize(c, Parameterization::kTableXy), nullptr, spec);
+}
+
+}  // namespace
+
+TEST_GROUP(Inspect){};
+
+TEST(Inspect, PlaneDistancesAreExactWithTheirSign) {
+  const BSplineSurface plane = tilted_plane();
+  const double n = std::sqrt(1 + 0.01);  // |(-0.1, 0, 1)|
+  std::vector<Point3> points;
+  std::vector<double> expected;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> x(5, 35), y(5, 25), off(-2, 2);
+  for (int k = 0; k < 200; ++k) {
+    const double px = x(rng), py = y(rng), h = off(rng);
+    points.push_back({px, py, 1 + 0.1 * px + h});
+    expected.push_back(h / n);
+  }
+  const Inspection r = inspect(points, plane, {0.5, 1.0});
+  for (size_t k = 0; k < points.size(); ++k) DOUBLES_EQUAL(expected[k], r.points[k].distance, 1e-9);
+  size_t within_half = 0;
+  for (double e : expected) within_half += std::fabs(e) <= 0.5;
+  LONGS_EQUAL(within_half, r.bands[0].count);
+}
+
+TEST(Inspect, SphereDistancesMatchTheTrueOnesFromAnyStart) {
+  const BSplineSurface cap = sphere_cap();
+  const SurfaceLocator locator(cap);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> angle(0, 2 * M_PI), tilt(0, 0.3), radius(45, 56);
+  for (int k = 0; k < 300; ++k) {
+    const double a = angle(rng), t = tilt(rng), r = radius(rng);
+    const Point3 p{20 + r * std::sin(t) * std::cos(a), 15 + r * std::sin(t) * std::sin(a), -40 + r * std::cos(t)};
+    // Inside the cap's footprint the closest point is on the sphere: distance r - 50.
+    const Point3 foot{20 + 50 * std::sin(t) * std::cos(a), 15 + 50 * std::sin(t) * std::sin(a), -40 + 50 * std::cos(t)};
+    if (foot.x < 1 || foot.x > 39 || foot.y < 1 || foot.y > 29) continue;
+    DOUBLES_EQUAL(r - 50, locator.closest(p).distance, 0.002);
+  }
+}
+
+TEST(Inspect, PointsBeyondTheEdgeFindTheEdge) {
+  const BSplineSurface plane = tilted_plane();
+  const Inspection r = inspect({{50, 15, 6}, {-10, -10, 1}}, plane, {});
+  DOUBLES_EQUAL(norm(Point3{50, 15, 6} - Point3{40, 15, 5}), std::fabs(r.points[0].distance), 1e-9);
+  DOUBLES_EQUAL(std::sqrt(200.0), std::fabs(r.points[1].distance), 1e-9);
+}

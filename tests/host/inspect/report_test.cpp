@@ -1,0 +1,86 @@
+// Report pictures and the HTML report: the right size, not blank, a single bad point visible,
+// and a report that carries its pictures and numbers.
+#include "host/inspect/html_report.h"
+
+#include <CppUTest/TestHarness.h>
+
+#include <png.h>
+
+#include <set>
+#include <vector>
+
+#include "host/inspect/deviation_map.h"
+
+using namespace dg::host;
+
+namespace {
+
+struct Decoded {
+  int width = 0, height = 0;
+  std::vector<uint8_t> rgb;
+};
+
+Decoded decode(const std::string& bytes) {
+  png_image image{};
+  image.version = PNG_IMAGE_VERSION;
+  CHECK(png_image_begin_read_from_memory(&image, bytes.data(), bytes.size()));
+  image.format = PNG_FORMAT_RGB;
+  Decoded d;
+  d.width = static_cast<int>(image.width);
+  d.height = static_cast<int>(image.height);
+  d.rgb.resize(PNG_IMAGE_SIZE(image));
+  CHECK(png_image_finish_read(&image, nullptr, d.rgb.data(), 0, nullptr));
+  return d;
+}
+
+std::vector<MapPoint> grid(double (*value)(int, int)) {
+  std::vector<MapPoint> p;
+  for (int j = 0; j <= 30; ++j)
+    for (int i = 0; i <= 40; ++i) p.push_back({1.0 * i, 1.0 * j, value(i, j)});
+  return p;
+}
+
+}  // namespace
+
+TEST_GROUP(Report){};
+
+TEST(Report, DeviationMapHasItsSizeAndIsNotBlank) {
+  const Decoded d = decode(deviation_map_png(grid([](int i, int j) { return 0.001 * (i - 20) + 0.0005 * (j - 15); }), MapPicture{}));
+  LONGS_EQUAL(900, d.width);
+  LONGS_EQUAL(600, d.height);
+  std::set<uint32_t> colours;
+  for (size_t k = 0; k + 2 < d.rgb.size(); k += 3) colours.insert(uint32_t{d.rgb[k]} << 16 | d.rgb[k + 1] << 8 | d.rgb[k + 2]);
+  CHECK(colours.size() > 50);
+}
+
+TEST(Report, OneBadPointAmongManyStaysVisible) {
+  std::vector<MapPoint> p;
+  for (int j = 0; j <= 400; ++j)
+    for (int i = 0; i <= 400; ++i) p.push_back({0.1 * i, 0.1 * j, 0.0});
+  p[200 * 401 + 200].value_mm = 0.05;  // one point among 160,801
+  const Decoded d = decode(deviation_map_png(p, MapPicture{}));
+  bool saturated_red = false;
+  for (size_t k = 0; k + 2 < d.rgb.size(); k += 3) saturated_red |= d.rgb[k] == 200 && d.rgb[k + 1] == 30 && d.rgb[k + 2] == 30;
+  CHECK(saturated_red);
+}
+
+TEST(Report, SvgAndHtmlCarryThePicturesAndTheNumbers) {
+  const std::string svg = deviation_map_svg(grid([](int i, int) { return 0.001 * i; }), MapPicture{}, "a <title>");
+  STRCMP_CONTAINS("<svg xmlns=", svg.c_str());
+  STRCMP_CONTAINS("a &lt;title>", svg.c_str());
+  STRCMP_CONTAINS("+0.0400 mm", svg.c_str());
+  Inspection inspection;
+  inspection.stats.count = 3;
+  inspection.stats.rms = 0.0123;
+  inspection.bands.push_back({0.01, 2, 2.0 / 3});
+  ReportInputs in;
+  in.points_file = "part.scan";
+  in.inspection = &inspection;
+  in.pictures.push_back({"deviation", deviation_map_png(grid([](int, int) { return 0.0; }), MapPicture{})});
+  const std::string html = html_report(in);
+  STRCMP_CONTAINS("data:image/png;base64,iVBORw0KGgo", html.c_str());  // the PNG signature
+  STRCMP_CONTAINS("0.0123", html.c_str());
+  STRCMP_CONTAINS("66.7 %", html.c_str());
+  STRCMP_EQUAL("Zm9vYmFy", base64("foobar").c_str());
+  STRCMP_EQUAL("Zm9vYg==", base64("foob").c_str());
+}
