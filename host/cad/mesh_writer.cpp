@@ -77,9 +77,12 @@ std::string ply_mesh_bytes(const Mesh& mesh) {
 }
 
 void write_mesh(const std::string& path, const Mesh& mesh) {
-  if (ends_with(path, ".stl")) return write_file_atomically(path, stl_bytes(mesh));
-  if (ends_with(path, ".obj")) return write_file_atomically(path, obj_text(mesh));
-  if (ends_with(path, ".ply")) return write_file_atomically(path, ply_mesh_bytes(mesh));
+  switch (file_format(path)) {
+    case FileFormat::kStl: return write_file_atomically(path, stl_bytes(mesh));
+    case FileFormat::kObj: return write_file_atomically(path, obj_text(mesh));
+    case FileFormat::kPly: return write_file_atomically(path, ply_mesh_bytes(mesh));
+    default: break;
+  }
   throw std::invalid_argument(path + ": a mesh is written as .stl, .obj or .ply");
 }
 

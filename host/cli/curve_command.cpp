@@ -2,6 +2,7 @@
 #include "host/cli/curve_command.h"
 
 #include <cstdio>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "host/io/file_name.h"
@@ -27,6 +28,16 @@ void print_stats(const char* what, const DistanceStats& d) {
 
 }  // namespace
 
+const char* curve_method_name(CurveMethod method) {
+  switch (method) {
+    case CurveMethod::kWithinUncertainty: return "ce";
+    case CurveMethod::kInterpolate: return "interpolate";
+    case CurveMethod::kApproximate: return "approximate";
+    case CurveMethod::kPolygon: return "polygon";
+  }
+  return "?";
+}
+
 CLI::App* add_curve_command(CLI::App& app, CurveArgs& a) {
   CLI::App* cmd = app.add_subcommand("curve", "fit a planar profile (x, z) with a clamped cubic B-spline (seed 003)");
   cmd->add_option("input", a.input, ".csv, .xyz, .ply or .scan profile points in mm (one plane y = constant)")
@@ -34,8 +45,12 @@ CLI::App* add_curve_command(CLI::App& app, CurveArgs& a) {
   cmd->add_option("-o,--output", a.output, "CURVE.json, or .igs / .stp for CAD")->required();
   cmd->add_option("--method", a.method,
                   "ce (passes at --distance from every point), interpolate (natural cubic), approximate (least "
-                  "squares, --ctrl N) or polygon (the points as control polygon)")
-      ->capture_default_str()->check(CLI::IsMember({"ce", "interpolate", "approximate", "polygon"}));
+                  "squares, --ctrl N) or polygon (the points as control polygon); default ce")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, CurveMethod>{{"ce", CurveMethod::kWithinUncertainty},
+                                                                               {"interpolate", CurveMethod::kInterpolate},
+                                                                               {"approximate", CurveMethod::kApproximate},
+                                                                               {"polygon", CurveMethod::kPolygon}},
+                                          CLI::ignore_case));
   cmd->add_option("--distance", a.distance_mm, "ce: the probe's uncertainty, mm")->capture_default_str()->check(CLI::PositiveNumber);
   cmd->add_option("--ctrl", a.control_count, "approximate: control points (default: a third of the points, at least 4)")
       ->check(CLI::Range(4, 100000));
@@ -48,15 +63,15 @@ int run_curve(const CurveArgs& a) {
   check_profile(points, a.input);
   BSplineCurve curve;
   nlohmann::json extra = nlohmann::json::object();
-  if (a.method == "ce") {
+  if (a.method == CurveMethod::kWithinUncertainty) {
     const CeCurve ce = curve_within_uncertainty(points, a.distance_mm);
     curve = ce.curve;
     extra["distance_mm"] = a.distance_mm;
     extra["trend_cubic"] = {{"a", ce.trend.a}, {"b", ce.trend.b}, {"c", ce.trend.c}, {"d", ce.trend.d}};
     if (!a.quiet) std::printf("trend cubic z = %.8f x^3 + %.8f x^2 + %.8f x + %.8f\n", ce.trend.a, ce.trend.b, ce.trend.c, ce.trend.d);
-  } else if (a.method == "interpolate") {
+  } else if (a.method == CurveMethod::kInterpolate) {
     curve = interpolate_natural(points);
-  } else if (a.method == "approximate") {
+  } else if (a.method == CurveMethod::kApproximate) {
     const int n = a.control_count > 0 ? a.control_count : std::max(4, static_cast<int>(points.size()) / 3);
     curve = approximate_clamped(points, n);
   } else {
@@ -67,20 +82,21 @@ int run_curve(const CurveArgs& a) {
   const DistanceStats all = distance_stats(curve_distances(curve, points));
   const std::vector<Point3> inner(points.begin() + 1, points.end() - 1);
   const DistanceStats inside = distance_stats(curve_distances(curve, inner));
-  if (ends_with(a.output, ".igs") || ends_with(a.output, ".iges")) {
+  const FileFormat format = file_format(a.output);
+  if (format == FileFormat::kIges) {
     IgesOptions options;
     options.file_name = base_name(a.output);
     write_iges_curves(a.output, {curve}, options);
-  } else if (ends_with(a.output, ".stp") || ends_with(a.output, ".step")) {
+  } else if (format == FileFormat::kStep) {
     StepOptions options;
     options.file_name = base_name(a.output);
     write_step_curves(a.output, {curve}, options);
-  } else if (ends_with(a.output, ".json")) {
+  } else if (format == FileFormat::kJson) {
     nlohmann::json j;
     j["format"] = "digitizer-curve";
     j["version"] = 1;
     j["units"] = "mm";
-    j["method"] = a.method;
+    j["method"] = curve_method_name(a.method);
     j["degree"] = curve.degree;
     j["knots"] = curve.knots;
     nlohmann::json control = nlohmann::json::array();
@@ -93,7 +109,7 @@ int run_curve(const CurveArgs& a) {
     throw std::invalid_argument("a curve is written as .json, .igs/.iges or .stp/.step (got " + a.output + ")");
   }
   if (!a.quiet) {
-    std::printf("%s: clamped cubic B-spline, %zu control points\n", a.method.c_str(), curve.control.size());
+    std::printf("%s: clamped cubic B-spline, %zu control points\n", curve_method_name(a.method), curve.control.size());
     print_stats("distance along normals", all);
     print_stats("the same without the two end points", inside);
     std::printf("wrote %s\n", a.output.c_str());

@@ -5,9 +5,12 @@
 
 namespace dg::host {
 
+enum class CurveMethod { kWithinUncertainty, kInterpolate, kApproximate, kPolygon };
+const char* curve_method_name(CurveMethod method);  // as --method spells it: ce, interpolate, ...
+
 struct CurveArgs {
   std::string input, output;
-  std::string method = "ce";  // ce | interpolate | approximate | polygon
+  CurveMethod method = CurveMethod::kWithinUncertainty;
   double distance_mm = 0.0003;  // ce: the probe's uncertainty
   int control_count = 0;        // approximate: control points (0: a third of the points, at least 4)
   bool quiet = false;

@@ -2,6 +2,7 @@
 #include "host/cli/fit_command.h"
 
 #include <cstdio>
+#include <map>
 #include <stdexcept>
 
 #include "host/scan/point_reader.h"
@@ -72,13 +73,13 @@ void print_summary(const FitArgs& a, const FittedSurface& out) {
 // Seed 000's method places all 16 points in space, so the patch is parametric, not a height field;
 // its distances start from chord-length parameters, which also order each line.
 int run_fit_ips(const FitArgs& a, const PointCloud& cloud) {
-  if (a.model != "bezier") throw std::invalid_argument("--method ips fits a bicubic Bezier patch: use --model bezier");
+  if (a.model != SurfaceModel::kBezier) throw std::invalid_argument("--method ips fits a bicubic Bezier patch: use --model bezier");
   if (a.tolerance_mm > 0) throw std::invalid_argument("--tolerance refines B-splines; a single Bezier patch has a fixed net");
   if (!a.ctrl.empty() && a.ctrl != "4" && a.ctrl != "4x4") throw std::invalid_argument("a bicubic Bezier patch has 4x4 control points");
   const Parameters params = parameterize(cloud, Parameterization::kChordLength);
   FittedSurface out;
-  out.model = a.model;
-  out.method = a.method;
+  out.model = model_name(a.model);
+  out.method = method_name(a.method);
   out.parameterization = parameterization_name(Parameterization::kChordLength);
   out.height_field = false;
   out.has_fit = true;
@@ -98,7 +99,7 @@ int run_fit_hermite(const FitArgs& a, const PointCloud& cloud) {
   const HermiteGrid grid = hermite_grid(cloud, a.input);
   const HermiteResult r = fit_hermite(grid);
   FittedSurface out;
-  out.model = "hermite";
+  out.model = model_name(SurfaceModel::kHermite);
   out.method = "normals";
   out.parameterization = "chord";
   out.height_field = false;
@@ -122,14 +123,28 @@ int run_fit_hermite(const FitArgs& a, const PointCloud& cloud) {
 
 }  // namespace
 
+const char* model_name(SurfaceModel model) {
+  switch (model) {
+    case SurfaceModel::kBSpline: return "bspline";
+    case SurfaceModel::kBezier: return "bezier";
+    case SurfaceModel::kHermite: return "hermite";
+  }
+  return "?";
+}
+
+const char* method_name(FitMethod method) { return method == FitMethod::kIps ? "ips" : "lsq"; }
+
 CLI::App* add_fit_command(CLI::App& app, FitArgs& a) {
   CLI::App* cmd = app.add_subcommand("fit", "fit a B-spline or Bezier surface to points (mm) and write SURF.json");
   cmd->add_option("input", a.input, ".csv, .xyz, .ply or .scan points in mm")->required()->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", a.output, "surface file (.json)")->required();
-  cmd->add_option("--model", a.model, "bspline, bezier, or hermite (seed 002: a grid of points with nx,ny,nz normals)")
-      ->capture_default_str()->check(CLI::IsMember({"bspline", "bezier", "hermite"}));
-  cmd->add_option("--method", a.method, "lsq (least squares) or ips (seed 000's inverse progressive search; bezier only, needs scan lines)")
-      ->capture_default_str()->check(CLI::IsMember({"lsq", "ips"}));
+  const std::map<std::string, SurfaceModel> models{
+      {"bspline", SurfaceModel::kBSpline}, {"bezier", SurfaceModel::kBezier}, {"hermite", SurfaceModel::kHermite}};
+  cmd->add_option("--model", a.model, "bspline (default), bezier, or hermite (through a grid of points with nx,ny,nz normals)")
+      ->transform(CLI::CheckedTransformer(models, CLI::ignore_case));
+  const std::map<std::string, FitMethod> methods{{"lsq", FitMethod::kLeastSquares}, {"ips", FitMethod::kIps}};
+  cmd->add_option("--method", a.method, "lsq (least squares, default) or ips (inverse progressive search; bezier only, needs scan lines)")
+      ->transform(CLI::CheckedTransformer(methods, CLI::ignore_case));
   cmd->add_option("--degree", a.degree, "B-spline degree in both directions")->capture_default_str()->check(CLI::Range(1, 7));
   cmd->add_option("--ctrl", a.ctrl, "control points NxM (or N); with --tolerance, the starting net");
   cmd->add_option("--param", a.param, "xy (table coordinates, a height field), uniform, chord or centripetal")
@@ -144,8 +159,8 @@ CLI::App* add_fit_command(CLI::App& app, FitArgs& a) {
 
 int run_fit(const FitArgs& a) {
   const PointCloud cloud = read_points(a.input);
-  if (a.method == "ips") return run_fit_ips(a, cloud);
-  if (a.model == "hermite") return run_fit_hermite(a, cloud);
+  if (a.method == FitMethod::kIps) return run_fit_ips(a, cloud);
+  if (a.model == SurfaceModel::kHermite) return run_fit_hermite(a, cloud);
   const Parameters params = parameterize(cloud, parse_parameterization(a.param));
   std::vector<double> weights;
   if (cloud.sigma && !a.ignore_sigma) {
@@ -157,24 +172,24 @@ int run_fit(const FitArgs& a) {
   const std::vector<double>* w = weights.empty() ? nullptr : &weights;
 
   FittedSurface out;
-  out.model = a.model;
-  out.method = a.method;
+  out.model = model_name(a.model);
+  out.method = method_name(a.method);
   out.parameterization = a.param;
   out.height_field = params.kind == Parameterization::kTableXy;
   out.has_fit = true;
   out.source = a.input;
   int nu = a.degree + 1, nv = a.degree + 1;
   if (!a.ctrl.empty()) parse_ctrl(a.ctrl, nu, nv);
-  if (a.model == "bezier") {
+  if (a.model == SurfaceModel::kBezier) {
     if (!a.ctrl.empty() && (nu != 4 || nv != 4)) throw std::invalid_argument("a bicubic Bezier patch has 4x4 control points");
     if (a.tolerance_mm > 0) throw std::invalid_argument("--tolerance refines B-splines; a single Bezier patch has a fixed net");
     nu = nv = 4;
   }
-  const int degree = a.model == "bezier" ? 3 : a.degree;
+  const int degree = a.model == SurfaceModel::kBezier ? 3 : a.degree;
   // Seed 004 section 6: C0 knots where a crease or step runs across the scan. A Bezier patch has
   // no interior knots to place.
   Creases creases;
-  if (a.model == "bspline" && !a.no_creases) {
+  if (a.model == SurfaceModel::kBSpline && !a.no_creases) {
     creases = detect_creases(cloud, params, estimate_noise(cloud, params));
     print_creases(a, params, creases);
   }

@@ -5,10 +5,15 @@
 
 namespace dg::host {
 
+enum class SurfaceModel { kBSpline, kBezier, kHermite };
+enum class FitMethod { kLeastSquares, kIps };  // IPS: Bezier only
+const char* model_name(SurfaceModel model);    // as SURF.json and --model spell it
+const char* method_name(FitMethod method);
+
 struct FitArgs {
   std::string input, output;
-  std::string model = "bspline";  // bspline | bezier
-  std::string method = "lsq";     // lsq | ips (Bezier only)
+  SurfaceModel model = SurfaceModel::kBSpline;
+  FitMethod method = FitMethod::kLeastSquares;
   int degree = 3;
   std::string ctrl;               // NxM control points; empty: automatic
   std::string param = "xy";

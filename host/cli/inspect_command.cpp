@@ -37,7 +37,7 @@ namespace {
 
 // What a scan file says about how the points were measured.
 std::vector<std::string> scan_facts(const std::string& path) {
-  if (!ends_with(path, ".scan")) return {};
+  if (file_format(path) != FileFormat::kScan) return {};
   const ScanData data = read_scan_file(path);
   std::vector<std::string> facts;
   if (data.device) {
@@ -60,11 +60,6 @@ std::vector<std::string> scan_facts(const std::string& path) {
     facts.push_back(line);
   }
   return facts;
-}
-
-std::string without_extension(const std::string& path) {
-  const size_t dot = path.find_last_of('.'), slash = path.find_last_of('/');
-  return dot != std::string::npos && (slash == std::string::npos || dot > slash) ? path.substr(0, dot) : path;
 }
 
 void write_report(const InspectArgs& a, const Inspection& r, const FittedSurface& surface, const std::string& alignment) {
@@ -93,8 +88,9 @@ void write_report(const InspectArgs& a, const Inspection& r, const FittedSurface
 int run_inspect(const InspectArgs& a) {
   PointCloud cloud = read_points(a.points);
   FittedSurface surface;
-  const bool iges = ends_with(a.surface, ".igs") || ends_with(a.surface, ".iges");
-  const bool step = ends_with(a.surface, ".stp") || ends_with(a.surface, ".step");
+  const FileFormat format = file_format(a.surface);
+  const bool iges = format == FileFormat::kIges;
+  const bool step = format == FileFormat::kStep;
   if (iges || step) {
     surface.surface = iges ? read_iges_surface(a.surface) : read_step_surface(a.surface);
     surface.model = "bspline";

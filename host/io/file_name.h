@@ -1,20 +1,35 @@
 // File names as the commands read them: the extension picks a format, messages name the file.
 #pragma once
-#include <cstring>
 #include <string>
 
 namespace dg::host {
 
-// Exact (case-sensitive) suffix test: ends_with("part.igs", ".igs").
-inline bool ends_with(const std::string& text, const char* suffix) {
-  const size_t n = std::strlen(suffix);
-  return text.size() >= n && text.compare(text.size() - n, n, suffix) == 0;
-}
+// Every format a command reads or writes, known by its extension.
+enum class FileFormat {
+  kUnknown,
+  kScan,   // .scan
+  kCsv,    // .csv
+  kXyz,    // .xyz
+  kText,   // .txt (read as whitespace XYZ)
+  kPly,    // .ply (points or a mesh)
+  kJson,   // .json (SURF.json, curves)
+  kIges,   // .igs, .iges
+  kStep,   // .stp, .step
+  kStl,    // .stl
+  kObj,    // .obj
+  kHtml,   // .html, .htm
+};
+
+// The format a path names by its extension, ignoring case (PART.IGS is IGES).
+FileFormat file_format(const std::string& path);
+
+// Suffix test that ignores ASCII case: ends_with("PART.igs", ".igs").
+bool ends_with(const std::string& text, const char* suffix);
 
 // The last component of a path: base_name("out/part.igs") is "part.igs".
-inline std::string base_name(const std::string& path) {
-  const size_t slash = path.find_last_of('/');
-  return slash == std::string::npos ? path : path.substr(slash + 1);
-}
+std::string base_name(const std::string& path);
+
+// The path without its extension: stem("out/report.html") is "out/report".
+std::string without_extension(const std::string& path);
 
 }  // namespace dg::host

@@ -1,5 +1,6 @@
 // Point cloud writers. Integer nanometres print as exact millimetre decimals.
 #include "host/scan/point_export.h"
+#include "host/io/file_name.h"
 
 #include <cerrno>
 #include <cinttypes>
@@ -35,17 +36,6 @@ void print_mm(std::FILE* f, int32_t nm) {
   const int64_t magnitude = v < 0 ? -v : v;
   std::fprintf(f, "%s%" PRId64 ".%06" PRId64, v < 0 ? "-" : "", magnitude / 1000000,
                magnitude % 1000000);
-}
-
-bool ends_with(const std::string& s, const char* suffix) {
-  const size_t n = std::strlen(suffix);
-  if (s.size() < n) return false;
-  for (size_t i = 0; i < n; ++i) {
-    char c = s[s.size() - n + i];
-    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
-    if (c != suffix[i]) return false;
-  }
-  return true;
 }
 
 }  // namespace
@@ -116,9 +106,12 @@ void write_cloud_csv(const std::string& path, const std::vector<Point3>& points,
 }
 
 void write_points(const std::string& path, const std::vector<PointSample>& points) {
-  if (ends_with(path, ".csv")) return write_points_csv(path, points);
-  if (ends_with(path, ".ply")) return write_points_ply(path, points);
-  if (ends_with(path, ".xyz")) return write_points_xyz(path, points);
+  switch (file_format(path)) {
+    case FileFormat::kCsv: return write_points_csv(path, points);
+    case FileFormat::kPly: return write_points_ply(path, points);
+    case FileFormat::kXyz: return write_points_xyz(path, points);
+    default: break;
+  }
   throw std::invalid_argument(path + ": unknown point format (use .csv, .xyz or .ply)");
 }
 

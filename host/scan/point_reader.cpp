@@ -161,7 +161,8 @@ PointCloud parse_xyz_points(const std::string& text, const std::string& name) {
 }
 
 PointCloud read_points(const std::string& path) {
-  if (ends_with(path, ".scan")) {
+  const FileFormat format = file_format(path);
+  if (format == FileFormat::kScan) {
     const ScanData data = read_scan_file(path);
     PointCloud cloud;
     cloud.line.emplace();
@@ -173,9 +174,9 @@ PointCloud read_points(const std::string& path) {
   }
   std::string bytes;
   if (!read_whole_file(path, &bytes)) throw PointFileError(path + ": cannot open: " + std::strerror(errno));
-  if (ends_with(path, ".csv")) return parse_csv_points(bytes, path);
-  if (ends_with(path, ".xyz") || ends_with(path, ".txt")) return parse_xyz_points(bytes, path);
-  if (ends_with(path, ".ply")) {
+  if (format == FileFormat::kCsv) return parse_csv_points(bytes, path);
+  if (format == FileFormat::kXyz || format == FileFormat::kText) return parse_xyz_points(bytes, path);
+  if (format == FileFormat::kPly) {
     return parse_ply_points(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), path);
   }
   throw PointFileError(path + ": unknown point format (.csv, .xyz, .txt, .ply or .scan)");

@@ -1,0 +1,98 @@
+// Export: points keep their nanometre values; surfaces go to CAD or a mesh, chosen by the extension.
+#include "host/cli/export_command.h"
+
+#include <cstdio>
+#include <ctime>
+#include <stdexcept>
+
+#include "host/cad/iges_writer.h"
+#include "host/cad/mesh_writer.h"
+#include "host/cad/step_writer.h"
+#include "host/cad/surface_json.h"
+#include "host/geometry/bspline_curve.h"
+#include "host/geometry/clamp.h"
+#include "host/io/file_name.h"
+#include "host/scan/point_export.h"
+#include "host/scan/scan_file.h"
+
+namespace dg::host {
+namespace {
+
+// A surface file to CAD (IGES 5.3 entity 128, STEP AP214) or a mesh (STL, OBJ, PLY), in millimetres.
+int run_export_surface(const std::string& input, const std::string& output, double chord_mm, bool edges) {
+  const FileFormat format = file_format(output);
+  const FittedSurface surface = read_surface_json(input);
+  const bool iges = format == FileFormat::kIges;
+  const bool step = format == FileFormat::kStep;
+  if (format == FileFormat::kStl || format == FileFormat::kObj || format == FileFormat::kPly) {
+    const Mesh mesh = tessellate(surface.surface, chord_mm);
+    write_mesh(output, mesh);
+    std::printf("wrote %zu triangles (chord error %.4f mm, asked %.4f) to %s\n", mesh.triangles.size(),
+                mesh.chord_error_mm, chord_mm, output.c_str());
+    return 0;
+  }
+  if (!iges && !step) {
+    throw std::invalid_argument("a surface exports to .igs/.iges, .stp/.step, .stl, .obj or .ply (got " + output + ")");
+  }
+  if (edges) {
+    // The four edges as curves: IGES entity 126 or a STEP curve set, for trimming or sketching in CAD.
+    const std::vector<BSplineCurve> curves = boundary_curves(clamp_ends(surface.surface));
+    if (iges) {
+      IgesOptions options;
+      options.file_name = base_name(output);
+      write_iges_curves(output, curves, options);
+    } else {
+      StepOptions options;
+      options.file_name = base_name(output);
+      write_step_curves(output, curves, options);
+    }
+    std::printf("wrote the surface's 4 edges as B-spline curves to %s\n", output.c_str());
+    return 0;
+  }
+  const std::string name = base_name(output);
+  const std::time_t now = std::time(nullptr);
+  char stamp[32];
+  if (iges) {
+    IgesOptions options;
+    options.file_name = name;
+    std::strftime(stamp, sizeof stamp, "%Y%m%d.%H%M%S", std::gmtime(&now));
+    options.timestamp = stamp;
+    write_iges(output, surface.surface, options);
+  } else {
+    StepOptions options;
+    options.file_name = name;
+    std::strftime(stamp, sizeof stamp, "%Y-%m-%dT%H:%M:%S", std::gmtime(&now));
+    options.timestamp = stamp;
+    write_step(output, surface.surface, options);
+  }
+  std::printf("wrote %s surface (%d x %d control points, degree %d x %d) to %s\n", surface.model.c_str(),
+              surface.surface.count_u, surface.surface.count_v, surface.surface.degree_u, surface.surface.degree_v,
+              output.c_str());
+  return 0;
+}
+
+}  // namespace
+
+CLI::App* add_export_command(CLI::App& app, ExportArgs& a) {
+  CLI::App* cmd = app.add_subcommand("export", "write a scan's points as CSV or PLY, or a surface as IGES or STEP");
+  cmd->add_option("input", a.input, "scan file, or SURF.json")->required()->check(CLI::ExistingFile);
+  cmd->add_option("-o,--output", a.output, "points: .csv or .ply; a surface: .igs, .stp, or a mesh .stl, .obj, .ply")->required();
+  cmd->add_option("--chord", a.chord_mm, "meshes: largest distance from the surface to its triangles, mm")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  cmd->add_flag("--edges", a.edges, "IGES/STEP: write the surface's four edges as B-spline curves instead");
+  return cmd;
+}
+
+int run_export(const ExportArgs& a) {
+  const std::string& input = a.input;
+  const std::string& output = a.output;
+  if (file_format(input) == FileFormat::kJson) return run_export_surface(input, output, a.chord_mm, a.edges);
+  if (a.edges) throw std::invalid_argument("--edges exports a surface's edges: give a SURF.json");
+  const ScanData data = read_scan_file(input);
+  for (const auto& w : data.warnings) std::fprintf(stderr, "digitizer: warning: %s\n", w.c_str());
+  write_points(output, data.points);
+  std::printf("wrote %zu points to %s\n", data.points.size(), output.c_str());
+  return 0;
+}
+
+}  // namespace dg::host

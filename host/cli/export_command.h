@@ -1,0 +1,17 @@
+// `digitizer export`: a scan's points as CSV, XYZ or PLY; a surface as IGES, STEP or a mesh.
+#pragma once
+#include <CLI/CLI.hpp>
+#include <string>
+
+namespace dg::host {
+
+struct ExportArgs {
+  std::string input, output;
+  double chord_mm = 0.01;  // meshes: largest distance from the surface to its triangles
+  bool edges = false;      // IGES/STEP: the surface's four edges as curves instead
+};
+
+CLI::App* add_export_command(CLI::App& app, ExportArgs& args);
+int run_export(const ExportArgs& args);
+
+}  // namespace dg::host

@@ -1,0 +1,19 @@
+// `digitizer filter`: the LTS noise filter, with every outlier it finds listed.
+#pragma once
+#include <CLI/CLI.hpp>
+#include <string>
+
+#include "host/scan/lts_filter.h"
+
+namespace dg::host {
+
+struct FilterArgs {
+  std::string input, output, outliers;
+  bool lts = false;
+  LtsOptions options;
+};
+
+CLI::App* add_filter_command(CLI::App& app, FilterArgs& args);
+int run_filter(const FilterArgs& args);
+
+}  // namespace dg::host
