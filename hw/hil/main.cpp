@@ -6,6 +6,7 @@
 #include <poll.h>
 #include <sys/prctl.h>
 
+#include <CLI/CLI.hpp>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -26,96 +27,72 @@ volatile std::sig_atomic_t stop_requested = 0;
 enum LineIndex { kStepX, kDirX, kStepY, kDirY, kReq, kCk, kData, kLineCount };
 constexpr const char* kKeys[kLineCount] = {"step_x", "dir_x", "step_y", "dir_y", "req", "ck", "data"};
 
-void usage() {
-  std::fprintf(stderr,
-               "usage: digitizer-hil --pin KEY=LINE ... [options]\n"
-               "  --pin KEY=LINE   KEY: step_x dir_x step_y dir_y req ck data (all needed); LINE is\n"
-               "                   CHIP:OFFSET or a line name, '/active-low' after it inverts it\n"
-               "  --part NAME      dome (default), saddle, canister or flat\n"
-               "  --offset-mm Z    raise the part by Z\n"
-               "  --nm-per-step N  the table's travel per step (default 2500)\n"
-               "  --start X,Y      the table's position in steps when the rig starts (default 0,0)\n"
-               "  --clock-us N     each CK half period (default 200, the Digimatic specification's)\n"
-               "  --answer-us N    REQ to the first CK edge (default 5000)\n"
-               "  --noise-um S     Gaussian noise on each reading\n"
-               "  --inch           readings in inch at 0.0001\n"
-               "  --readings N     exit after N readings, once REQ is released (default: run until SIGTERM)\n");
-}
-
 uint64_t now_ns() {
   timespec now{};
   clock_gettime(CLOCK_MONOTONIC, &now);
   return static_cast<uint64_t>(now.tv_sec) * 1000000000ull + static_cast<uint64_t>(now.tv_nsec);
 }
 
-bool parse_number(const char* text, double* value) {
-  char* end = nullptr;
-  *value = std::strtod(text, &end);
-  return end != text && *end == '\0';
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
-  dg::gpio::LineSpec specs[kLineCount];
-  bool given[kLineCount] = {};
+  CLI::App app{"digitizer-hil: the hardware-in-the-loop rig: follows a controller's STEP/DIR lines and answers its "
+                "gauge requests with Digimatic readings of a virtual part"};
+  std::vector<std::string> pin_specs;
+  std::string part_name = "dome";
   dg::sim::Part part;
   dg::sim::GaugeConfig gauge_config;
-  double nm_per_step = 2500;
-  long long start_x = 0, start_y = 0;
+  double nm_per_step = 2500, clock_us = gauge_config.clock_low_us, answer_us = gauge_config.request_to_clock_us;
+  double noise_um = 0;
+  std::string start = "0,0";
   long readings_wanted = -1;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    const char* value = i + 1 < argc ? argv[i + 1] : nullptr;
-    double number = 0;
-    std::string error;
-    if (arg == "--pin" && value != nullptr) {
-      const std::string pair = argv[++i];
-      const size_t equals = pair.find('=');
-      int key = -1;
-      for (int k = 0; k < kLineCount && equals != std::string::npos; ++k) {
-        if (pair.compare(0, equals, kKeys[k]) == 0 && equals == std::strlen(kKeys[k])) key = k;
-      }
-      if (key < 0) {
-        error = "'" + pair + "': expected KEY=LINE with KEY one of step_x dir_x step_y dir_y req ck data";
-      } else if (dg::gpio::parse_line_spec(pair.substr(equals + 1), &specs[key], &error)) {
-        given[key] = true;
-      }
-    } else if (arg == "--part" && value != nullptr) {
-      if (!dg::sim::parse_part(argv[++i], &part.kind)) error = std::string("unknown part '") + value + "'";
-    } else if (arg == "--offset-mm" && value != nullptr && parse_number(value, &number)) {
-      part.offset_mm = number;
-      ++i;
-    } else if (arg == "--nm-per-step" && value != nullptr && parse_number(value, &number) && number > 0) {
-      nm_per_step = number;
-      ++i;
-    } else if (arg == "--start" && value != nullptr && std::sscanf(value, "%lld,%lld", &start_x, &start_y) == 2) {
-      ++i;
-    } else if (arg == "--clock-us" && value != nullptr && parse_number(value, &number) && number >= 1) {
-      gauge_config.clock_low_us = gauge_config.clock_high_us = static_cast<uint32_t>(number);
-      ++i;
-    } else if (arg == "--answer-us" && value != nullptr && parse_number(value, &number) && number >= 0) {
-      gauge_config.request_to_clock_us = static_cast<uint32_t>(number);
-      ++i;
-    } else if (arg == "--noise-um" && value != nullptr && parse_number(value, &number) && number >= 0) {
-      gauge_config.noise_sigma_mm = number / 1000.0;
-      ++i;
-    } else if (arg == "--readings" && value != nullptr && parse_number(value, &number) && number >= 1) {
-      readings_wanted = static_cast<long>(number);
-      ++i;
-    } else if (arg == "--inch") {
-      gauge_config.inch = true;
-    } else if (arg == "--help") {
-      usage();
-      return 0;
-    } else {
-      error = "unknown option or bad value: '" + arg + "'";
+  app.add_option("--pin", pin_specs,
+                 "KEY=LINE, KEY one of step_x dir_x step_y dir_y req ck data (all needed); LINE is CHIP:OFFSET or a "
+                 "line name, '/active-low' after it inverts it")
+      ->required()->allow_extra_args(false);
+  app.add_option("--part", part_name, "dome, saddle, canister or flat")->capture_default_str();
+  app.add_option("--offset-mm", part.offset_mm, "raise the part by this, mm");
+  app.add_option("--nm-per-step", nm_per_step, "the table's travel per step")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--start", start, "the table's position in steps when the rig starts, X,Y")->capture_default_str();
+  app.add_option("--clock-us", clock_us, "each CK half period (the Digimatic specification's 200 by default)")
+      ->capture_default_str()->check(CLI::Range(1.0, 1e6));
+  app.add_option("--answer-us", answer_us, "REQ to the first CK edge")->capture_default_str()->check(CLI::Range(0.0, 1e7));
+  app.add_option("--noise-um", noise_um, "Gaussian noise on each reading, um")->check(CLI::NonNegativeNumber);
+  app.add_flag("--inch", gauge_config.inch, "readings in inch at 0.0001");
+  app.add_option("--readings", readings_wanted, "exit after N readings, once REQ is released (default: run until SIGTERM)")
+      ->check(CLI::PositiveNumber);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;
+  }
+  gauge_config.clock_low_us = gauge_config.clock_high_us = static_cast<uint32_t>(clock_us);
+  gauge_config.request_to_clock_us = static_cast<uint32_t>(answer_us);
+  gauge_config.noise_sigma_mm = noise_um / 1000.0;
+  long long start_x = 0, start_y = 0;
+  char after = 0;
+  std::string usage_error;
+  if (std::sscanf(start.c_str(), "%lld,%lld%c", &start_x, &start_y, &after) != 2) {
+    usage_error = "--start '" + start + "': expected X,Y in steps";
+  }
+  if (!dg::sim::parse_part(part_name.c_str(), &part.kind)) usage_error = "unknown part '" + part_name + "'";
+  dg::gpio::LineSpec specs[kLineCount];
+  bool given[kLineCount] = {};
+  for (const std::string& pair : pin_specs) {
+    const size_t equals = pair.find('=');
+    int key = -1;
+    for (int k = 0; k < kLineCount && equals != std::string::npos; ++k) {
+      if (pair.compare(0, equals, kKeys[k]) == 0 && equals == std::strlen(kKeys[k])) key = k;
     }
-    if (!error.empty()) {
-      std::fprintf(stderr, "digitizer-hil: %s\n", error.c_str());
-      usage();
-      return 2;
+    if (key < 0) {
+      usage_error = "'" + pair + "': expected KEY=LINE with KEY one of step_x dir_x step_y dir_y req ck data";
+    } else if (dg::gpio::parse_line_spec(pair.substr(equals + 1), &specs[key], &usage_error)) {
+      given[key] = true;
     }
+  }
+  if (!usage_error.empty()) {
+    std::fprintf(stderr, "digitizer-hil: %s (see --help)\n", usage_error.c_str());
+    return 2;
   }
   for (int k = 0; k < kLineCount; ++k) {
     if (!given[k]) {

@@ -1,9 +1,9 @@
 // digitizer-sim: the device firmware on the simulated board, talking over an inherited fd or
 // waiting for hosts on a socket (--listen).
+#include <CLI/CLI.hpp>
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
 #include <string>
+#include <vector>
 
 #include <csignal>
 #include <memory>
@@ -14,48 +14,32 @@
 #include "hw/sim/sim_device.h"
 #include "hw/sim/sim_options.h"
 
-namespace {
-
-void usage() {
-  std::fprintf(stderr,
-               "usage: digitizer-sim [--fd N | --listen unix:PATH|tcp:[HOST:]PORT] [key=value ...]\n"
-               "  --fd N      talk to the host over file descriptor N (default: stdin/stdout)\n"
-               "  --listen A  wait for hosts on a socket, one at a time, until SIGTERM; the device\n"
-               "              keeps its state between hosts (reach it with --device unix:PATH)\n"
-               "  part=dome|saddle|canister|flat  seed=N  noise_um=X  outliers=RATE\n"
-               "  outlier_mm=X  inch=0|1  gauge_delay_us=N  mute=0|1  drop_edge=BIT  id=NAME\n"
-               "  host_silence_s=N (virtual s, 0 never)  on_host_silence=pause|continue|abort\n"
-               "  start_x_mm=X start_y_mm=Y (the table's start)  estop_at_ms=T estop_ms=D  switches=0|1\n"
-               "  require_homing=0|1  gauge=digimatic|caliper  backlash_um=X  compensate_um=X\n"
-               "  touch_x_mm=X touch_y_mm=Y (faces the touch probe meets)\n");
-}
-
-}  // namespace
-
 int main(int argc, char** argv) {
-  dg::sim::SimOptions options;
-  int read_fd = 0, write_fd = 1;
+  CLI::App app{"digitizer-sim: the device firmware on a simulated table and gauge, in virtual time"};
+  int fd = -1;
   std::string listen_at;
-  for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--listen") == 0 && i + 1 < argc) {
-      listen_at = argv[++i];
-      continue;
-    }
-    if (std::strcmp(argv[i], "--fd") == 0 && i + 1 < argc) {
-      read_fd = write_fd = std::atoi(argv[++i]);
-      continue;
-    }
-    if (std::strcmp(argv[i], "--help") == 0) {
-      usage();
-      return 0;
-    }
-    const std::string error = dg::sim::apply_sim_option(argv[i], &options);
+  std::vector<std::string> settings;
+  app.add_option("--fd", fd, "talk to the host over file descriptor N (default: stdin/stdout)")->check(CLI::NonNegativeNumber);
+  app.add_option("--listen", listen_at,
+                 "unix:PATH or tcp:[HOST:]PORT: wait for hosts there, one at a time, until SIGTERM; the device keeps "
+                 "its state between hosts (reach it with --device unix:PATH)")
+      ->excludes("--fd");
+  app.add_option("settings", settings, "the simulated device, as key=value (below)");
+  app.footer(dg::sim::kSimOptionsHelp);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;
+  }
+  dg::sim::SimOptions options;
+  for (const std::string& setting : settings) {
+    const std::string error = dg::sim::apply_sim_option(setting, &options);
     if (!error.empty()) {
-      std::fprintf(stderr, "digitizer-sim: %s\n", error.c_str());
-      usage();
+      std::fprintf(stderr, "digitizer-sim: %s (see --help)\n", error.c_str());
       return 2;
     }
   }
+  const int read_fd = fd >= 0 ? fd : 0, write_fd = fd >= 0 ? fd : 1;
   std::unique_ptr<dg::sim::LinkPort> link;
   if (!listen_at.empty()) {
     auto listener = std::make_unique<dg::sim::ListenLink>(listen_at);

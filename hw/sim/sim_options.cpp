@@ -6,6 +6,15 @@
 #include <cstdlib>
 
 namespace dg::sim {
+
+const char kSimOptionsHelp[] =
+    "Simulated device settings (key=value):\n"
+    "  part=dome|saddle|canister|flat  seed=N  noise_um=X  outliers=RATE\n"
+    "  outlier_mm=X  inch=0|1  gauge_delay_us=N  mute=0|1  drop_edge=BIT  id=NAME\n"
+    "  host_silence_s=N (virtual s, 0 never)  on_host_silence=pause|continue|abort\n"
+    "  start_x_mm=X start_y_mm=Y (the table's start)  estop_at_ms=T estop_ms=D  switches=0|1\n"
+    "  require_homing=0|1  gauge=digimatic|caliper  backlash_um=X  compensate_um=X\n"
+    "  touch_x_mm=X touch_y_mm=Y (faces the touch probe meets)\n";
 namespace {
 
 bool parse_double(const std::string& text, double* out) {

@@ -8,6 +8,9 @@
 
 namespace dg::sim {
 
+// The settings apply_sim_option() takes, for the programs' --help.
+extern const char kSimOptionsHelp[];
+
 struct SimOptions {
   SimConfig config{};
   std::string device_id = "SIM-0001";

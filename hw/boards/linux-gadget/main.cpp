@@ -3,6 +3,7 @@
 // libgpiod. With --simulate, the simulated table and gauge stand in for the pins (system tests and
 // demonstrations of the USB path). Wiring and set-up: docs/hardware.md.
 #include <csignal>
+#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -20,21 +21,6 @@
 namespace {
 
 dg::gadget::FunctionFsLink* stop_target = nullptr;
-
-void usage() {
-  std::fprintf(stderr,
-               "usage: digitizer-gadget [options] [--pin KEY=LINE ...] [--simulate [key=value ...]]\n"
-               "  --ffs DIR       use the FunctionFS instance mounted at DIR (the gadget is made elsewhere)\n"
-               "  --udc NAME      bind to this USB device controller (default: the first in /sys/class/udc)\n"
-               "  --serial TEXT   the USB serial number (default: the board's serial or machine id)\n"
-               "  --pin KEY=LINE  wire a pin: KEY is step_x dir_x step_y dir_y req ck data limit_x limit_y\n"
-               "                  estop touch enable; LINE is CHIP:OFFSET or a line name, '/active-low'\n"
-               "                  after it inverts it, 'none' leaves the pin unwired (default: the\n"
-               "                  Raspberry Pi wiring in docs/hardware.md)\n"
-               "  --caliper       a 24-bit caliper on the gauge port instead of a Digimatic gauge\n"
-               "  --no-homing     allow scans without homing first (a table without switches)\n"
-               "  --simulate      the simulated table and gauge instead of GPIO (digitizer-sim's options)\n");
-}
 
 std::string read_first_line(const char* path) {
   std::ifstream in(path);
@@ -55,41 +41,43 @@ std::string default_serial() {
 }  // namespace
 
 int main(int argc, char** argv) {
+  CLI::App app{"digitizer-gadget: the controller firmware as a Linux process: USB through FunctionFS, pins through libgpiod"};
   dg::gadget::GadgetSettings settings;
   std::string ffs_dir;
+  std::vector<std::string> pin_specs, sim_settings;
+  bool simulate = false, caliper = false, no_homing = false;
+  app.add_option("--ffs", ffs_dir, "use the FunctionFS instance mounted at DIR (the gadget is made elsewhere)");
+  app.add_option("--udc", settings.udc, "bind to this USB device controller (default: the first in /sys/class/udc)");
+  app.add_option("--serial", settings.serial, "the USB serial number (default: the board's serial or machine id)");
+  app.add_option("--pin", pin_specs,
+                 "KEY=LINE wires a pin: KEY is step_x dir_x step_y dir_y req ck data limit_x limit_y estop touch "
+                 "enable; LINE is CHIP:OFFSET or a line name, '/active-low' after it inverts it, 'none' leaves the "
+                 "pin unwired (default: the Raspberry Pi wiring in docs/hardware.md)")
+      ->allow_extra_args(false);
+  app.add_flag("--caliper", caliper, "a 24-bit caliper on the gauge port instead of a Digimatic gauge");
+  app.add_flag("--no-homing", no_homing, "allow scans without homing first (a table without switches)");
+  app.add_flag("--simulate", simulate, "the simulated table and gauge instead of GPIO, set up by key=value (below)");
+  app.add_option("settings", sim_settings, "with --simulate: the simulated device, as key=value");
+  app.footer(dg::sim::kSimOptionsHelp);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;
+  }
+  const bool homing = !no_homing;
   dg::gadget::PinMap pins = dg::gadget::raspberry_pi_pins();
-  bool simulate = false, caliper = false, homing = true;
   dg::sim::SimOptions sim;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    std::string error;
-    if (simulate) {
-      error = dg::sim::apply_sim_option(arg, &sim);
-    } else if (arg == "--ffs" && i + 1 < argc) {
-      ffs_dir = argv[++i];
-    } else if (arg == "--udc" && i + 1 < argc) {
-      settings.udc = argv[++i];
-    } else if (arg == "--serial" && i + 1 < argc) {
-      settings.serial = argv[++i];
-    } else if (arg == "--pin" && i + 1 < argc) {
-      dg::gadget::apply_pin(argv[++i], &pins, &error);
-    } else if (arg == "--caliper") {
-      caliper = true;
-    } else if (arg == "--no-homing") {
-      homing = false;
-    } else if (arg == "--simulate") {
-      simulate = true;
-    } else if (arg == "--help") {
-      usage();
-      return 0;
-    } else {
-      error = "unknown option '" + arg + "'";
-    }
-    if (!error.empty()) {
-      std::fprintf(stderr, "digitizer-gadget: %s\n", error.c_str());
-      usage();
-      return 2;
-    }
+  std::string usage_error;
+  for (const std::string& spec : pin_specs) {
+    if (usage_error.empty()) dg::gadget::apply_pin(spec, &pins, &usage_error);
+  }
+  if (!sim_settings.empty() && !simulate) usage_error = "key=value settings go with --simulate";
+  for (const std::string& setting : sim_settings) {
+    if (usage_error.empty()) usage_error = dg::sim::apply_sim_option(setting, &sim);
+  }
+  if (!usage_error.empty()) {
+    std::fprintf(stderr, "digitizer-gadget: %s (see --help)\n", usage_error.c_str());
+    return 2;
   }
   if (settings.serial.empty()) settings.serial = default_serial();
 
