@@ -16,6 +16,4 @@ enum class Status {
   kNotReady,
 };
 
-const char* status_name(Status status);
-
 }  // namespace dg

@@ -9,7 +9,7 @@ constexpr int kMaxDegree = 7;
 
 // out[0..degree] = B_{i,degree}(u) by de Casteljau's triangle, which only adds products of
 // u and 1-u (all in [0, 1]) and so never leaves the range of a Q-format basis type. For degree 3
-// this is seed 000 eq. 6: U1 = (1-u)^3, U2 = 3u(1-u)^2, U3 = 3u^2(1-u), U4 = u^3.
+// this is Hamdan 2010, eq. 6: U1 = (1-u)^3, U2 = 3u(1-u)^2, U3 = 3u^2(1-u), U4 = u^3.
 template <typename T>
 constexpr void bernstein(int degree, T u, T* out) {
   const T s = one<T>() - u;

@@ -1,4 +1,4 @@
-// B-spline basis functions and their derivatives on a knot vector (seed 004 eq. 4-5), any scalar type.
+// B-spline basis functions and their derivatives on a knot vector (Koivunen and Bajcsy 1992, eq. 4-5), any scalar type.
 #pragma once
 
 #include "common/fit/bernstein.h"
@@ -21,7 +21,7 @@ constexpr int find_span(int control_count, int degree, T u, const T* knots) {
 }
 
 // The degree+1 non-zero basis values N_{span-degree..span}(u), and their first derivatives when
-// `d1` is not null. The Cox-de Boor recurrence (seed 004 eq. 5) arranged as a triangle so that each
+// `d1` is not null. The Cox-de Boor recurrence (Koivunen and Bajcsy 1992, eq. 5) arranged as a triangle so that each
 // value is computed once; the 0/0 = 0 convention appears as skipped zero-length spans.
 template <typename T>
 constexpr void bspline_basis(int span, int degree, T u, const T* knots, T* n, T* d1 = nullptr) {

@@ -6,7 +6,7 @@
 
 namespace dg::fit {
 
-// Accumulates C^T C and C^T z (seed 004 eq. 8, [B] = [C^T C]^-1 C^T [S]) for N unknowns and R
+// Accumulates C^T C and C^T z (Koivunen and Bajcsy 1992, eq. 8, [B] = [C^T C]^-1 C^T [S]) for N unknowns and R
 // right-hand sides without storing the points: each point adds the outer product of its non-zero
 // basis values. Memory is N(N+1)/2 + R*N sums whatever the number of points.
 template <typename Policy, int N, int R = 1>
@@ -32,17 +32,6 @@ class NormalEquations {
       const Basis ck = c[k];
       for (int l = 0; l <= k; ++l) row[index[l]] += Policy::product(ck, c[l]);
       for (int r = 0; r < R; ++r) rhs_[r][index[k]] += Policy::product_value(ck, value[r]);
-    }
-    ++count_;
-  }
-
-  // The same for a point whose basis covers every unknown in order (a single Bezier patch).
-  void add_all(const Basis* c, const Value* value) {
-    Accum* entry = matrix_;
-    for (int k = 0; k < N; ++k) {
-      const Basis ck = c[k];
-      for (int l = 0; l <= k; ++l) *entry++ += Policy::product(ck, c[l]);
-      for (int r = 0; r < R; ++r) rhs_[r][k] += Policy::product_value(ck, value[r]);
     }
     ++count_;
   }

@@ -11,7 +11,7 @@
 namespace dg::host {
 
 CLI::App* add_characterize_command(CLI::App& app, CharacterizeArgs& a) {
-  CLI::App* cmd = app.add_subcommand("characterize", "curvatures, surface types and regions of a height field (seed 004)");
+  CLI::App* cmd = app.add_subcommand("characterize", "curvatures, surface types and regions of a height field, from local quadratic fits");
   cmd->add_option("input", a.input, ".csv, .xyz, .ply or .scan points in mm")->required()->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", a.output, "OUT.csv: x,y,z,fx,fy,fxx,fxy,fyy,H,K,type,region per point")->required();
   cmd->add_option("--neighbours", a.neighbours, "points in each local quadratic fit")->capture_default_str()->check(CLI::Range(6, 400));

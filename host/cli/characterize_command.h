@@ -1,4 +1,4 @@
-// `digitizer characterize`: curvature, surface types, regions and a suggested net (seed 004 5.3).
+// `digitizer characterize`: curvature, surface types, regions and a suggested net (Koivunen and Bajcsy 1992, 5.3).
 #pragma once
 #include <CLI/CLI.hpp>
 #include <string>

@@ -39,7 +39,7 @@ const char* curve_method_name(CurveMethod method) {
 }
 
 CLI::App* add_curve_command(CLI::App& app, CurveArgs& a) {
-  CLI::App* cmd = app.add_subcommand("curve", "fit a planar profile (x, z) with a clamped cubic B-spline (seed 003)");
+  CLI::App* cmd = app.add_subcommand("curve", "fit a planar profile (x, z) with a clamped cubic B-spline, by default one passing at the probe's uncertainty from every point");
   cmd->add_option("input", a.input, ".csv, .xyz, .ply or .scan profile points in mm (one plane y = constant)")
       ->required()->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", a.output, "CURVE.json, or .igs / .stp for CAD")->required();
@@ -77,7 +77,7 @@ int run_curve(const CurveArgs& a) {
   } else {
     curve = control_polygon_curve(points);
   }
-  // Distances along the curve's normals; the inner points as seed 003 counts them (a clamped
+  // Distances along the curve's normals; the inner points as Hlavova 2021 counts them (a clamped
   // curve passes through its ends).
   const DistanceStats all = distance_stats(curve_distances(curve, points));
   const std::vector<Point3> inner(points.begin() + 1, points.end() - 1);

@@ -1,4 +1,4 @@
-// `digitizer curve`: a planar profile as a clamped cubic B-spline (seed 003), to JSON, IGES or STEP.
+// `digitizer curve`: a planar profile as a clamped cubic B-spline (Hlavova 2021), to JSON, IGES or STEP.
 #pragma once
 #include <CLI/CLI.hpp>
 #include <string>

@@ -16,7 +16,7 @@ CLI::App* add_filter_command(CLI::App& app, FilterArgs& a) {
   cmd->add_option("-o,--output", a.output, "filtered points (.csv)")->required();
   cmd->add_flag("--lts", a.lts, "Least-Trimmed-Squares filter")->required();
   cmd->add_option("--window", a.options.window, "neighbourhood side (odd)")->capture_default_str()->check(CLI::Range(3, 15));
-  cmd->add_option("--order", a.options.order, "local model: 0 constant (Koivunen and Bajcsy's), 1 plane, 2 quadratic")
+  cmd->add_option("--order", a.options.order, "local model: 0 constant (the classic LTS filter), 1 plane, 2 quadratic")
       ->capture_default_str()->check(CLI::Range(0, 2));
   cmd->add_flag("--smooth", a.options.replace_all, "replace every point by the estimate, not only outliers");
   cmd->add_option("--h", a.options.h, "residuals kept (default [n/2]+[(p+1)/2]: 13 of 25 for order 0)")->check(CLI::Range(1, 225));

@@ -70,7 +70,7 @@ void print_summary(const FitArgs& a, const FittedSurface& out) {
   std::printf("wrote %s\n", a.output.c_str());
 }
 
-// Seed 000's method places all 16 points in space, so the patch is parametric, not a height field;
+// Hamdan's (2010) method places all 16 points in space, so the patch is parametric, not a height field;
 // its distances start from chord-length parameters, which also order each line.
 int run_fit_ips(const FitArgs& a, const PointCloud& cloud) {
   if (a.model != SurfaceModel::kBezier) throw std::invalid_argument("--method ips fits a bicubic Bezier patch: use --model bezier");
@@ -91,7 +91,7 @@ int run_fit_ips(const FitArgs& a, const PointCloud& cloud) {
   return 0;
 }
 
-// Seed 002: interpolates a grid of points with normals; the distances are those of the points to
+// Li and Zhang 2013: interpolates a grid of points with normals; the distances are those of the points to
 // the surface (zero up to rounding: it passes through them) and the normal constraints' residual.
 int run_fit_hermite(const FitArgs& a, const PointCloud& cloud) {
   if (a.tolerance_mm > 0) throw std::invalid_argument("--tolerance does not apply to Hermite surfaces: they pass through every point");
@@ -186,7 +186,7 @@ int run_fit(const FitArgs& a) {
     nu = nv = 4;
   }
   const int degree = a.model == SurfaceModel::kBezier ? 3 : a.degree;
-  // Seed 004 section 6: C0 knots where a crease or step runs across the scan. A Bezier patch has
+  // Koivunen and Bajcsy 1992, section 6: C0 knots where a crease or step runs across the scan. A Bezier patch has
   // no interior knots to place.
   Creases creases;
   if (a.model == SurfaceModel::kBSpline && !a.no_creases) {

@@ -18,7 +18,7 @@ nlohmann::json point_json(Point3 p) { return {p.x, p.y, p.z}; }
 }  // namespace
 
 CLI::App* add_superquadric_command(CLI::App& app, SuperquadricArgs& a) {
-  CLI::App* cmd = app.add_subcommand("superquadric", "fit a superquadric to the whole part: size, shape, position, axes (seed 004)");
+  CLI::App* cmd = app.add_subcommand("superquadric", "fit a superquadric to the whole part (Levenberg-Marquardt): size, shape, position, axes");
   cmd->add_option("input", a.input, ".csv, .xyz, .ply or .scan points in mm")->required()->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", a.output, "OUT.json")->required();
   cmd->add_option("--slices", a.slices, "slices across the axis for the rotational check")->capture_default_str()->check(CLI::Range(2, 1000));
@@ -52,7 +52,7 @@ int run_superquadric(const SuperquadricArgs& a) {
                 fit.goodness, fit.rms_radial_mm, fit.iterations);
   }
   if (fit.rotationally_symmetric) {
-    // Verified as seed 004 section 6 does for its pin: circles across the axis.
+    // Verified as Koivunen and Bajcsy 1992, section 6 does for its pin: circles across the axis.
     const RevolutionFit rev = fit_revolution(points, m, a.slices);
     nlohmann::json slices = nlohmann::json::array();
     for (const RevolutionSlice& s : rev.slices) {

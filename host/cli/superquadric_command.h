@@ -1,4 +1,4 @@
-// `digitizer superquadric`: the part's volumetric description (seed 004 section 5.5) to JSON.
+// `digitizer superquadric`: the part's volumetric description (Koivunen and Bajcsy 1992, section 5.5) to JSON.
 #pragma once
 #include <CLI/CLI.hpp>
 #include <string>

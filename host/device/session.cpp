@@ -71,7 +71,6 @@ void Session::transmit() {
   size_t wire_size = 0;
   while (link_.next_frame(now_us(), wire, sizeof(wire), &wire_size)) {
     transport_.write(wire, wire_size);
-    bytes_out_ += wire_size;
   }
 }
 

@@ -48,8 +48,6 @@ class Session {
   bool flush(int timeout_ms);
 
   uint64_t bytes_received() const { return bytes_in_; }
-  uint64_t bytes_sent() const { return bytes_out_; }
-  const FrameDecoder::Counters& frame_counters() const { return decoder_.counters(); }
   const std::string& device_name() const { return name_; }
 
  private:
@@ -67,7 +65,7 @@ class Session {
   uint8_t pending_[512] = {};
   size_t pending_size_ = 0, pending_offset_ = 0;
   uint32_t next_id_ = 1;
-  uint64_t bytes_in_ = 0, bytes_out_ = 0;
+  uint64_t bytes_in_ = 0;
 };
 
 }  // namespace dg::host

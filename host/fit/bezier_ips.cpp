@@ -1,4 +1,4 @@
-// Seed 000's inverse progressive search for bicubic Bezier patches, with orthogonal distances as
+// Hamdan's (2010) inverse progressive search for bicubic Bezier patches, with orthogonal distances as
 // the error of eq. 11-12 and a search that narrows around its best point instead of stopping at the
 // first candidate below an error limit (which would need the limit in advance).
 #include "host/fit/bezier_ips.h"
@@ -66,7 +66,7 @@ bool tangent_intersection(const Point3& a, const Point3& b, const Point3& c, con
 namespace {
 
 // The tangent at the first of `points` (taken from the back when `from_end`), pointing into the
-// curve. Seed 000 draws it through the first two points; with a gauge's few micrometres of noise on
+// curve. Hamdan 2010 draws it through the first two points; with a gauge's few micrometres of noise on
 // 1 mm steps that direction is off by milliradians, so we differentiate a least-squares cubic in
 // chord length over the first seven points. Measured against a quadratic over five: Table 2's
 // curve 2.6 um RMS instead of 2.9, an exact cubic 0.06 um instead of 1.2, a 2 um-noise arc 3.8 um
@@ -95,7 +95,7 @@ Point3 end_tangent(const std::vector<Point3>& points, bool from_end) {
   return (1.0 / length) * tangent;
 }
 
-// The best (a, b) for `error` by progressive search. Seed 000 steps t and s through [0, 1] in steps
+// The best (a, b) for `error` by progressive search. Hamdan 2010 steps t and s through [0, 1] in steps
 // of 0.1 (its delta t); we do the same on an 11 x 11 grid over [lo, hi] in each parameter, then
 // narrow: a 7 x 7 grid of a third of the previous step around the best pair, re-centred until the
 // best stays put (the error has long valleys where the two points trade against each other), until
@@ -142,7 +142,7 @@ struct TangentSearch {
   double error = 0;
 };
 
-// Seed 000 steps 1-13: P2 = P1 + a d1 and P3 = P4 + b d4 on the end tangents, a from P1 to P^c and
+// Hamdan 2010 steps 1-13: P2 = P1 + a d1 and P3 = P4 + b d4 on the end tangents, a from P1 to P^c and
 // b from P4 to P^c, by progressive search. Negative steps would reverse an end tangent and are not
 // tried; neither are polygons that fold back along the chord, whose curves loop and can pass near
 // every point while following none (the orthogonal error alone cannot see that).
@@ -290,7 +290,7 @@ IpsSurface fit_bezier_ips(const PointCloud& cloud, const Parameters& params) {
     return std::sqrt(sum / static_cast<double>(sample.size()));
   };
 
-  // Seed 000: the tangents of the diagonal P11-P44 give P22 and P33, those of P14-P41 give P23 and
+  // Hamdan 2010: the tangents of the diagonal P11-P44 give P22 and P33, those of P14-P41 give P23 and
   // P32 (its 1-based names; ours are (1,1), (2,2) and (2,1), (1,2)). The diagonal's points are those
   // of each line nearest the diagonal in parameters. The two diagonals share the error, so they are
   // searched in turn, twice.
@@ -328,7 +328,7 @@ IpsSurface fit_bezier_ips(const PointCloud& cloud, const Parameters& params) {
   // Beyond the paper: the diagonal tangent lines start flat where the corners are flat, so a bump
   // inside a flat border (a boss on a plate) cannot be reached along them. The same progressive
   // search then moves each diagonal's pair along the patch normal at its corner; it keeps a move
-  // only where it lowers the error, so on seed 000's kind of parts it changes little.
+  // only where it lowers the error, so on Hamdan's (2010) kind of parts it changes little.
   auto corner_normal = [&](size_t index) {
     const int i = static_cast<int>(index / 4) == 1 ? 0 : 3, j = index % 4 == 1 ? 0 : 3;
     const int di = i == 0 ? 1 : -1, dj = j == 0 ? 1 : -1;

@@ -1,4 +1,4 @@
-// Bicubic Bezier patches by seed 000's inverse progressive search (section 3): boundary curves from
+// Bicubic Bezier patches by Hamdan's (2010) inverse progressive search (section 3): boundary curves from
 // tangent-line intersections and a search along the tangents, then the four interior points.
 #pragma once
 #include <array>
@@ -20,7 +20,7 @@ struct CubicBezierCurve {
 // The parameter of the curve point closest to q, by Newton's method from t0, within [0, 1].
 double closest_parameter(const CubicBezierCurve& curve, const Point3& q, double t0);
 
-// Seed 000 eq. 13-16: where the tangent from a through b meets the tangent from c through d (in
+// Hamdan 2010, eq. 13-16: where the tangent from a through b meets the tangent from c through d (in
 // 3D: the midpoint of the lines' closest approach). False for parallel lines.
 bool tangent_intersection(const Point3& a, const Point3& b, const Point3& c, const Point3& d, Point3& meet);
 
@@ -31,7 +31,7 @@ struct IpsCurve {
   double rms_mm = 0;              // eq. 11 with orthogonal distances
 };
 
-// The boundary curve of seed 000 section 3.2 for points ordered along it (at least 3): P1 and P4 are
+// The boundary curve of Hamdan 2010, section 3.2 for points ordered along it (at least 3): P1 and P4 are
 // the end points, P2 and P3 lie on the end tangents and are found by a progressive search. Throws
 // FitError for fewer than 3 points or coincident end points.
 IpsCurve ips_curve(const std::vector<Point3>& points);

@@ -1,4 +1,4 @@
-// Least-squares B-spline surfaces of any degree for scattered points (seed 004 section 5.4).
+// Least-squares B-spline surfaces of any degree for scattered points (Koivunen and Bajcsy 1992, section 5.4).
 #pragma once
 #include <vector>
 
@@ -12,7 +12,7 @@ struct LsqSpec {
   std::vector<double> knots_u, knots_v;  // clamped, on [0, 1]
 };
 
-// Solves seed 004 eq. 8, C^T C B = C^T S, without forming C: each point adds the outer product of
+// Solves Koivunen and Bajcsy 1992, eq. 8, C^T C B = C^T S, without forming C: each point adds the outer product of
 // its (degree_u + 1)(degree_v + 1) non-zero basis values to a band of the normal matrix, which Eigen's
 // sparse LDL^T then solves. `weights` (1 / sigma^2, optional) weight each point. For the table-XY
 // parameterization the surface is a height field: x and y of the control points are fixed at the

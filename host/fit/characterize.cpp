@@ -1,4 +1,4 @@
-// Characterization as seed 004 section 5.3 describes it, with two choices of ours: the type is
+// Characterization as Koivunen and Bajcsy 1992, section 5.3 describes it, with two choices of ours: the type is
 // read from the signs of the principal curvatures (each compared with the zero threshold), which
 // keeps a cylinder a ridge under noise where a threshold on K itself would not; and the zero
 // threshold comes from the noise: a quadratic through a 5 x 5 window of half width w has curvature
@@ -141,7 +141,7 @@ Characterization characterize(const PointCloud& input, const CharacterizeOptions
     significant[s] = sizes[s] >= options.min_region;
     out.significant_regions += significant[s] ? 1 : 0;
   }
-  // Seed 004: the net follows the most patches met in each direction; a cubic needs three more
+  // Koivunen and Bajcsy 1992: the net follows the most patches met in each direction; a cubic needs three more
   // control points for each patch it crosses.
   const double bin = r / std::sqrt(static_cast<double>(k)) * 1.5;
   out.regions_across_x = regions_along(p, out.points, significant, true, bin);

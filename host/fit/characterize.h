@@ -1,4 +1,4 @@
-// Surface characterization (seed 004 section 5.3): local quadratic fits give derivatives, mean
+// Surface characterization (Koivunen and Bajcsy 1992, section 5.3): local quadratic fits give derivatives, mean
 // and Gaussian curvature; each point gets one of the eight HK surface types; connected points of
 // one type form regions; the regions crossed along the scan suggest the control net's size.
 #pragma once
@@ -16,9 +16,9 @@ enum class SurfaceType : uint8_t { kPeak, kRidge, kSaddleRidge, kFlat, kMinimal,
 const char* surface_type_name(SurfaceType type);
 
 struct CharacterizeOptions {
-  int neighbours = 25;       // points in each local quadratic fit (seed 004: a 5 x 5 window)
+  int neighbours = 25;       // points in each local quadratic fit (Koivunen and Bajcsy 1992: a 5 x 5 window)
   double zero_curvature = 0; // |H|, |K| (1/mm, 1/mm^2 as its square) below this count as zero; 0: from the noise
-  bool robust = false;       // LTS-filter the heights first (seed 004 section 5.2's scheme)
+  bool robust = false;       // LTS-filter the heights first (Koivunen and Bajcsy 1992, section 5.2's scheme)
   size_t min_region = 5;     // smaller regions are reported but do not count towards the net
 };
 

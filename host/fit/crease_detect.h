@@ -1,5 +1,5 @@
 // Creases and steps that run across a scan, found from the data, so a fit can place multiple knots
-// there (seed 004 section 6: subdivision at discontinuities).
+// there (Koivunen and Bajcsy 1992, section 6: subdivision at discontinuities).
 #pragma once
 #include <vector>
 

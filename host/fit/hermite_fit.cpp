@@ -1,4 +1,4 @@
-// Seed 002's construction with its free parameters chosen by a rule instead of by trial:
+// Li and Zhang's (2013) construction with its free parameters chosen by a rule instead of by trial:
 //  - parameters are chord lengths averaged over the grid's rows and columns (the paper steps by 1
 //    per point, which on its sphere grid x, y in {-2, -1, 1, 2} stretches the middle cell);
 //  - tangents: the three-tangent-vector (C2 spline) equations, eq. 5, in their form for unequal
@@ -275,7 +275,7 @@ HermiteResult fit_hermite(const HermiteGrid& g) {
     for (int k = 0; k < length; ++k) out[first + static_cast<size_t>(k) * stride] = d[static_cast<size_t>(k)];
   };
   const size_t cols = static_cast<size_t>(g.cols);
-  // Closed: every line in that direction ends on its first point (seed 002's cylinder and cone).
+  // Closed: every line in that direction ends on its first point (Li and Zhang's (2013) cylinder and cone).
   double extent = 0;
   for (const Point3& p : g.points) extent = std::max(extent, norm(p - g.points.front()));
   r.closed_u = r.closed_v = true;

@@ -1,4 +1,4 @@
-// Bicubic Hermite surfaces through a grid of points with normals (seed 002), returned as the
+// Bicubic Hermite surfaces through a grid of points with normals (Li and Zhang 2013), returned as the
 // equivalent B-spline (one Bezier patch per grid cell) so everything downstream takes it.
 #pragma once
 #include <vector>
@@ -20,7 +20,7 @@ struct HermiteResult {
   std::vector<double> u, v;          // parameters of the grid's columns and rows (chord length, mm)
   double normal_residual_max = 0;    // largest |n . t| / |t| over all tangents: 0 = every constraint met
   bool closed_u = false;             // rows that end where they start, joined C2 there
-  bool closed_v = false;             // columns likewise (seed 002's cylinder and cone)
+  bool closed_v = false;             // columns likewise (Li and Zhang's (2013) cylinder and cone)
 };
 
 // The grid of a point cloud with normals: its scan lines (the `line` column, or lines found by

@@ -1,4 +1,4 @@
-// Parameterization of measured points (seed 004 eq. 6-7) and the table-XY height-field map.
+// Parameterization of measured points (Koivunen and Bajcsy 1992, eq. 6-7) and the table-XY height-field map.
 #include "host/fit/parameterize.h"
 
 #include <algorithm>

@@ -23,7 +23,7 @@ struct Parameters {
   double x_min = 0, x_max = 1, y_min = 0, y_max = 1;
 };
 
-// kTableXy works for scattered points. The others follow seed 004 eq. 6-7 along each scan line (the
+// kTableXy works for scattered points. The others follow Koivunen and Bajcsy 1992, eq. 6-7 along each scan line (the
 // `line` of the cloud; lines that run backwards, as in a serpentine scan, are reversed) and apply
 // the same rule across lines to the distances between successive line centroids.
 // Throws FitError for collinear points, a single line, or missing lines.

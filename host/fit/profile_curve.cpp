@@ -1,4 +1,4 @@
-// Seed 003's curves. Its section 3 keeps, where the trend cubic lies above a point, the offset
+// Hlavova's (2021) curves. Its section 3 keeps, where the trend cubic lies above a point, the offset
 // point with the smaller z, and the other where it lies below: the curve goes to the far side of
 // each point's uncertainty circle from the trend, which keeps the point's own deviation from the
 // trend in the model instead of smoothing it away. The text is followed as written.

@@ -1,4 +1,4 @@
-// Planar profiles (x, z) as clamped cubic B-splines (seed 003): natural cubic interpolation,
+// Planar profiles (x, z) as clamped cubic B-splines (Hlavova 2021): natural cubic interpolation,
 // least-squares approximation, the control-polygon curve CAD programs draw, and the curve that
 // passes at a prescribed distance (the probe's uncertainty) from every measured point.
 #pragma once
@@ -10,7 +10,7 @@
 
 namespace dg::host {
 
-// z = a x^3 + b x^2 + c x + d by least squares (seed 003 Table 3).
+// z = a x^3 + b x^2 + c x + d by least squares (Hlavova 2021, Table 3).
 struct ProfileCubic {
   double a = 0, b = 0, c = 0, d = 0;
   double at(double x) const { return ((a * x + b) * x + c) * x + d; }
@@ -31,7 +31,7 @@ BSplineCurve interpolate_natural(const std::vector<Point3>& points);
 BSplineCurve approximate_clamped(const std::vector<Point3>& points, int control_count);
 
 // The clamped cubic whose control polygon is the points themselves: what a CAD program draws for
-// "curve from control points" (seed 003's clamped cubic of Tables 2, 4 and 5).
+// "curve from control points" (Hlavova's (2021) clamped cubic of Tables 2, 4 and 5).
 BSplineCurve control_polygon_curve(const std::vector<Point3>& points);
 
 struct CeCurve {
@@ -40,7 +40,7 @@ struct CeCurve {
   std::vector<Point3> offset_points;  // the points the curve interpolates
 };
 
-// Seed 003 section 3: interpolate, offset each point along that curve's normal by `distance_mm`
+// Hlavova 2021, section 3: interpolate, offset each point along that curve's normal by `distance_mm`
 // to both sides, keep one side by the least-squares cubic, interpolate the kept points.
 CeCurve curve_within_uncertainty(const std::vector<Point3>& points, double distance_mm);
 

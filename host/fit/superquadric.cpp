@@ -1,5 +1,5 @@
 // Levenberg-Marquardt with a forward-difference Jacobian over eleven parameters: three sizes, two
-// squareness values (kept in [0.1, 2], the range of seed 004 Fig. 8), the centre and a rotation
+// squareness values (kept in [0.1, 2], the range of Koivunen and Bajcsy 1992, Fig. 8), the centre and a rotation
 // vector. The start comes from moments: the centroid, the principal axes of the scatter (the
 // object's z axis is the one whose spread differs most from the other two, the axis of a pin or a
 // disc), and the half extents along them.
@@ -216,7 +216,7 @@ SuperquadricFit fit_superquadric(const std::vector<Point3>& points, const Superq
   }
   fit.rms_radial_mm = std::sqrt(radial / static_cast<double>(points.size()));
 
-  // Seed 004's classes: e2 ~ 1 with equal a1, a2 is symmetric about z; e1 ~ 0.1 makes it a
+  // Koivunen and Bajcsy's (1992) classes: e2 ~ 1 with equal a1, a2 is symmetric about z; e1 ~ 0.1 makes it a
   // cylinder, e1 ~ 1 an ellipsoid; e1 ~ 0.1 with e2 ~ 0.1 or ~ 2 a parallelepiped.
   const Superquadric& m = fit.model;
   const double d = options.shape_tolerance;
@@ -312,7 +312,7 @@ RevolutionFit slice_circles(const std::vector<Point3>& points, const Eigen::Vect
 }  // namespace
 
 RevolutionFit fit_revolution(const std::vector<Point3>& points, const Superquadric& model, int slice_count) {
-  // The superquadric's axis is coarse (seed 004 says so): slices across a tilted axis cut
+  // The superquadric's axis is coarse (Koivunen and Bajcsy 1992 says so): slices across a tilted axis cut
   // ellipses, so slice again across the axis the circles found until it stops moving.
   Eigen::Vector3d c(model.center.x, model.center.y, model.center.z);
   Eigen::Vector3d axis(model.axes[2][0], model.axes[2][1], model.axes[2][2]);

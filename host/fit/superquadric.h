@@ -1,4 +1,4 @@
-// Superquadric recovery (seed 004 section 5.5): size, squareness, position and orientation of the
+// Superquadric recovery (Koivunen and Bajcsy 1992, section 5.5): size, squareness, position and orientation of the
 // whole part by Levenberg-Marquardt on the inside-outside function with the volume factor (eq. 10).
 #pragma once
 #include <string>
@@ -28,7 +28,7 @@ struct SuperquadricFit {
   Superquadric model;
   int iterations = 0;
   double objective = 0;           // eq. 10 at the solution
-  double goodness = 0;            // eq. 10 divided by the number of points (seed 004 Table 2's measure)
+  double goodness = 0;            // eq. 10 divided by the number of points (Koivunen and Bajcsy 1992, Table 2's measure)
   double rms_radial_mm = 0;       // RMS of |p - c| * |1 - F^(-1/2)|: the distance along the ray from the centre
   SuperquadricShape shape = SuperquadricShape::kOther;
   bool rotationally_symmetric = false;  // e2 ~ 1 and a1 ~ a2: a surface of revolution about the z axis
@@ -37,7 +37,7 @@ struct SuperquadricFit {
 
 struct SuperquadricOptions {
   int max_iterations = 200;
-  double shape_tolerance = 0.2;   // seed 004's delta for the shape classes
+  double shape_tolerance = 0.2;   // Koivunen and Bajcsy's (1992) delta for the shape classes
   double size_tolerance = 0.05;   // |a1 - a2| / max(a1, a2) for rotational symmetry
 };
 
@@ -47,7 +47,7 @@ SuperquadricFit fit_superquadric(const std::vector<Point3>& points, const Superq
 
 const char* shape_name(SuperquadricShape shape);
 
-// Seed 004 section 6's check of a rotational symmetry: circles fitted by direct least squares to
+// Koivunen and Bajcsy 1992, section 6's check of a rotational symmetry: circles fitted by direct least squares to
 // slices of the points across the assumed axis; the line through their centres is the axis, and
 // their radii along it are the profile of the surface of revolution.
 struct RevolutionSlice {
@@ -65,7 +65,7 @@ struct RevolutionFit {
 // Slices with fewer than 8 points are skipped; throws FitError when fewer than 2 slices remain.
 RevolutionFit fit_revolution(const std::vector<Point3>& points, const Superquadric& model, int slices = 10);
 
-// The surface of revolution of a RevolutionFit (seed 004 section 6's pin): the slice radii along
+// The surface of revolution of a RevolutionFit (Koivunen and Bajcsy 1992, section 6's pin): the slice radii along
 // the axis interpolated by a cubic, swept around the axis. Our surfaces are non-rational, so the
 // circle is a periodic uniform cubic B-spline with `angular_controls` control points whose knot
 // points lie on the circle; between them it departs from it by 4e-6 of the radius for 32 (measured

@@ -30,7 +30,7 @@ struct ToleranceResult {
   std::vector<double> distances;  // signed orthogonal distances of `surface`
 };
 
-// Seed 004 section 5.4's refinement: start coarse, fit, and insert a knot in the middle of every
+// Koivunen and Bajcsy 1992, section 5.4's refinement: start coarse, fit, and insert a knot in the middle of every
 // knot span (in u and in v) that holds a point farther than the tolerance; repeat. The test is the
 // maximum orthogonal distance: the cheap same-parameter distance bounds it from above, so only the
 // points it does not clear are projected. Stops and refuses, with the best surface and the reason,

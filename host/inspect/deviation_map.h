@@ -1,4 +1,4 @@
-// Maps of a value per measured point over the part's XY extent (deviation heat maps and seed 000's
+// Maps of a value per measured point over the part's XY extent (deviation heat maps and Hamdan's (2010)
 // X, Y and Z error maps), as PNG and as SVG, with a colour bar in millimetres.
 #pragma once
 #include <string>

@@ -67,7 +67,7 @@ std::vector<ReportPicture> inspection_pictures(const Inspection& inspection, std
   small.height = 400;
   return {{"Signed orthogonal deviation over the part (red: material above the surface, blue: below)",
            deviation_map_png(deviation, picture)},
-          {"X error map: x of each point minus x of its closest surface point (seed 000, Fig. 17a)", deviation_map_png(ex, small)},
+          {"X error map: x of each point minus x of its closest surface point", deviation_map_png(ex, small)},
           {"Y error map (Fig. 17b)", deviation_map_png(ey, small)},
           {"Z error map (Fig. 17c)", deviation_map_png(ez, small)}};
 }

@@ -27,7 +27,7 @@ struct ReportInputs {
 std::string html_report(const ReportInputs& inputs);
 std::string base64(const std::string& bytes);
 
-// The report's pictures for an inspection: the signed deviation and seed 000's X, Y and Z error
+// The report's pictures for an inspection: the signed deviation and Hamdan's (2010) X, Y and Z error
 // maps (the components of point - foot), each as PNG; `svg` receives the deviation map as SVG.
 std::vector<ReportPicture> inspection_pictures(const Inspection& inspection, std::string* svg);
 

@@ -1,5 +1,5 @@
 // Inspection: the signed orthogonal deviation of every measured point from a surface, its
-// statistics, and the share of points within tolerance bands (seed 002 eq. 8 counts them).
+// statistics, and the share of points within tolerance bands (Li and Zhang 2013, eq. 8 counts them).
 #pragma once
 #include <vector>
 

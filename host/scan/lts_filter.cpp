@@ -100,7 +100,7 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
       const int h = options.h > 0 ? std::min(options.h, n) : std::min(n, n / 2 + (p + 1) / 2);
       by_distance.clear();
       // The reference signal at this point: the window's median in the first pass, this point's
-      // previous output after that (seed 004: "the output from previous iteration is used as a
+      // previous output after that (Koivunen and Bajcsy 1992: "the output from previous iteration is used as a
       // reference signal for the next iteration").
       for (size_t j : hood[i]) by_distance.push_back({std::fabs(points[j].z - reference[i]), j});
       std::nth_element(by_distance.begin(), by_distance.begin() + (h - 1), by_distance.end());

@@ -1,4 +1,4 @@
-// The Least-Trimmed-Squares noise filter of seed 004 section 5.2, for gridded and scattered scans.
+// The Least-Trimmed-Squares noise filter of Koivunen and Bajcsy 1992, section 5.2, for gridded and scattered scans.
 #pragma once
 #include <cstddef>
 #include <vector>
@@ -36,7 +36,7 @@ struct LtsResult {
 // Filters z. Points on a regular XY grid (every x and y on multiples of one step, holes allowed)
 // use the window x window grid neighbourhood; other points the window^2 nearest points in XY.
 // In each neighbourhood the reference (first the median, then the previous iteration's output)
-// picks the h heights nearest to it; order 0 takes their mean (seed 004 section 5.2 exactly), orders
+// picks the h heights nearest to it; order 0 takes their mean (Koivunen and Bajcsy 1992, section 5.2 exactly), orders
 // 1 and 2 fit a plane or a quadratic to them, refine the subset by concentration steps (keep the h
 // smallest residuals, refit) and take the model's value at the point. Iterated until no estimate
 // changes by more than `converged_mm`, in floating point as the paper prescribes.

@@ -1,4 +1,4 @@
-// Seed 000 splits where the step length L_{i+1}/L_i jumps above a threshold taken from
+// Hamdan 2010 splits where the step length L_{i+1}/L_i jumps above a threshold taken from
 // the first step. Taking the reference from one step breaks when that step is not typical
 // (a probe's first move often is not), so the reference here is the median of the
 // current line's steps so far, or of the whole stream while the line has fewer than three. Serpentine

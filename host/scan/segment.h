@@ -1,4 +1,4 @@
-// Splitting a continuous probe stream into scan lines (seed 000 section 2, eq. 2-3).
+// Splitting a continuous probe stream into scan lines (Hamdan 2010, section 2, eq. 2-3).
 #pragma once
 #include <cstddef>
 #include <cstdint>
@@ -10,7 +10,7 @@ namespace dg::host {
 
 struct SegmentOptions {
   // A step longer than this many times the line's typical step starts a new line.
-  // Seed 000 Table 1: steps within a line vary by at most 1.3x between neighbours,
+  // Hamdan 2010, Table 1: steps within a line vary by at most 1.3x between neighbours,
   // line changes are 3.6x to 4.4x the step before them; 2 sits between with margin.
   double length_ratio = 2.0;
   // A step turning more than this from the line's direction (in XY) starts a new

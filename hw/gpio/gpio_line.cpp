@@ -115,15 +115,6 @@ bool Line::get() { return line_ != nullptr && gpiod_line_get_value(line_) == 1; 
 
 int Line::event_fd() const { return line_ == nullptr ? -1 : gpiod_line_event_get_fd(line_); }
 
-int Line::read_edge(uint64_t* timestamp_ns) {
-  gpiod_line_event event;
-  if (line_ == nullptr || gpiod_line_event_read(line_, &event) != 0) return -1;
-  if (timestamp_ns != nullptr) {
-    *timestamp_ns = static_cast<uint64_t>(event.ts.tv_sec) * 1000000000ull + static_cast<uint64_t>(event.ts.tv_nsec);
-  }
-  return event.event_type == GPIOD_LINE_EVENT_RISING_EDGE ? 1 : 0;
-}
-
 int Line::read_edges(EdgeEvent* events, int capacity) {
   gpiod_line_event raw[16];
   if (line_ == nullptr || capacity <= 0) return 0;

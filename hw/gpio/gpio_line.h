@@ -43,8 +43,6 @@ class Line {
   bool get();
   // The file descriptor that polls readable when an edge is queued (edge lines only).
   int event_fd() const;
-  // Reads one queued edge: 1 rising, 0 falling (logical), -1 none or an error.
-  int read_edge(uint64_t* timestamp_ns);
   // Reads up to `capacity` (at most 16, the kernel's queue) queued edges at once; returns how many.
   struct EdgeEvent {
     uint64_t timestamp_ns;

@@ -1,4 +1,4 @@
-// The parts: a spherical dome, a bilinear saddle, and a concave canister face (seed 000
+// The parts: a spherical dome, a bilinear saddle, and a concave canister face (Hamdan 2010
 // section 4 digitizes a perfume canister with a concave surface at 1 mm increments).
 #include "hw/sim/parts.h"
 

@@ -1,5 +1,5 @@
 // Fitting core II benchmarks on 1e4 and 1e5 points: Hermite surfaces through a grid with normals,
-// seed 003's curves, superquadric recovery, characterization; one core, wall time with steady_clock.
+// Hlavova's (2021) curves, superquadric recovery, characterization; one core, wall time with steady_clock.
 #include <chrono>
 #include <cmath>
 #include <cstdio>

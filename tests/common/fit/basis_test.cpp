@@ -1,4 +1,4 @@
-// Bernstein and B-spline bases: partition of unity, seed 000 eq. 6, known values, derivatives.
+// Bernstein and B-spline bases: partition of unity, Hamdan 2010, eq. 6, known values, derivatives.
 #include "common/fit/bernstein.h"
 #include "common/fit/bspline_basis.h"
 #include "common/fit/height_field_fit.h"

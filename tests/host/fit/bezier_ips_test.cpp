@@ -1,4 +1,4 @@
-// Seed 000's inverse progressive search: its Table 2 boundary curve, exact recovery where the method
+// Hamdan's (2010) inverse progressive search: its Table 2 boundary curve, exact recovery where the method
 // can be exact, degenerate input, and a comparison with least squares on the same scan.
 #include "host/fit/bezier_ips.h"
 
@@ -18,7 +18,7 @@ using namespace dg::host;
 
 namespace {
 
-// Seed 000 Table 2: 51 points at x = 5 .. 20 mm in 0.3 mm steps, y constant.
+// Hamdan 2010, Table 2: 51 points at x = 5 .. 20 mm in 0.3 mm steps, y constant.
 const double kTable2Z[51] = {6.00,  6.24,  6.47,  6.70,  6.92,  7.14,  7.35,  7.55,  7.75,  7.94,  8.13,
                              8.31,  8.48,  8.64,  8.80,  8.95,  9.09,  9.23,  9.36,  9.47,  9.58,  9.69,
                              9.78,  9.86,  9.94,  10.00, 10.06, 10.10, 10.14, 10.16, 10.18, 10.18, 10.17,

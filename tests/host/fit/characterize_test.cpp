@@ -1,4 +1,4 @@
-// Surface characterization (seed 004 section 5.3): the HK types of simple shapes, regions of a
+// Surface characterization (Koivunen and Bajcsy 1992, section 5.3): the HK types of simple shapes, regions of a
 // bump on a plate, the net it suggests, and the crease of a step.
 #include "host/fit/characterize.h"
 

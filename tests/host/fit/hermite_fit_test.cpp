@@ -1,4 +1,4 @@
-// Seed 002's experiments: a sphere, a cylinder and a truncated cone from points and normals, with
+// Li and Zhang's (2013) experiments: a sphere, a cylinder and a truncated cone from points and normals, with
 // the paper's error measure (eq. 7 over a 401 x 401 evaluation) printed next to its Table 2.
 #include "host/fit/hermite_fit.h"
 
@@ -15,7 +15,7 @@ using namespace dg::host;
 
 namespace {
 
-// Mean over a 401 x 401 evaluation of the squared error `error(point)` (seed 002 eq. 7).
+// Mean over a 401 x 401 evaluation of the squared error `error(point)` (Li and Zhang 2013, eq. 7).
 double eq7(const BSplineSurface& s, const std::function<double(Point3)>& error, double* max_abs) {
   double sum = 0;
   *max_abs = 0;
@@ -45,7 +45,7 @@ HermiteGrid sphere_grid() {
   return g;
 }
 
-// Seed 002's experiments 2-3: x = t in {2, 3, 4, 5}, theta in 6 steps over [-pi/2, 3pi/2], radius
+// Li and Zhang's (2013) experiments 2-3: x = t in {2, 3, 4, 5}, theta in 6 steps over [-pi/2, 3pi/2], radius
 // 1 (cylinder) or t (cone).
 HermiteGrid revolved_grid(bool cone) {
   HermiteGrid g;
@@ -80,7 +80,7 @@ TEST(HermiteFit, SplineDerivativesAreExactForACubic) {
 }
 
 TEST(HermiteFit, TangentsOfFourPointsMeetEveryNormal) {
-  // Four points on a circle (seed 002 Fig. 1): six end-tangent components, four constraints.
+  // Four points on a circle (Li and Zhang 2013, Fig. 1): six end-tangent components, four constraints.
   std::vector<Point3> p, n;
   std::vector<double> t;
   for (int k = 0; k < 4; ++k) {
@@ -104,7 +104,7 @@ TEST(HermiteFit, SphereOfExperimentOneIsAnOrderOfMagnitudeBetterThanTheTable) {
   double max_z = 0, max_radial = 0;
   const double e7 = eq7(r.surface, [](Point3 p) { return p.z - std::sqrt(std::fmax(0.0, 9 - p.x * p.x - p.y * p.y)); }, &max_z);
   const double radial = eq7(r.surface, [](Point3 p) { return norm(p) - 3; }, &max_radial);
-  std::printf("\n  seed 002 sphere: eq. 7 %.6f (paper 0.1735), max |dz| %.4f, orthogonal rms %.5f max %.5f\n", e7, max_z,
+  std::printf("\n  Li and Zhang 2013 sphere: eq. 7 %.6f (paper 0.1735), max |dz| %.4f, orthogonal rms %.5f max %.5f\n", e7, max_z,
               std::sqrt(radial), max_radial);
   CHECK(e7 < 0.1735 / 10);
   // Through every grid point exactly.
@@ -127,7 +127,7 @@ TEST(HermiteFit, CylinderAndConeOfExperimentsTwoAndThree) {
     const double e7 = eq7(r.surface, [cone](Point3 p) {
       return std::hypot(p.y, p.z) - (cone ? p.x : 1.0);
     }, &max_abs);
-    std::printf("  seed 002 %s: eq. 7 (radial) %.6f (paper %.4f), max %.4f\n", cone ? "cone" : "cylinder", e7, paper[cone], max_abs);
+    std::printf("  Li and Zhang 2013 %s: eq. 7 (radial) %.6f (paper %.4f), max %.4f\n", cone ? "cone" : "cylinder", e7, paper[cone], max_abs);
     CHECK(e7 < paper[cone] / 10);
   }
 }

@@ -1,4 +1,4 @@
-// Seed 003's profile of 14 CMM points: its trend cubic (Table 3), the curve within 0.3 um of every
+// Hlavova's (2021) profile of 14 CMM points: its trend cubic (Table 3), the curve within 0.3 um of every
 // point (Table 4) and the control-polygon clamped cubic it compares against (Table 2).
 #include "host/fit/profile_curve.h"
 
@@ -14,7 +14,7 @@ using namespace dg::host;
 
 namespace {
 
-// Seed 003 Table 1 (mm).
+// Hlavova 2021, Table 1 (mm).
 std::vector<Point3> table1() {
   const double x[14] = {28.0146, 24.0136, 20.0130, 16.0106, 12.0058, 8.0019, 4.0018,
                         0.0046, -3.9951, -7.9970, -11.9979, -16.0016, -20.0030, -24.0063};
@@ -36,7 +36,7 @@ TEST_GROUP(ProfileCurve){};
 
 TEST(ProfileCurve, TrendCubicIsTable3) {
   const ProfileCubic c = fit_profile_cubic(table1());
-  std::printf("\n  seed 003 Table 3: a %.8f b %.8f c %.8f d %.8f (paper 0.00000088 0.01563206 -0.31291765 25.44435929)\n",
+  std::printf("\n  Hlavova 2021, Table 3: a %.8f b %.8f c %.8f d %.8f (paper 0.00000088 0.01563206 -0.31291765 25.44435929)\n",
               c.a, c.b, c.c, c.d);
   DOUBLES_EQUAL(0.00000088, c.a, 0.000000005);
   DOUBLES_EQUAL(0.01563206, c.b, 0.000000005);
@@ -55,7 +55,7 @@ TEST(ProfileCurve, CeCurvePassesAtTheUncertaintyFromEveryPoint) {
   const std::vector<Point3> p = table1();
   const CeCurve ce = curve_within_uncertainty(p, 0.0003);
   const DistanceStats all = distance_stats(curve_distances(ce.curve, p));
-  std::printf("  seed 003 Table 4, CE curve: mean %.5f median %.5f std %.5f max %.5f min %.5f (paper 0.0003 each, std 0)\n",
+  std::printf("  Hlavova 2021, Table 4, CE curve: mean %.5f median %.5f std %.5f max %.5f min %.5f (paper 0.0003 each, std 0)\n",
               all.mean, all.median, all.stddev, all.max, all.min);
   DOUBLES_EQUAL(0.0003, all.max, 2e-6);
   DOUBLES_EQUAL(0.0003, all.min, 2e-6);
@@ -68,7 +68,7 @@ TEST(ProfileCurve, CeCurvePassesAtTheUncertaintyFromEveryPoint) {
 
 TEST(ProfileCurve, ControlPolygonCubicIsTable2sClampedCubic) {
   const DistanceStats s = inner_stats(control_polygon_curve(table1()), table1());
-  std::printf("  seed 003 Table 2, clamped cubic on the points as control polygon (inner 12): mean %.4f median %.4f "
+  std::printf("  Hlavova 2021, Table 2, clamped cubic on the points as control polygon (inner 12): mean %.4f median %.4f "
               "std %.4f max %.4f min %.4f (paper 0.0821 0.0808 0.0091, max 0.0162 [a misprint: below its own mean], min 0.0695)\n",
               s.mean, s.median, s.stddev, s.max, s.min);
   DOUBLES_EQUAL(0.0821, s.mean, 0.003);

@@ -1,4 +1,4 @@
-// Superquadric recovery (seed 004 section 5.5): certified values first (a sphere is e1 = e2 = 1
+// Superquadric recovery (Koivunen and Bajcsy 1992, section 5.5): certified values first (a sphere is e1 = e2 = 1
 // with a1 = a2 = a3 = r), then the shape classes of its Fig. 8, and data without volume refused.
 #include "host/fit/superquadric.h"
 
@@ -82,7 +82,7 @@ TEST(Superquadric, RecoversARotatedEllipsoidsSizesAndAxes) {
 }
 
 TEST(Superquadric, TellsACylinderAndABoxAndFindsTheCylindersAxis) {
-  // A pin: 20 long, radius 4, seed 004 Fig. 8 a)'s squareness.
+  // A pin: 20 long, radius 4, Koivunen and Bajcsy 1992, Fig. 8 a)'s squareness.
   const Superquadric pin = rotated(4, 4, 10, 0.1, 1.0, {0, 0, 50});
   SuperquadricFit fit = fit_superquadric(sample(pin, 60));
   std::printf("  pin: e1 %.3f e2 %.3f a %.3f %.3f %.3f (%s), rms radial %.4f mm\n", fit.model.e1, fit.model.e2, fit.model.a[0],

@@ -1,5 +1,5 @@
 // Inspection against parts whose true distances are known: a plane and a sphere cap, points on
-// both sides, far away, and beyond the edges; the bands count what seed 002 eq. 8 counts.
+// both sides, far away, and beyond the edges; the bands count what Li and Zhang 2013, eq. 8 counts.
 #include "host/inspect/inspect.h"
 
 #include <CppUTest/TestHarness.h>

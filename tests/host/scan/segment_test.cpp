@@ -1,4 +1,4 @@
-// Scan-line segmentation: seed 000 Table 1, atypical first steps, raster, serpentine,
+// Scan-line segmentation: Hamdan 2010, Table 1, atypical first steps, raster, serpentine,
 // unequal lines.
 #include "host/scan/segment.h"
 
@@ -11,7 +11,7 @@ namespace {
 
 using dg::host::Point3;
 
-// Seed 000 Table 1: 49 assumed CMM points on 7 curves of 7 points.
+// Hamdan 2010, Table 1: 49 assumed CMM points on 7 curves of 7 points.
 const double kTable1[49][3] = {
     {5.0000, 5.0000, 5.0000},    {7.2500, 5.6503, 7.0205},    {9.5000, 5.8820, 8.4740},
     {11.7500, 5.8167, 9.1985},   {14.0000, 5.5760, 9.0320},   {16.2500, 5.2813, 7.8125},
@@ -88,7 +88,7 @@ TEST(SegmentLines, SplitsLinesOfUnequalLength) {
 }
 
 TEST(SegmentLines, ToleratesAnAtypicalFirstStep) {
-  // The probe's first move is short (backlash taken up); seed 000's first-step
+  // The probe's first move is short (backlash taken up); Hamdan's (2010) first-step
   // threshold would then split every ordinary step.
   const std::vector<int> counts(4, 20);
   std::vector<Point3> points = grid(counts, false, 1.0, 1.5);
