@@ -9,6 +9,7 @@
 
 #include "common/fit/bspline_basis.h"
 #include "host/fit/fit_error.h"
+#include "host/fit/knot_support.h"
 #include "host/geometry/vec3.h"
 
 namespace dg::host {
@@ -45,11 +46,6 @@ class Band {
  public:
   Band(int n, int width) : n_(n), width_(width), data_(static_cast<size_t>(n) * (width + 1), 0.0) {}
   double& operator()(int row, int col) { return data_[static_cast<size_t>(row) * (width_ + 1) + (row - col)]; }
-  double diagonal_mean() const {
-    double sum = 0;
-    for (int i = 0; i < n_; ++i) sum += data_[static_cast<size_t>(i) * (width_ + 1)];
-    return sum / n_;
-  }
   Eigen::SparseMatrix<double> lower() const {
     std::vector<Eigen::Triplet<double>> entries;
     entries.reserve(data_.size() / 2);
@@ -69,27 +65,50 @@ class Band {
   std::vector<double> data_;
 };
 
-// Adds lambda * D^T D for the second divided differences of the control values along one direction.
-void add_smoothing(Band& band, const BSplineSurface& s, bool along_u, double lambda) {
-  const std::vector<double>& knots = along_u ? s.knots_u : s.knots_v;
-  const int degree = along_u ? s.degree_u : s.degree_v;
-  const int count = along_u ? s.count_u : s.count_v, other_count = along_u ? s.count_v : s.count_u;
-  const int count_v = s.count_v;
-  const double h = 1.0 / std::max(1, count - 1);
-  for (int i = 1; i + 1 < count; ++i) {
-    const double g0 = greville(knots, degree, i - 1), g1 = greville(knots, degree, i), g2 = greville(knots, degree, i + 1);
-    if (!(g1 > g0) || !(g2 > g1)) continue;
-    // h^2 * ((f2 - f1)/(g2 - g1) - (f1 - f0)/(g1 - g0)) / ((g2 - g0) / 2): about (1, -2, 1) on uniform knots.
-    const double scale = h * h * 2.0 / (g2 - g0);
-    const double c[3] = {scale / (g1 - g0), -scale * (1.0 / (g1 - g0) + 1.0 / (g2 - g1)), scale / (g2 - g1)};
-    for (int j = 0; j < other_count; ++j) {
-      int index[3];
-      for (int k = 0; k < 3; ++k) index[k] = along_u ? (i - 1 + k) * count_v + j : j * count_v + (i - 1 + k);
-      for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b)
-          if (index[a] >= index[b]) band(index[a], index[b]) += lambda * c[a] * c[b];
+// One direction's x = T y for its ramp points: free control points map to themselves, a ramp point
+// to its span's two ends. Rows: control points; columns: the free ones, in order.
+struct DirectionMap {
+  int free_count = 0;
+  std::vector<std::vector<std::pair<int, double>>> rows;
+};
+
+DirectionMap ramp_map(int count, const std::vector<RampPoint>& ramps) {
+  DirectionMap m;
+  std::vector<int> column(static_cast<size_t>(count), -1);
+  std::vector<const RampPoint*> ramp_of(static_cast<size_t>(count), nullptr);
+  for (const RampPoint& r : ramps) ramp_of[static_cast<size_t>(r.index)] = &r;
+  for (int i = 0; i < count; ++i) {
+    if (!ramp_of[static_cast<size_t>(i)]) column[static_cast<size_t>(i)] = m.free_count++;
+  }
+  m.rows.resize(static_cast<size_t>(count));
+  for (int i = 0; i < count; ++i) {
+    const RampPoint* r = ramp_of[static_cast<size_t>(i)];
+    if (!r) {
+      m.rows[static_cast<size_t>(i)] = {{column[static_cast<size_t>(i)], 1.0}};
+    } else {
+      m.rows[static_cast<size_t>(i)] = {{column[static_cast<size_t>(r->left)], 1.0 - r->weight_right},
+                                        {column[static_cast<size_t>(r->right)], r->weight_right}};
     }
   }
+  return m;
+}
+
+// The tensor product of the two directions' maps, on unknown k = i * count_v + j.
+Eigen::SparseMatrix<double> elimination_map(const DirectionMap& u, const DirectionMap& v) {
+  std::vector<Eigen::Triplet<double>> entries;
+  const int count_v = static_cast<int>(v.rows.size());
+  for (size_t i = 0; i < u.rows.size(); ++i) {
+    for (size_t j = 0; j < v.rows.size(); ++j) {
+      for (const auto& [a, wa] : u.rows[i]) {
+        for (const auto& [b, wb] : v.rows[j]) {
+          entries.emplace_back(static_cast<int>(i) * count_v + static_cast<int>(j), a * v.free_count + b, wa * wb);
+        }
+      }
+    }
+  }
+  Eigen::SparseMatrix<double> t(static_cast<int>(u.rows.size()) * count_v, u.free_count * v.free_count);
+  t.setFromTriplets(entries.begin(), entries.end());
+  return t;
 }
 
 }  // namespace
@@ -114,6 +133,8 @@ BSplineSurface fit_least_squares(const std::vector<Point3>& points, const Parame
   }
   check_support(s.knots_u, s.degree_u, s.count_u, params.uv, true, params);
   check_support(s.knots_v, s.degree_v, s.count_v, params.uv, false, params);
+  const std::string problem = net_support_problem(s.knots_u, s.degree_u, s.knots_v, s.degree_v, params.uv, params);
+  if (!problem.empty()) throw FitError("the points cannot determine this net: " + problem);
 
   const bool height_field = params.kind == Parameterization::kTableXy;
   const int rhs_count = height_field ? 1 : 3;
@@ -166,14 +187,38 @@ BSplineSurface fit_least_squares(const std::vector<Point3>& points, const Parame
       }
     }
   }
-  const double lambda = 1e-6 * band.diagonal_mean();
-  add_smoothing(band, s, true, lambda);
-  add_smoothing(band, s, false, lambda);
-
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver(band.lower());
+  // No regularization: a net the points do not determine is refused, not smoothed into shape. The
+  // pivots of the factorization say whether it is determined; one far below the largest (relative
+  // to the rounding of a double over the matrix's size) means a control point the data leaves free.
+  // Steps' ramps (knot_support.h): control points no point measures are eliminated, x = T y.
+  const double merge = site_merge_distance(points.size());
+  const std::vector<RampPoint> ramps_u = ramp_points(s.knots_u, s.degree_u, distinct_sites(params.uv, true, merge));
+  const std::vector<RampPoint> ramps_v = ramp_points(s.knots_v, s.degree_v, distinct_sites(params.uv, false, merge));
+  const bool eliminate = !ramps_u.empty() || !ramps_v.empty();
+  Eigen::SparseMatrix<double> normal = band.lower(), map;
+  Eigen::MatrixXd reduced_rhs = rhs;
+  if (eliminate) {
+    map = elimination_map(ramp_map(s.count_u, ramps_u), ramp_map(s.count_v, ramps_v));
+    const Eigen::SparseMatrix<double> full = normal.selfadjointView<Eigen::Lower>();
+    const Eigen::SparseMatrix<double> reduced = map.transpose() * full * map;
+    normal = reduced.triangularView<Eigen::Lower>();
+    reduced_rhs = map.transpose() * rhs;
+  }
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver(normal);
   if (solver.info() != Eigen::Success) throw FitError("the normal equations are singular: the points do not determine the net");
-  const Eigen::MatrixXd solution = solver.solve(rhs);
-  if (solver.info() != Eigen::Success || !solution.allFinite()) throw FitError("solving the normal equations failed");
+  const Eigen::VectorXd pivots = solver.vectorD();
+  const double largest = pivots.cwiseAbs().maxCoeff();
+  for (int k = 0; k < pivots.size(); ++k) {
+    if (!(std::fabs(pivots(k)) > 1e-12 * largest)) {
+      const int i = k / s.count_v, j = k % s.count_v;
+      throw FitError("the points do not determine control point (" + std::to_string(i) + ", " + std::to_string(j) +
+                     ") of the " + std::to_string(s.count_u) + " x " + std::to_string(s.count_v) +
+                     " net: too few points under its support (a hole in the scan?); use fewer control points");
+    }
+  }
+  const Eigen::MatrixXd reduced_solution = solver.solve(reduced_rhs);
+  if (solver.info() != Eigen::Success || !reduced_solution.allFinite()) throw FitError("solving the normal equations failed");
+  const Eigen::MatrixXd solution = eliminate ? Eigen::MatrixXd(map * reduced_solution) : reduced_solution;
 
   s.control.resize(unknowns);
   for (int i = 0; i < s.count_u; ++i) {

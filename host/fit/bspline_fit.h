@@ -17,10 +17,10 @@ struct LsqSpec {
 // sparse LDL^T then solves. `weights` (1 / sigma^2, optional) weight each point. For the table-XY
 // parameterization the surface is a height field: x and y of the control points are fixed at the
 // Greville abscissae (so S(u, v) lies exactly above the point) and only z is fitted.
-// A vanishing second-divided-difference penalty (1e-6 of the data's scale) keeps control points over
-// holes in the data determined; it is zero for surfaces linear in each parameter, so those come back
-// exactly. Throws FitError when the points cannot determine the net: fewer points than control
-// points, or a row or column of control points whose support holds no point.
+// Nothing regularizes the solution. Throws FitError when the points cannot determine the net: fewer
+// points than control points, a row or column of control points whose support holds no point, a
+// direction that fails the Schoenberg-Whitney condition (more control points than distinct scan
+// lines or positions can determine), or a vanishing pivot (a hole the net spans).
 BSplineSurface fit_least_squares(const std::vector<Point3>& points, const Parameters& params,
                                  const std::vector<double>* weights, const LsqSpec& spec);
 

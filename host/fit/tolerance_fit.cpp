@@ -9,6 +9,7 @@
 #include "common/fit/bspline_basis.h"
 #include "host/geometry/closest_point.h"
 #include "host/fit/fit_error.h"
+#include "host/fit/fit_validation.h"
 #include "host/fit/noise_estimate.h"
 #include "host/fit/orthogonal_distances.h"
 
@@ -31,16 +32,22 @@ std::vector<double> start_knots(int count, int degree, const std::vector<double>
 }
 
 // Inserts the midpoints of the flagged spans; returns how many were inserted. A span narrower than
-// `min_width` (about one point spacing) is not split: the points cannot support it.
-int insert_midpoints(std::vector<double>& knots, const std::set<int>& spans, double min_width) {
-  std::vector<double> added;
+// `min_width` (about one point spacing) is not split, and neither is one whose new knot `allowed`
+// refuses (the points, less any validation fold, could no longer determine the net).
+template <typename Allowed>
+int insert_midpoints(std::vector<double>& knots, const std::set<int>& spans, double min_width, Allowed allowed) {
+  const std::vector<double> before = knots;
+  int added = 0;
   for (int span : spans) {
-    const double lo = knots[span], hi = knots[span + 1];
-    if (hi - lo >= 2 * min_width) added.push_back(0.5 * (lo + hi));
+    const double lo = before[static_cast<size_t>(span)], hi = before[static_cast<size_t>(span + 1)];
+    if (hi - lo < 2 * min_width) continue;
+    std::vector<double> candidate = knots;
+    candidate.insert(std::upper_bound(candidate.begin(), candidate.end(), 0.5 * (lo + hi)), 0.5 * (lo + hi));
+    if (!allowed(candidate)) continue;
+    knots = std::move(candidate);
+    ++added;
   }
-  for (double k : added) knots.push_back(k);
-  std::sort(knots.begin(), knots.end());
-  return static_cast<int>(added.size());
+  return added;
 }
 
 // A typical distance between neighbouring parameters along one direction: the spacing of a grid of
@@ -106,7 +113,21 @@ ToleranceResult refine(const PointCloud& cloud, const Parameters& params, const 
     spec.knots_v = sampled_knots_v;
   }
   const double min_width = typical_spacing(points.size());
+  // The net may grow only while every validation fold's remaining points still determine it, so
+  // the surface reached can be checked between the samples (fit_validation.h).
+  const ValidationOptions validation_options{options.tolerance_mm, options.validation_folds, 3};
+  const FoldSupport fold_support(cloud, params, options.validation_folds);
+  auto allowed_u = [&](const std::vector<double>& knots) {
+    return fold_support.problem(knots, spec.degree_u, spec.knots_v, spec.degree_v).empty();
+  };
+  auto allowed_v = [&](const std::vector<double>& knots) {
+    return fold_support.problem(spec.knots_u, spec.degree_u, knots, spec.degree_v).empty();
+  };
+  // Refinement continues past the tolerance until the residual is down to the noise (RMS <= 1.05
+  // sigma), so no shape error is left that the data can still resolve; it never goes below that.
+  const double noise_floor = 1.05 * noise;
   double previous_rms = HUGE_VAL;
+  bool tolerance_held = false;
   std::string refusal;
   for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
     BSplineSurface surface;
@@ -122,13 +143,19 @@ ToleranceResult refine(const PointCloud& cloud, const Parameters& params, const 
     // most points exceed the tolerance, and this keeps those iterations from projecting them all.
     const std::vector<double> bound = parameter_distances(surface, points, params);
     std::vector<char> flagged_u(static_cast<size_t>(surface.count_u), 0), flagged_v(static_cast<size_t>(surface.count_v), 0);
+    std::vector<double> span_sq_u(static_cast<size_t>(surface.count_u), 0.0), span_sq_v(static_cast<size_t>(surface.count_v), 0.0);
+    std::vector<size_t> span_n_u(static_cast<size_t>(surface.count_u), 0), span_n_v(static_cast<size_t>(surface.count_v), 0);
     double worst = 0, sum_sq = 0;
     for (size_t k = 0; k < points.size(); ++k) {
       sum_sq += bound[k] * bound[k];
       double d = bound[k];
+      const int su = fit::find_span(surface.count_u, surface.degree_u, params.uv[k].u, surface.knots_u.data());
+      const int sv = fit::find_span(surface.count_v, surface.degree_v, params.uv[k].v, surface.knots_v.data());
+      span_sq_u[static_cast<size_t>(su)] += bound[k] * bound[k];
+      span_sq_v[static_cast<size_t>(sv)] += bound[k] * bound[k];
+      ++span_n_u[static_cast<size_t>(su)];
+      ++span_n_v[static_cast<size_t>(sv)];
       if (bound[k] > options.tolerance_mm) {
-        const int su = fit::find_span(surface.count_u, surface.degree_u, params.uv[k].u, surface.knots_u.data());
-        const int sv = fit::find_span(surface.count_v, surface.degree_v, params.uv[k].v, surface.knots_v.data());
         if (!flagged_u[static_cast<size_t>(su)] || !flagged_v[static_cast<size_t>(sv)]) {
           d = std::fabs(closest_point(surface, points[k], params.uv[k].u, params.uv[k].v).distance);
           if (d > options.tolerance_mm) {
@@ -146,17 +173,43 @@ ToleranceResult refine(const PointCloud& cloud, const Parameters& params, const 
       if (flagged_v[static_cast<size_t>(j)]) spans_v.insert(j);
     }
     const double rms = std::sqrt(sum_sq / static_cast<double>(points.size()));
-    if (spans_u.empty() || worst < best.max_distance_mm) {
+    const bool within = spans_u.empty();
+    if (within || (!tolerance_held && worst < best.max_distance_mm)) {
       best.surface = surface;
       best.max_distance_mm = worst;  // an upper bound until the exact distances at the end
       best.iterations = sampled_iterations + iteration;
+      best.rms_mm = rms;
     }
-    if (spans_u.empty()) {
+    if (within) {
+      tolerance_held = true;
       best.kept = true;
-      break;
+      if (!(noise > 0) || rms <= noise_floor) break;
+      // Within the tolerance but above the noise: refine the spans whose residual is above the
+      // noise by more than their point count explains (the worst one when none is).
+      auto flag_noisy = [&](const std::vector<double>& sq, const std::vector<size_t>& n, std::set<int>& spans) {
+        int worst_span = -1;
+        double worst_ratio = 0;
+        for (size_t i = 0; i < sq.size(); ++i) {
+          if (n[i] < 8) continue;
+          const double ratio = sq[i] / static_cast<double>(n[i]) / (noise_floor * noise_floor);
+          if (ratio > 1.0 + 3.0 * std::sqrt(2.0 / static_cast<double>(n[i]))) spans.insert(static_cast<int>(i));
+          if (ratio > worst_ratio) worst_ratio = ratio, worst_span = static_cast<int>(i);
+        }
+        if (spans.empty() && worst_span >= 0 && worst_ratio > 1.0) spans.insert(worst_span);
+      };
+      flag_noisy(span_sq_u, span_n_u, spans_u);
+      flag_noisy(span_sq_v, span_n_v, spans_v);
+      if (spans_u.empty() && spans_v.empty()) break;
+      if (iteration >= 2 && rms > 0.97 * previous_rms) break;  // no longer improving: stay with the last net
+      previous_rms = rms;
+      const int added = insert_midpoints(spec.knots_u, spans_u, min_width, allowed_u) +
+                        insert_midpoints(spec.knots_v, spans_v, min_width, allowed_v);
+      if (added == 0) break;
+      continue;
     }
+    if (tolerance_held) break;  // refining for the noise lost the tolerance: keep the last net that held it
     // The noise floor: the residual is the noise, so what is left above the tolerance is noise.
-    if (noise > 0 && rms <= 1.15 * noise) {
+    if (noise > 0 && rms <= noise_floor) {
       refusal = "the scan's noise (sigma " + mm_text(noise) + ", RMS residual " + mm_text(rms) +
                 ") is above what the tolerance allows: " + std::to_string(points.size()) +
                 " points of that noise reach about " + mm_text(noise * std::sqrt(2 * std::log(static_cast<double>(points.size())))) +
@@ -168,9 +221,11 @@ ToleranceResult refine(const PointCloud& cloud, const Parameters& params, const 
       break;
     }
     previous_rms = rms;
-    const int added = insert_midpoints(spec.knots_u, spans_u, min_width) + insert_midpoints(spec.knots_v, spans_v, min_width);
+    const int added = insert_midpoints(spec.knots_u, spans_u, min_width, allowed_u) +
+                      insert_midpoints(spec.knots_v, spans_v, min_width, allowed_v);
     if (added == 0) {
-      refusal = "not enough points to refine further: the spans that exceed the tolerance are already one point spacing wide";
+      refusal = "not enough points to refine further: a finer net in the spans that exceed the tolerance could not be "
+                "determined (and checked between the samples) by the points there";
       break;
     }
     if (iteration == options.max_iterations) refusal = "no convergence in " + std::to_string(options.max_iterations) + " refinements";
@@ -179,10 +234,19 @@ ToleranceResult refine(const PointCloud& cloud, const Parameters& params, const 
   best.distances = orthogonal_distances(best.surface, points, params);
   best.max_distance_mm = 0;
   for (double d : best.distances) best.max_distance_mm = std::max(best.max_distance_mm, std::fabs(d));
-  // The contract: success only with every distance within the tolerance.
+  // The contract: success only with every distance within the tolerance, and the surface checked
+  // between the samples (hold-out folds and neighbour ranges).
   if (best.kept && best.max_distance_mm > options.tolerance_mm) {
     best.kept = false;
     refusal = "largest orthogonal distance " + mm_text(best.max_distance_mm) + " exceeds the tolerance";
+  }
+  if (best.kept) {
+    best.validation = validate_fit(cloud, params, weights, best.surface, validation_options);
+    if (!best.validation.passed) {
+      best.kept = false;
+      best.reason = "the surface is within the tolerance at the samples but not between them: " + best.validation.problem;
+      return best;
+    }
   }
   if (!best.kept) {
     size_t worst_index = 0;

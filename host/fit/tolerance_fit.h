@@ -5,6 +5,7 @@
 
 #include "host/scan/point_reader.h"
 #include "host/fit/bspline_fit.h"
+#include "host/geometry/fitted_surface.h"
 
 namespace dg::host {
 
@@ -18,6 +19,8 @@ struct ToleranceOptions {
   // and continues from its knots with every point (coarse nets need few points; the contract is
   // still judged on all of them).
   size_t sample_above = 400000;
+  // Hold-out folds for the validation between the samples (fit_validation.h).
+  int validation_folds = 5;
 };
 
 struct ToleranceResult {
@@ -26,7 +29,9 @@ struct ToleranceResult {
   std::string reason;             // why it was refused, when not kept
   double max_distance_mm = 0;     // largest orthogonal distance of `surface`
   double noise_sigma_mm = 0;      // estimated measurement noise
+  double rms_mm = 0;              // RMS residual along the parameter direction (z for a height field)
   int iterations = 0;
+  FitValidation validation;       // the checks between the samples, when the samples kept the tolerance
   std::vector<double> distances;  // signed orthogonal distances of `surface`
 };
 

@@ -7,6 +7,33 @@
 
 namespace dg::host {
 
+// What the fit's validation between the samples found (host/fit/fit_validation.h).
+struct FitValidation {
+  bool checked = false;
+  bool passed = false;  // with a tolerance: both checks held
+  std::string problem;  // why it failed, or why it could not be validated
+  // Hold-out: the points of each fold predicted by a surface fitted without them.
+  int folds = 0;
+  size_t held_out_points = 0;
+  double held_out_rms_mm = 0, held_out_max_mm = 0;
+  Point3 held_out_worst;  // the measured point predicted worst
+  // Neighbours: how far the surface leaves the box of neighbouring samples (0 when it never does).
+  size_t neighbour_checks = 0;
+  double range_excess_max_mm = 0;
+  Point3 range_worst;  // the surface point that leaves the box most
+};
+
+// The standard uncertainty of a fitted surface's height (or normal position) on a grid over its
+// parameter domain, from the coefficients' covariance: u(x, y); U = 2u is the expanded uncertainty.
+struct SurfaceUncertainty {
+  bool computed = false;
+  double sigma_mm = 0;     // the point standard uncertainty it was propagated from
+  std::string sigma_from;  // where that came from: "sigma column", "noise estimate", ...
+  int rows = 0, cols = 0;  // grid over [0, 1]^2 in (u, v); u_mm[r * cols + c] at u = c/(cols-1), v = r/(rows-1)
+  std::vector<double> u_mm;
+  double max_mm = 0, mean_mm = 0;
+};
+
 struct FittedSurface {
   std::string model = "bspline";  // bspline | bezier
   std::string method = "lsq";     // lsq | ips | device
@@ -21,6 +48,8 @@ struct FittedSurface {
   double noise_sigma_mm = 0;
   int iterations = 0;
   std::string source;  // the points file
+  FitValidation validation;
+  SurfaceUncertainty uncertainty;
 };
 
 }  // namespace dg::host

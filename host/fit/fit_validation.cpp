@@ -1,0 +1,271 @@
+// Hold-out refits by fold and bounding-box checks between neighbouring samples.
+#include "host/fit/fit_validation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+#include "host/fit/fit_error.h"
+#include "host/fit/knot_support.h"
+#include "host/geometry/closest_point.h"
+#include "host/scan/neighbours.h"
+
+namespace dg::host {
+
+namespace {
+
+std::string mm(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.4f mm", value);
+  return text;
+}
+
+std::string at(const Point3& p) {
+  char text[64];
+  std::snprintf(text, sizeof text, "(%.3f, %.3f, %.3f)", p.x, p.y, p.z);
+  return text;
+}
+
+// Points of each line in scan order, lines in id order.
+std::vector<std::vector<size_t>> lines_of(const PointCloud& cloud) {
+  std::map<uint32_t, std::vector<size_t>> by_id;
+  for (size_t i = 0; i < cloud.points.size(); ++i) by_id[(*cloud.line)[i]].push_back(i);
+  std::vector<std::vector<size_t>> lines;
+  for (auto& [id, members] : by_id) lines.push_back(std::move(members));
+  return lines;
+}
+
+// How far `s` lies outside the box of `corners` widened by `slack` (0 inside).
+double box_excess(const Point3& s, const Point3* const* corners, int count, double slack) {
+  Point3 lo = *corners[0], hi = *corners[0];
+  for (int k = 1; k < count; ++k) {
+    const Point3& c = *corners[k];
+    lo = {std::min(lo.x, c.x), std::min(lo.y, c.y), std::min(lo.z, c.z)};
+    hi = {std::max(hi.x, c.x), std::max(hi.y, c.y), std::max(hi.z, c.z)};
+  }
+  const double dx = std::max({lo.x - slack - s.x, s.x - hi.x - slack, 0.0});
+  const double dy = std::max({lo.y - slack - s.y, s.y - hi.y - slack, 0.0});
+  const double dz = std::max({lo.z - slack - s.z, s.z - hi.z - slack, 0.0});
+  return std::max({dx, dy, dz});
+}
+
+class NeighbourCheck {
+ public:
+  NeighbourCheck(const BSplineSurface& surface, const PointCloud& cloud, const Parameters& params, double slack,
+                 FitValidation& out)
+      : surface_(surface), cloud_(cloud), params_(params), slack_(slack), out_(out) {}
+
+  // Samples the surface at `samples` parameters strictly between points a and b; `bulge` is how
+  // far a smooth surface through them may rise above their box (from the curvature around them).
+  void segment(size_t a, size_t b, int samples, double bulge) {
+    const Point3* corners[2] = {&cloud_.points[a], &cloud_.points[b]};
+    for (int k = 1; k <= samples; ++k) {
+      const double t = static_cast<double>(k) / (samples + 1);
+      check(lerp(params_.uv[a], params_.uv[b], t), corners, 2, bulge);
+    }
+  }
+  // The centre of the cell of four neighbours.
+  void cell(size_t a, size_t b, size_t c, size_t d, double bulge) {
+    const Point3* corners[4] = {&cloud_.points[a], &cloud_.points[b], &cloud_.points[c], &cloud_.points[d]};
+    const UV& p = params_.uv[a];
+    const UV& q = params_.uv[b];
+    const UV& r = params_.uv[c];
+    const UV& s = params_.uv[d];
+    check({(p.u + q.u + r.u + s.u) / 4, (p.v + q.v + r.v + s.v) / 4}, corners, 4, bulge);
+  }
+
+ private:
+  static UV lerp(const UV& a, const UV& b, double t) { return {a.u + (b.u - a.u) * t, a.v + (b.v - a.v) * t}; }
+  void check(const UV& uv, const Point3* const* corners, int count, double bulge) {
+    const Point3 s = surface_.evaluate(std::clamp(uv.u, 0.0, 1.0), std::clamp(uv.v, 0.0, 1.0));
+    const double excess = box_excess(s, corners, count, slack_ + bulge);
+    ++out_.neighbour_checks;
+    if (excess > out_.range_excess_max_mm) {
+      out_.range_excess_max_mm = excess;
+      out_.range_worst = s;
+    }
+  }
+  const BSplineSurface& surface_;
+  const PointCloud& cloud_;
+  const Parameters& params_;
+  double slack_;
+  FitValidation& out_;
+};
+
+void check_neighbours(const BSplineSurface& surface, const PointCloud& cloud, const Parameters& params,
+                      const ValidationOptions& options, FitValidation& out) {
+  NeighbourCheck check(surface, cloud, params, options.tolerance_mm, out);
+  if (cloud.line) {
+    const std::vector<std::vector<size_t>> lines = lines_of(cloud);
+    // Each line's points by their parameter along the line, to pair a point with the nearest one
+    // on a neighbouring line.
+    std::vector<std::vector<size_t>> sorted = lines;
+    for (auto& line : sorted) {
+      std::sort(line.begin(), line.end(), [&](size_t a, size_t b) { return params.uv[a].u < params.uv[b].u; });
+    }
+    auto nearest_on = [&](size_t l, size_t i) {
+      const std::vector<size_t>& other = sorted[l];
+      auto it = std::lower_bound(other.begin(), other.end(), params.uv[i].u,
+                                 [&](size_t a, double u) { return params.uv[a].u < u; });
+      if (it == other.end()) return other.back();
+      if (it != other.begin() && params.uv[i].u - params.uv[*(it - 1)].u < params.uv[*it].u - params.uv[i].u) return *(it - 1);
+      return *it;
+    };
+    // The bulge a smooth surface may have over its samples' box: a parabola through three
+    // neighbours rises |second difference| / 8 above its chord between two of them.
+    std::vector<double> bulge_along(cloud.points.size(), 0.0), bulge_across(cloud.points.size(), 0.0);
+    auto second = [&](size_t a, size_t b, size_t c) {
+      const Point3 &p = cloud.points[a], &q = cloud.points[b], &r = cloud.points[c];
+      const double dx = std::fabs(p.x - 2 * q.x + r.x), dy = std::fabs(p.y - 2 * q.y + r.y), dz = std::fabs(p.z - 2 * q.z + r.z);
+      return std::max({dx, dy, dz}) / 8.0;
+    };
+    for (size_t l = 0; l < lines.size(); ++l) {
+      const std::vector<size_t>& line = lines[l];
+      for (size_t k = 1; k + 1 < line.size(); ++k) bulge_along[line[k]] = second(line[k - 1], line[k], line[k + 1]);
+      if (line.size() >= 3) {
+        bulge_along[line.front()] = bulge_along[line[1]];
+        bulge_along[line.back()] = bulge_along[line[line.size() - 2]];
+      }
+      if (l == 0 || l + 1 == lines.size()) continue;
+      for (size_t i : line) bulge_across[i] = second(nearest_on(l - 1, i), i, nearest_on(l + 1, i));
+    }
+    for (size_t l = 0; l < lines.size(); ++l) {
+      const std::vector<size_t>& line = lines[l];
+      for (size_t k = 1; k < line.size(); ++k) {
+        const size_t a = line[k - 1], b = line[k];
+        check.segment(a, b, options.samples_between, std::max(bulge_along[a], bulge_along[b]));
+      }
+      if (l + 1 == lines.size() || line.empty() || lines[l + 1].empty()) continue;
+      for (size_t k = 0; k < line.size(); ++k) {
+        const size_t a = line[k], c = nearest_on(l + 1, a);
+        check.segment(a, c, options.samples_between, std::max(bulge_across[a], bulge_across[c]));
+        if (k > 0) {
+          const size_t b = line[k - 1], d = nearest_on(l + 1, b);
+          if (d == c) continue;
+          double bulge = 0;
+          for (size_t i : {a, b, c, d}) bulge = std::max(bulge, bulge_along[i] + bulge_across[i]);
+          check.cell(b, a, c, d, bulge);
+        }
+      }
+    }
+    return;
+  }
+  // Scattered points: each point and its four nearest neighbours in the parameter plane.
+  std::vector<Point3> plane(cloud.points.size());
+  for (size_t i = 0; i < plane.size(); ++i) plane[i] = {params.uv[i].u, params.uv[i].v, 0.0};
+  std::vector<std::vector<size_t>> near;
+  nearest_neighbourhoods(plane, 5, near);
+  for (size_t i = 0; i < near.size(); ++i) {
+    for (size_t j : near[i]) {
+      if (j > i) check.segment(i, j, options.samples_between, 0.0);
+    }
+  }
+}
+
+}  // namespace
+
+std::vector<int> validation_folds(const PointCloud& cloud, int folds) {
+  std::vector<int> fold(cloud.points.size(), 0);
+  if (folds < 2) return fold;
+  if (cloud.line) {
+    std::map<uint32_t, int> rank;
+    for (uint32_t id : *cloud.line) rank.emplace(id, 0);
+    int next = 0;
+    for (auto& [id, r] : rank) r = next++;
+    for (size_t i = 0; i < fold.size(); ++i) fold[i] = rank[(*cloud.line)[i]] % folds;
+  } else {
+    for (size_t i = 0; i < fold.size(); ++i) fold[i] = static_cast<int>(i % static_cast<size_t>(folds));
+  }
+  return fold;
+}
+
+FoldSupport::FoldSupport(const PointCloud& cloud, const Parameters& params, int folds) {
+  const std::vector<int> fold = validation_folds(cloud, folds);
+  const double merge = site_merge_distance(cloud.points.size());
+  for (int f = 0; f < folds; ++f) {
+    std::vector<UV> kept;
+    for (size_t i = 0; i < fold.size(); ++i) {
+      if (fold[i] != f) kept.push_back(params.uv[i]);
+    }
+    sites_u_.push_back(distinct_sites(kept, true, merge));
+    sites_v_.push_back(distinct_sites(kept, false, merge));
+  }
+}
+
+std::string FoldSupport::problem(const std::vector<double>& knots_u, int degree_u, const std::vector<double>& knots_v,
+                                 int degree_v) const {
+  for (size_t f = 0; f < sites_u_.size(); ++f) {
+    if (schoenberg_whitney_gap(knots_u, degree_u, sites_u_[f]) >= 0 ||
+        schoenberg_whitney_gap(knots_v, degree_v, sites_v_[f]) >= 0) {
+      return "with validation fold " + std::to_string(f + 1) + " of " + std::to_string(sites_u_.size()) +
+             " held out, the remaining points cannot determine the net";
+    }
+  }
+  return "";
+}
+
+FitValidation validate_fit(const PointCloud& cloud, const Parameters& params, const std::vector<double>* weights,
+                           const BSplineSurface& surface, const ValidationOptions& options) {
+  FitValidation out;
+  out.checked = true;
+  out.folds = options.folds;
+  const std::vector<int> fold = validation_folds(cloud, options.folds);
+  LsqSpec spec;
+  spec.degree_u = surface.degree_u;
+  spec.degree_v = surface.degree_v;
+  spec.knots_u = surface.knots_u;
+  spec.knots_v = surface.knots_v;
+  double sum_sq = 0;
+  for (int f = 0; f < options.folds; ++f) {
+    std::vector<Point3> kept;
+    Parameters kept_params = params;
+    kept_params.uv.clear();
+    std::vector<double> kept_weights;
+    std::vector<size_t> held;
+    for (size_t i = 0; i < fold.size(); ++i) {
+      if (fold[i] == f) {
+        held.push_back(i);
+        continue;
+      }
+      kept.push_back(cloud.points[i]);
+      kept_params.uv.push_back(params.uv[i]);
+      if (weights) kept_weights.push_back((*weights)[i]);
+    }
+    if (held.empty()) continue;
+    BSplineSurface refit;
+    try {
+      refit = fit_least_squares(kept, kept_params, weights ? &kept_weights : nullptr, spec);
+    } catch (const FitError& e) {
+      out.problem = "cannot be validated: with fold " + std::to_string(f + 1) + " of " + std::to_string(options.folds) +
+                    (cloud.line ? " (every " + std::to_string(options.folds) + "th scan line)" : "") +
+                    " held out, " + e.what();
+      return out;
+    }
+    for (size_t i : held) {
+      const double d = std::fabs(closest_point(refit, cloud.points[i], params.uv[i].u, params.uv[i].v).distance);
+      sum_sq += d * d;
+      ++out.held_out_points;
+      if (d > out.held_out_max_mm) {
+        out.held_out_max_mm = d;
+        out.held_out_worst = cloud.points[i];
+      }
+    }
+  }
+  if (out.held_out_points > 0) out.held_out_rms_mm = std::sqrt(sum_sq / static_cast<double>(out.held_out_points));
+  check_neighbours(surface, cloud, params, options, out);
+  if (!(options.tolerance_mm > 0)) return out;
+  if (out.held_out_max_mm > options.tolerance_mm) {
+    out.problem = "a surface fitted without the point " + at(out.held_out_worst) + " misses it by " +
+                  mm(out.held_out_max_mm) + " (hold-out check, " + std::to_string(out.held_out_points) +
+                  " points predicted, RMS " + mm(out.held_out_rms_mm) + ")";
+  } else if (out.range_excess_max_mm > 0) {
+    out.problem = "between neighbouring samples the surface leaves their range by " +
+                  mm(out.range_excess_max_mm + options.tolerance_mm) + " at " + at(out.range_worst) +
+                  " (it rings between the samples; a crease or step there?)";
+  }
+  out.passed = out.problem.empty();
+  return out;
+}
+
+}  // namespace dg::host

@@ -1,0 +1,49 @@
+// Checking a fitted surface between its samples, where the fit itself never looked.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "host/fit/bspline_fit.h"
+#include "host/geometry/fitted_surface.h"
+#include "host/scan/point_reader.h"
+
+namespace dg::host {
+
+// Which validation fold each point belongs to: whole scan lines (every `folds`-th line by line
+// order), or for points without lines every `folds`-th point. A point of fold f is held out when
+// fold f is checked.
+std::vector<int> validation_folds(const PointCloud& cloud, int folds);
+
+// Whether every fold's remaining points can still determine the net (Schoenberg-Whitney along both
+// directions); the reason when not. The tolerance loop asks this before it adds a knot, so the net
+// it reaches can always be validated.
+class FoldSupport {
+ public:
+  FoldSupport(const PointCloud& cloud, const Parameters& params, int folds);
+  std::string problem(const std::vector<double>& knots_u, int degree_u, const std::vector<double>& knots_v,
+                      int degree_v) const;
+
+ private:
+  std::vector<std::vector<double>> sites_u_, sites_v_;  // per fold, of the points that remain
+};
+
+struct ValidationOptions {
+  double tolerance_mm = 0;  // 0: measure only, decide nothing
+  int folds = 5;
+  // Parameters evaluated between each pair of neighbours (besides the quad centres).
+  int samples_between = 3;
+};
+
+// Two checks of a least-squares B-spline fit between the samples:
+//  1. hold-out: for each fold the net (same knots) is fitted again without the fold's points and the
+//     held-out points' orthogonal distances to that surface are measured: the surface's error where
+//     it saw no data, plus the noise;
+//  2. neighbours: between neighbouring samples (along a line, across to the next line, and at the
+//     centre of the cell four of them make) the surface must stay within their bounding box widened
+//     by the tolerance; a surface that rings between the samples leaves it.
+// With a tolerance, `passed` says both held; `problem` says where the worst failure is, or why the
+// fit could not be validated (a fold whose remaining points cannot determine the net).
+FitValidation validate_fit(const PointCloud& cloud, const Parameters& params, const std::vector<double>* weights,
+                           const BSplineSurface& surface, const ValidationOptions& options);
+
+}  // namespace dg::host

@@ -1,0 +1,112 @@
+// Greedy matching of sites to basis functions: taking the smallest usable site for each function in
+// turn finds a matching whenever one exists, because supports move monotonically with the index.
+#include "host/fit/knot_support.h"
+
+#include "host/geometry/bspline_surface.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace dg::host {
+
+std::vector<double> distinct_sites(const std::vector<UV>& uv, bool along_u, double merge) {
+  std::vector<double> values;
+  values.reserve(uv.size());
+  for (const UV& p : uv) values.push_back(along_u ? p.u : p.v);
+  std::sort(values.begin(), values.end());
+  std::vector<double> sites;
+  size_t start = 0;
+  for (size_t k = 1; k <= values.size(); ++k) {
+    if (k == values.size() || values[k] - values[start] > merge) {
+      double sum = 0;
+      for (size_t i = start; i < k; ++i) sum += values[i];
+      if (k > start) sites.push_back(sum / static_cast<double>(k - start));
+      start = k;
+    }
+  }
+  return sites;
+}
+
+double site_merge_distance(size_t points) {
+  return 0.1 / std::max(1.0, std::sqrt(static_cast<double>(points)));
+}
+
+std::vector<RampPoint> ramp_points(const std::vector<double>& knots, int degree, const std::vector<double>& sites) {
+  std::vector<RampPoint> ramps;
+  if (degree < 2) return ramps;
+  const int count = static_cast<int>(knots.size()) - degree - 1;
+  // Interior knots with multiplicity exactly `degree`: first index of each run.
+  for (int a = degree + 1; a + 2 * degree <= count; ++a) {
+    const double ta = knots[static_cast<size_t>(a)];
+    if (knots[static_cast<size_t>(a - 1)] == ta) continue;
+    if (knots[static_cast<size_t>(a + degree - 1)] != ta || knots[static_cast<size_t>(a + degree)] == ta) continue;
+    const int b = a + degree;  // the next knot run must start right after, also of multiplicity degree
+    const double tb = knots[static_cast<size_t>(b)];
+    if (!(tb > ta) || tb >= 1.0 || b + degree > count) continue;
+    if (knots[static_cast<size_t>(b + degree - 1)] != tb || knots[static_cast<size_t>(b + degree)] == tb) continue;
+    const bool empty = std::none_of(sites.begin(), sites.end(), [&](double t) { return t > ta && t < tb; });
+    if (!empty) continue;
+    // N_{a-1} is 1 at ta and N_{b-1} is 1 at tb; the degree - 1 between them live inside (ta, tb).
+    const int left = a - 1, right = b - 1;
+    const double gl = greville(knots, degree, left), gr = greville(knots, degree, right);
+    for (int i = left + 1; i < right; ++i) {
+      ramps.push_back({i, left, right, (greville(knots, degree, i) - gl) / (gr - gl)});
+    }
+  }
+  return ramps;
+}
+
+int schoenberg_whitney_gap(const std::vector<double>& knots, int degree, const std::vector<double>& sites) {
+  const int count = static_cast<int>(knots.size()) - degree - 1;
+  const std::vector<RampPoint> ramps = ramp_points(knots, degree, sites);
+  size_t next = 0;
+  for (int i = 0; i < count; ++i) {
+    if (std::any_of(ramps.begin(), ramps.end(), [&](const RampPoint& r) { return r.index == i; })) continue;
+    const double lo = knots[static_cast<size_t>(i)], hi = knots[static_cast<size_t>(i + degree + 1)];
+    // N_i is non-zero on (lo, hi); a clamped first function is 1 at lo, the last at hi.
+    while (next < sites.size()) {
+      const double t = sites[next];
+      const bool inside = (t > lo && t < hi) || (i == 0 && t == lo) || (i == count - 1 && t == hi);
+      if (inside) break;
+      if (t >= hi) return i;  // sites are sorted: none later lies in this support either
+      ++next;
+    }
+    if (next == sites.size()) return i;
+    ++next;
+  }
+  return -1;
+}
+
+namespace {
+
+std::string direction_problem(const std::vector<double>& knots, int degree, const std::vector<double>& sites,
+                              bool along_u, const Parameters& params) {
+  const int gap = schoenberg_whitney_gap(knots, degree, sites);
+  if (gap < 0) return "";
+  const int count = static_cast<int>(knots.size()) - degree - 1;
+  const char* axis = along_u ? "u" : "v";
+  const double a = knots[static_cast<size_t>(gap)], b = knots[static_cast<size_t>(gap + degree + 1)];
+  char where[160];
+  if (params.kind == Parameterization::kTableXy) {
+    const double lo = along_u ? params.x_min : params.y_min, hi = along_u ? params.x_max : params.y_max;
+    std::snprintf(where, sizeof where, "%s %.3f..%.3f mm", along_u ? "x" : "y", lo + (hi - lo) * a, lo + (hi - lo) * b);
+  } else {
+    std::snprintf(where, sizeof where, "%s %.4f..%.4f", axis, a, b);
+  }
+  return std::to_string(count) + " control points along " + axis + " need as many distinct " +
+         (along_u ? "positions" : "scan lines or positions") + " spread over their supports; the data has " +
+         std::to_string(sites.size()) + " and none is left for control point " + std::to_string(gap) + " (" + where + ")";
+}
+
+}  // namespace
+
+std::string net_support_problem(const std::vector<double>& knots_u, int degree_u, const std::vector<double>& knots_v,
+                                int degree_v, const std::vector<UV>& uv, const Parameters& params) {
+  const double merge = site_merge_distance(uv.size());
+  std::string problem = direction_problem(knots_u, degree_u, distinct_sites(uv, true, merge), true, params);
+  if (problem.empty()) problem = direction_problem(knots_v, degree_v, distinct_sites(uv, false, merge), false, params);
+  return problem;
+}
+
+}  // namespace dg::host

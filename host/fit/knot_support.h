@@ -1,0 +1,43 @@
+// Whether data can determine a net: the Schoenberg-Whitney condition along each parameter direction.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "host/fit/parameterize.h"
+
+namespace dg::host {
+
+// The distinct parameter values ("sites") of the points along one direction: values closer than
+// `merge` to the first value of their group count once, so the points of one scan line (whose v
+// differ only by the table's jitter) are one site, not hundreds. Sorted, each the group's mean.
+std::vector<double> distinct_sites(const std::vector<UV>& uv, bool along_u, double merge);
+
+// The merge distance for distinct_sites(): a tenth of the spacing of an even grid of that many points.
+double site_merge_distance(size_t points);
+
+// A step's ramp: a span between two knots of multiplicity `degree` (C0 at both) with no site inside.
+// Nothing measures the surface there, so its degree - 1 inner control points are not fitted but
+// placed on the straight line between the span's end control points (at their Greville abscissae):
+// the surface crosses the gap as a straight ramp. The fit eliminates them (bspline_fit.cpp) and the
+// support check does not ask sites of them.
+struct RampPoint {
+  int index = 0;          // the control point placed on the line
+  int left = 0, right = 0;  // the span's end control points (interpolating at its ends)
+  double weight_right = 0;  // index = (1 - w) left + w right
+};
+std::vector<RampPoint> ramp_points(const std::vector<double>& knots, int degree, const std::vector<double>& sites);
+
+// The Schoenberg-Whitney condition for a clamped knot vector: basis functions 0..count-1 can each be
+// given a site of their own, in increasing order, with N_i(site) != 0. It holds exactly when the
+// collocation matrix of the sites has full rank, so a direction that fails it has more control
+// points than its data can determine. Returns -1 when it holds, else the first basis function left
+// without a site.
+// Ramp points (above) are skipped.
+int schoenberg_whitney_gap(const std::vector<double>& knots, int degree, const std::vector<double>& sites);
+
+// The same check for both directions of a net, with the reason in words ("" when it holds): how
+// many sites there are, how many control points were asked, and where the support is empty.
+std::string net_support_problem(const std::vector<double>& knots_u, int degree_u, const std::vector<double>& knots_v,
+                                int degree_v, const std::vector<UV>& uv, const Parameters& params);
+
+}  // namespace dg::host
