@@ -5,6 +5,7 @@
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <string>
 
 #include "common/fit/bspline_basis.h"
@@ -111,11 +112,21 @@ Eigen::SparseMatrix<double> elimination_map(const DirectionMap& u, const Directi
   return t;
 }
 
-}  // namespace
 
-BSplineSurface fit_least_squares(const std::vector<Point3>& points, const Parameters& params,
-                                 const std::vector<double>* weights, const LsqSpec& spec) {
-  BSplineSurface s;
+// The normal equations of a net, reduced by the ramps' elimination (x = map y when `eliminate`),
+// and their factorization, checked for vanishing pivots.
+struct NormalSystem {
+  BSplineSurface shape;  // knots, degrees and counts; no control points yet
+  Eigen::SparseMatrix<double> map;
+  bool eliminate = false;
+  Eigen::MatrixXd rhs;   // reduced
+  std::unique_ptr<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower>> solver;
+};
+
+NormalSystem assemble(const std::vector<Point3>& points, const Parameters& params, const std::vector<double>* weights,
+                      const LsqSpec& spec) {
+  NormalSystem system;
+  BSplineSurface& s = system.shape;
   s.degree_u = spec.degree_u;
   s.degree_v = spec.degree_v;
   s.knots_u = spec.knots_u;
@@ -204,7 +215,8 @@ BSplineSurface fit_least_squares(const std::vector<Point3>& points, const Parame
     normal = reduced.triangularView<Eigen::Lower>();
     reduced_rhs = map.transpose() * rhs;
   }
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver(normal);
+  system.solver = std::make_unique<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower>>(normal);
+  auto& solver = *system.solver;
   if (solver.info() != Eigen::Success) throw FitError("the normal equations are singular: the points do not determine the net");
   const Eigen::VectorXd pivots = solver.vectorD();
   const double largest = pivots.cwiseAbs().maxCoeff();
@@ -216,7 +228,24 @@ BSplineSurface fit_least_squares(const std::vector<Point3>& points, const Parame
                      " net: too few points under its support (a hole in the scan?); use fewer control points");
     }
   }
-  const Eigen::MatrixXd reduced_solution = solver.solve(reduced_rhs);
+  system.map = std::move(map);
+  system.eliminate = eliminate;
+  system.rhs = std::move(reduced_rhs);
+  return system;
+}
+
+}  // namespace
+
+BSplineSurface fit_least_squares(const std::vector<Point3>& points, const Parameters& params,
+                                 const std::vector<double>* weights, const LsqSpec& spec) {
+  NormalSystem system = assemble(points, params, weights, spec);
+  BSplineSurface s = system.shape;
+  const bool height_field = params.kind == Parameterization::kTableXy;
+  const size_t unknowns = static_cast<size_t>(s.count_u) * s.count_v;
+  auto& solver = *system.solver;
+  const Eigen::MatrixXd reduced_solution = solver.solve(system.rhs);
+  const bool eliminate = system.eliminate;
+  const Eigen::SparseMatrix<double>& map = system.map;
   if (solver.info() != Eigen::Success || !reduced_solution.allFinite()) throw FitError("solving the normal equations failed");
   const Eigen::MatrixXd solution = eliminate ? Eigen::MatrixXd(map * reduced_solution) : reduced_solution;
 
@@ -235,6 +264,53 @@ BSplineSurface fit_least_squares(const std::vector<Point3>& points, const Parame
     }
   }
   return s;
+}
+
+SurfaceUncertainty fit_uncertainty(const std::vector<Point3>& points, const Parameters& params,
+                                   const std::vector<double>* weights, const BSplineSurface& surface, double sigma_mm,
+                                   int grid) {
+  LsqSpec spec;
+  spec.degree_u = surface.degree_u;
+  spec.degree_v = surface.degree_v;
+  spec.knots_u = surface.knots_u;
+  spec.knots_v = surface.knots_v;
+  NormalSystem system = assemble(points, params, weights, spec);
+  SurfaceUncertainty out;
+  out.computed = true;
+  out.sigma_mm = sigma_mm;
+  out.rows = out.cols = std::max(2, grid);
+  out.u_mm.assign(static_cast<size_t>(out.rows) * out.cols, 0.0);
+  const BSplineSurface& s = system.shape;
+  const int n = s.count_u * s.count_v;
+  // With weights 1 / sigma_i^2 the inverse normal matrix is the coefficients' covariance itself;
+  // without, it is scaled by the points' common variance.
+  const double scale = weights ? 1.0 : sigma_mm * sigma_mm;
+  Eigen::VectorXd b(n);
+  double sum = 0;
+  for (int r = 0; r < out.rows; ++r) {
+    for (int c = 0; c < out.cols; ++c) {
+      const double u = static_cast<double>(c) / (out.cols - 1), v = static_cast<double>(r) / (out.rows - 1);
+      const int su = fit::find_span(s.count_u, s.degree_u, u, s.knots_u.data());
+      const int sv = fit::find_span(s.count_v, s.degree_v, v, s.knots_v.data());
+      double nu[kMaxBasis], nv[kMaxBasis];
+      fit::bspline_basis(su, s.degree_u, u, s.knots_u.data(), nu);
+      fit::bspline_basis(sv, s.degree_v, v, s.knots_v.data(), nv);
+      b.setZero();
+      for (int a = 0; a <= s.degree_u; ++a) {
+        for (int e = 0; e <= s.degree_v; ++e) b((su - s.degree_u + a) * s.count_v + (sv - s.degree_v + e)) = nu[a] * nv[e];
+      }
+      // Var S(u, v) = b^T Cov(x) b with x = T y and Cov(y) = scale (T^T A T)^-1.
+      const Eigen::VectorXd reduced = system.eliminate ? Eigen::VectorXd(system.map.transpose() * b) : b;
+      const Eigen::VectorXd solved = system.solver->solve(reduced);
+      const double variance = scale * reduced.dot(solved);
+      const double value = std::sqrt(std::max(variance, 0.0));
+      out.u_mm[static_cast<size_t>(r) * out.cols + c] = value;
+      out.max_mm = std::max(out.max_mm, value);
+      sum += value;
+    }
+  }
+  out.mean_mm = sum / static_cast<double>(out.u_mm.size());
+  return out;
 }
 
 std::vector<double> parameter_distances(const BSplineSurface& surface, const std::vector<Point3>& points,

@@ -4,6 +4,7 @@
 
 #include "host/geometry/bspline_surface.h"
 #include "host/fit/parameterize.h"
+#include "host/geometry/fitted_surface.h"
 
 namespace dg::host {
 
@@ -23,6 +24,16 @@ struct LsqSpec {
 // lines or positions can determine), or a vanishing pivot (a hole the net spans).
 BSplineSurface fit_least_squares(const std::vector<Point3>& points, const Parameters& params,
                                  const std::vector<double>* weights, const LsqSpec& spec);
+
+// The standard uncertainty of the fitted surface from the points' noise: the coefficients' covariance
+// (C^T W C)^-1 (weights 1 / sigma_i^2) or sigma^2 (C^T C)^-1 (no weights, points of standard
+// uncertainty `sigma_mm`) propagated to S(u, v) on a grid x grid over the parameter domain:
+// u(u, v)^2 = b(u, v)^T Cov b(u, v), b the basis values there. It is the fit's precision (what
+// repeating the scan would scatter), not its shape error, which the tolerance and the validation
+// between the samples bound. The same net must be refittable from the points (FitError otherwise).
+SurfaceUncertainty fit_uncertainty(const std::vector<Point3>& points, const Parameters& params,
+                                   const std::vector<double>* weights, const BSplineSurface& surface, double sigma_mm,
+                                   int grid = 21);
 
 // Distance from each point to the surface point with the same parameters: an upper bound of the
 // orthogonal distance, cheap enough to screen millions of points.

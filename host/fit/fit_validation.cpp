@@ -173,7 +173,13 @@ std::vector<int> validation_folds(const PointCloud& cloud, int folds) {
     for (uint32_t id : *cloud.line) rank.emplace(id, 0);
     int next = 0;
     for (auto& [id, r] : rank) r = next++;
-    for (size_t i = 0; i < fold.size(); ++i) fold[i] = rank[(*cloud.line)[i]] % folds;
+    // The first and last lines are never held out: predicting them would test extrapolation past
+    // the scan, not the surface between its samples.
+    const int last = next - 1;
+    for (size_t i = 0; i < fold.size(); ++i) {
+      const int r = rank[(*cloud.line)[i]];
+      fold[i] = (r == 0 || r == last) ? -1 : (r - 1) % folds;
+    }
   } else {
     for (size_t i = 0; i < fold.size(); ++i) fold[i] = static_cast<int>(i % static_cast<size_t>(folds));
   }
@@ -196,8 +202,10 @@ FoldSupport::FoldSupport(const PointCloud& cloud, const Parameters& params, int 
 std::string FoldSupport::problem(const std::vector<double>& knots_u, int degree_u, const std::vector<double>& knots_v,
                                  int degree_v) const {
   for (size_t f = 0; f < sites_u_.size(); ++f) {
-    if (schoenberg_whitney_gap(knots_u, degree_u, sites_u_[f]) >= 0 ||
-        schoenberg_whitney_gap(knots_v, degree_v, sites_v_[f]) >= 0) {
+    // A margin (each control point with a site where its basis function is at least 0.1) keeps
+    // the nets the tolerance loop reaches well conditioned for every fold.
+    if (schoenberg_whitney_gap(knots_u, degree_u, sites_u_[f], 0.1) >= 0 ||
+        schoenberg_whitney_gap(knots_v, degree_v, sites_v_[f], 0.1) >= 0) {
       return "with validation fold " + std::to_string(f + 1) + " of " + std::to_string(sites_u_.size()) +
              " held out, the remaining points cannot determine the net";
     }

@@ -10,8 +10,8 @@
 namespace dg::host {
 
 // Which validation fold each point belongs to: whole scan lines (every `folds`-th line by line
-// order), or for points without lines every `folds`-th point. A point of fold f is held out when
-// fold f is checked.
+// order; the first and last lines belong to none, -1, and are never held out), or for points
+// without lines every `folds`-th point. A point of fold f is held out when fold f is checked.
 std::vector<int> validation_folds(const PointCloud& cloud, int folds);
 
 // Whether every fold's remaining points can still determine the net (Schoenberg-Whitney along both

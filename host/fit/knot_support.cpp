@@ -2,6 +2,7 @@
 // turn finds a matching whenever one exists, because supports move monotonically with the index.
 #include "host/fit/knot_support.h"
 
+#include "common/fit/bspline_basis.h"
 #include "host/geometry/bspline_surface.h"
 
 #include <algorithm>
@@ -57,7 +58,8 @@ std::vector<RampPoint> ramp_points(const std::vector<double>& knots, int degree,
   return ramps;
 }
 
-int schoenberg_whitney_gap(const std::vector<double>& knots, int degree, const std::vector<double>& sites) {
+int schoenberg_whitney_gap(const std::vector<double>& knots, int degree, const std::vector<double>& sites,
+                           double min_basis) {
   const int count = static_cast<int>(knots.size()) - degree - 1;
   const std::vector<RampPoint> ramps = ramp_points(knots, degree, sites);
   size_t next = 0;
@@ -67,7 +69,14 @@ int schoenberg_whitney_gap(const std::vector<double>& knots, int degree, const s
     // N_i is non-zero on (lo, hi); a clamped first function is 1 at lo, the last at hi.
     while (next < sites.size()) {
       const double t = sites[next];
-      const bool inside = (t > lo && t < hi) || (i == 0 && t == lo) || (i == count - 1 && t == hi);
+      bool inside = (t > lo && t < hi) || (i == 0 && t == lo) || (i == count - 1 && t == hi);
+      if (inside && min_basis > 0) {
+        const int span = fit::find_span(count, degree, t, knots.data());
+        double n[fit::kMaxDegree + 1];
+        fit::bspline_basis(span, degree, t, knots.data(), n);
+        const int k = i - (span - degree);
+        inside = k >= 0 && k <= degree && n[k] >= min_basis;
+      }
       if (inside) break;
       if (t >= hi) return i;  // sites are sorted: none later lies in this support either
       ++next;

@@ -32,8 +32,11 @@ std::vector<RampPoint> ramp_points(const std::vector<double>& knots, int degree,
 // collocation matrix of the sites has full rank, so a direction that fails it has more control
 // points than its data can determine. Returns -1 when it holds, else the first basis function left
 // without a site.
-// Ramp points (above) are skipped.
-int schoenberg_whitney_gap(const std::vector<double>& knots, int degree, const std::vector<double>& sites);
+// Ramp points (above) are skipped. With `min_basis` > 0 a site counts for N_i only where
+// N_i(site) >= min_basis: a margin that keeps the collocation matrix well conditioned, not just
+// non-singular (a site at the tail of a support determines its control point only weakly).
+int schoenberg_whitney_gap(const std::vector<double>& knots, int degree, const std::vector<double>& sites,
+                           double min_basis = 0.0);
 
 // The same check for both directions of a net, with the reason in words ("" when it holds): how
 // many sites there are, how many control points were asked, and where the support is empty.

@@ -98,8 +98,11 @@ ToleranceResult refine(const PointCloud& cloud, const Parameters& params, const 
   }
   ToleranceResult best;
   best.max_distance_mm = HUGE_VAL;
-  const double noise = estimate_noise(cloud, params);
-  best.noise_sigma_mm = noise;
+  const NoiseEstimate noise_estimate = estimate_gauge_noise(cloud, params);
+  best.noise_sigma_mm = noise_estimate.sigma_mm;
+  best.resolution_mm = noise_estimate.resolution_mm;
+  // The residuals hold the readings' whole scatter, rounding included.
+  const double noise = noise_estimate.reading_sigma_mm;
   const std::vector<Point3>& points = cloud.points;
   LsqSpec spec;
   spec.degree_u = options.degree_u;
@@ -125,7 +128,8 @@ ToleranceResult refine(const PointCloud& cloud, const Parameters& params, const 
   };
   // Refinement continues past the tolerance until the residual is down to the noise (RMS <= 1.05
   // sigma), so no shape error is left that the data can still resolve; it never goes below that.
-  const double noise_floor = 1.05 * noise;
+  // Noise-free (synthetic) data has no floor: a hundredth of the tolerance stands in for it.
+  const double noise_floor = std::max(1.05 * noise, 0.01 * options.tolerance_mm);
   double previous_rms = HUGE_VAL;
   bool tolerance_held = false;
   std::string refusal;
@@ -183,7 +187,7 @@ ToleranceResult refine(const PointCloud& cloud, const Parameters& params, const 
     if (within) {
       tolerance_held = true;
       best.kept = true;
-      if (!(noise > 0) || rms <= noise_floor) break;
+      if (rms <= noise_floor) break;
       // Within the tolerance but above the noise: refine the spans whose residual is above the
       // noise by more than their point count explains (the worst one when none is).
       auto flag_noisy = [&](const std::vector<double>& sq, const std::vector<size_t>& n, std::set<int>& spans) {
@@ -209,7 +213,7 @@ ToleranceResult refine(const PointCloud& cloud, const Parameters& params, const 
     }
     if (tolerance_held) break;  // refining for the noise lost the tolerance: keep the last net that held it
     // The noise floor: the residual is the noise, so what is left above the tolerance is noise.
-    if (noise > 0 && rms <= noise_floor) {
+    if (noise > 0 && rms <= 1.05 * noise) {
       refusal = "the scan's noise (sigma " + mm_text(noise) + ", RMS residual " + mm_text(rms) +
                 ") is above what the tolerance allows: " + std::to_string(points.size()) +
                 " points of that noise reach about " + mm_text(noise * std::sqrt(2 * std::log(static_cast<double>(points.size())))) +

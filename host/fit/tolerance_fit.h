@@ -28,7 +28,8 @@ struct ToleranceResult {
   bool kept = false;              // every orthogonal distance <= tolerance
   std::string reason;             // why it was refused, when not kept
   double max_distance_mm = 0;     // largest orthogonal distance of `surface`
-  double noise_sigma_mm = 0;      // estimated measurement noise
+  double noise_sigma_mm = 0;      // estimated gauge noise (rounding to the reading step taken out)
+  double resolution_mm = 0;       // the reading step it knew of
   double rms_mm = 0;              // RMS residual along the parameter direction (z for a height field)
   int iterations = 0;
   FitValidation validation;       // the checks between the samples, when the samples kept the tolerance

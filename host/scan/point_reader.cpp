@@ -166,6 +166,7 @@ PointCloud read_points(const std::string& path) {
     const ScanData data = read_scan_file(path);
     PointCloud cloud;
     cloud.line.emplace();
+    if (data.device && data.device->gauge_resolution_nm > 0) cloud.resolution_mm = data.device->gauge_resolution_nm * 1e-6;
     for (const auto& p : data.points) {
       cloud.points.push_back({p.x_nm * 1e-6, p.y_nm * 1e-6, p.z_nm * 1e-6});
       cloud.line->push_back(p.line);

@@ -22,6 +22,7 @@ struct PointCloud {
   std::optional<std::vector<uint32_t>> line;  // from a `line` column or a scan file
   std::optional<std::vector<Point3>> normal;  // from nx,ny,nz
   std::optional<std::vector<double>> sigma;   // per-point uncertainty, mm
+  std::optional<double> resolution_mm;        // the gauge's reading step, when the file says it
 };
 
 // Picks the reader by extension: .csv, .xyz/.txt, .ply, .scan. Throws PointFileError for
