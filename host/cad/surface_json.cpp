@@ -51,6 +51,28 @@ std::string surface_json_text(const FittedSurface& f) {
       fit["iterations"] = f.iterations;
     }
     fit["noise_sigma_mm"] = finite_or_null(f.noise_sigma_mm);
+    if (f.validation.checked) {
+      const FitValidation& v = f.validation;
+      fit["validation"] = {
+          {"passed", v.passed},
+          {"problem", v.problem},
+          {"hold_out", {{"folds", v.folds}, {"points", v.held_out_points}, {"rms_mm", finite_or_null(v.held_out_rms_mm)},
+                        {"max_mm", finite_or_null(v.held_out_max_mm)}}},
+          {"neighbours", {{"checks", v.neighbour_checks}, {"excess_max_mm", finite_or_null(v.range_excess_max_mm)}}}};
+    }
+    if (f.uncertainty.computed) {
+      const SurfaceUncertainty& u = f.uncertainty;
+      nlohmann::json grid = nlohmann::json::array();
+      for (double value : u.u_mm) grid.push_back(finite_or_null(value));
+      fit["uncertainty"] = {{"kind", "standard uncertainty of the surface, from the points' noise (k = 1)"},
+                            {"sigma_mm", finite_or_null(u.sigma_mm)},
+                            {"sigma_from", u.sigma_from},
+                            {"coverage_factor", 2},
+                            {"max_mm", finite_or_null(u.max_mm)},
+                            {"mean_mm", finite_or_null(u.mean_mm)},
+                            {"grid", {u.rows, u.cols}},
+                            {"u_mm", std::move(grid)}};
+    }
     j["fit"] = std::move(fit);
   }
   return j.dump(1) + "\n";
@@ -109,6 +131,40 @@ FittedSurface parse_surface_json(const std::string& text, const std::string& nam
       f.tolerance_kept = fit.value("tolerance_kept", false);
       f.iterations = fit.value("iterations", 0);
       f.noise_sigma_mm = fit["noise_sigma_mm"].is_number() ? fit["noise_sigma_mm"].get<double>() : 0.0;
+      if (fit.contains("validation")) {
+        const auto& v = fit["validation"];
+        f.validation.checked = true;
+        f.validation.passed = v.at("passed").get<bool>();
+        f.validation.problem = v.value("problem", "");
+        const auto& h = v.at("hold_out");
+        f.validation.folds = h.at("folds").get<int>();
+        f.validation.held_out_points = h.at("points").get<size_t>();
+        f.validation.held_out_rms_mm = h.at("rms_mm").get<double>();
+        f.validation.held_out_max_mm = h.at("max_mm").get<double>();
+        const auto& n = v.at("neighbours");
+        f.validation.neighbour_checks = n.at("checks").get<size_t>();
+        f.validation.range_excess_max_mm = n.at("excess_max_mm").get<double>();
+      }
+      if (fit.contains("uncertainty")) {
+        const auto& u = fit["uncertainty"];
+        SurfaceUncertainty& out = f.uncertainty;
+        out.computed = true;
+        out.sigma_mm = u.at("sigma_mm").get<double>();
+        out.sigma_from = u.value("sigma_from", "");
+        out.max_mm = u.at("max_mm").get<double>();
+        out.mean_mm = u.at("mean_mm").get<double>();
+        const auto grid = u.at("grid").get<std::vector<int>>();
+        if (grid.size() != 2 || grid[0] < 2 || grid[1] < 2 || grid[0] > 4096 || grid[1] > 4096) {
+          throw fail("\"uncertainty\": \"grid\" needs two sizes of 2..4096");
+        }
+        out.rows = grid[0];
+        out.cols = grid[1];
+        out.u_mm = u.at("u_mm").get<std::vector<double>>();
+        if (out.u_mm.size() != static_cast<size_t>(out.rows) * out.cols) throw fail("\"uncertainty\": \"u_mm\" does not fill its grid");
+        for (double value : out.u_mm) {
+          if (!(value >= 0) || !std::isfinite(value)) throw fail("\"uncertainty\": a value that is not a finite, non-negative number");
+        }
+      }
     }
   } catch (const nlohmann::json::exception& e) {
     throw fail(std::string("missing or mistyped field: ") + e.what());

@@ -1,6 +1,8 @@
 // The fit subcommand: read points, parameterize, fit, measure orthogonal distances, write SURF.json.
 #include "host/cli/fit_command.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <stdexcept>
@@ -14,6 +16,7 @@
 #include "host/fit/hermite_fit.h"
 #include "host/cad/surface_json.h"
 #include "host/fit/tolerance_fit.h"
+#include "host/fit/fit_validation.h"
 #include "host/fit/orthogonal_distances.h"
 
 namespace dg::host {
@@ -61,9 +64,73 @@ void print_creases(const FitArgs& a, const Parameters& params, const Creases& cr
   }
 }
 
+void print_validation(const FittedSurface& out) {
+  const FitValidation& v = out.validation;
+  if (!v.checked) return;
+  if (v.held_out_points > 0) {
+    std::printf("between the samples: %zu points predicted by surfaces fitted without them (%d folds of scan lines): "
+                "rms %.4f max %.4f mm\n",
+                v.held_out_points, v.folds, v.held_out_rms_mm, v.held_out_max_mm);
+  }
+  if (v.neighbour_checks > 0) {
+    std::printf("between neighbouring samples (%zu places): the surface leaves their range by %.4f mm at most%s\n",
+                v.neighbour_checks, v.range_excess_max_mm, out.tolerance_mm > 0 ? " beyond the tolerance" : "");
+  }
+  if (!v.problem.empty()) std::printf("validation: %s\n", v.problem.c_str());
+}
+
+void print_uncertainty(const FittedSurface& out) {
+  const SurfaceUncertainty& u = out.uncertainty;
+  if (!u.computed) return;
+  std::printf("standard uncertainty of the surface u (k = 1): max %.4f mean %.4f mm; expanded U = 2u: max %.4f mean %.4f mm\n",
+              u.max_mm, u.mean_mm, 2 * u.max_mm, 2 * u.mean_mm);
+  std::printf("  from a point uncertainty of %.4f mm (%s); the fit's precision, not its shape error\n", u.sigma_mm,
+              u.sigma_from.c_str());
+}
+
+// The surface's standard uncertainty from the points' noise: the sigma column when the fit was
+// weighted by it, else the noise estimate (the readings' scatter, rounding included), else the
+// residual RMS.
+SurfaceUncertainty surface_uncertainty(const PointCloud& cloud, const Parameters& params, const std::vector<double>* w,
+                                       const BSplineSurface& surface, const std::vector<double>& distances) {
+  double sigma = 0;
+  std::string from;
+  if (w) {
+    std::vector<double> sigmas = *cloud.sigma;
+    std::nth_element(sigmas.begin(), sigmas.begin() + static_cast<std::ptrdiff_t>(sigmas.size() / 2), sigmas.end());
+    sigma = sigmas[sigmas.size() / 2];
+    from = "each point's sigma column; the median is given";
+  } else {
+    const NoiseEstimate noise = estimate_gauge_noise(cloud, params);
+    if (noise.reading_sigma_mm > 0) {
+      sigma = noise.reading_sigma_mm;
+      char text[160];
+      std::snprintf(text, sizeof text, "noise estimated from the scan, %.4f mm, with the reading step %.4f mm", noise.sigma_mm,
+                    noise.resolution_mm);
+      from = text;
+    } else {
+      const size_t unknowns = static_cast<size_t>(surface.count_u) * surface.count_v;
+      double sum = 0;
+      for (double d : distances) sum += d * d;
+      if (distances.size() > unknowns) sigma = std::sqrt(sum / static_cast<double>(distances.size() - unknowns));
+      from = "residual RMS over n - p degrees of freedom";
+    }
+  }
+  if (!(sigma > 0) || !std::isfinite(sigma)) return {};
+  try {
+    SurfaceUncertainty u = fit_uncertainty(cloud.points, params, w, surface, sigma);
+    u.sigma_from = from;
+    return u;
+  } catch (const FitError&) {
+    return {};  // the net cannot be refitted from these points: no uncertainty to state
+  }
+}
+
 void print_summary(const FitArgs& a, const FittedSurface& out) {
   if (a.quiet) return;
   print_stats(out);
+  print_validation(out);
+  print_uncertainty(out);
   if (a.tolerance_mm > 0) {
     std::printf("tolerance %.4f mm %s after %d fits\n", a.tolerance_mm, out.tolerance_kept ? "kept" : "NOT kept", out.iterations);
   }
@@ -211,6 +278,7 @@ int run_fit(const FitArgs& a) {
     out.tolerance_kept = r.kept;
     out.noise_sigma_mm = r.noise_sigma_mm;
     out.iterations = r.iterations;
+    out.validation = r.validation;
     distances = std::move(r.distances);
     if (!r.kept) {
       std::fprintf(stderr, "digitizer: tolerance refused: %s\n", r.reason.c_str());
@@ -224,8 +292,11 @@ int run_fit(const FitArgs& a) {
     spec.knots_v = with_crease_knots(clamped_uniform_knots(nv, degree), creases.v, degree);
     out.surface = fit_least_squares(cloud.points, params, w, spec);
     distances = orthogonal_distances(out.surface, cloud.points, params);
+    // Without a tolerance the checks between the samples are measured and reported, not decided.
+    out.validation = validate_fit(cloud, params, w, out.surface, ValidationOptions{});
   }
   out.distance = distance_stats(distances);
+  out.uncertainty = surface_uncertainty(cloud, params, w, out.surface, distances);
   write_surface_json(a.output, out);
   print_summary(a, out);
   return exit_code;

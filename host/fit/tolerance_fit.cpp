@@ -212,12 +212,21 @@ ToleranceResult refine(const PointCloud& cloud, const Parameters& params, const 
       continue;
     }
     if (tolerance_held) break;  // refining for the noise lost the tolerance: keep the last net that held it
-    // The noise floor: the residual is the noise, so what is left above the tolerance is noise.
+    // The noise floor: the residual is the noise. Whether what is left above the tolerance is the
+    // noise's own tail or something the surface cannot follow, the reach of that noise over this
+    // many points (sigma sqrt(2 ln n), the usual largest of n normal values) tells.
     if (noise > 0 && rms <= 1.05 * noise) {
-      refusal = "the scan's noise (sigma " + mm_text(noise) + ", RMS residual " + mm_text(rms) +
-                ") is above what the tolerance allows: " + std::to_string(points.size()) +
-                " points of that noise reach about " + mm_text(noise * std::sqrt(2 * std::log(static_cast<double>(points.size())))) +
-                "; filter the scan or give a larger tolerance";
+      const double reach = noise * std::sqrt(2 * std::log(static_cast<double>(points.size())));
+      if (reach >= options.tolerance_mm) {
+        refusal = "the scan's noise (sigma " + mm_text(noise) + ", RMS residual " + mm_text(rms) +
+                  ") is above what the tolerance allows: " + std::to_string(points.size()) +
+                  " points of that noise reach about " + mm_text(reach) + "; filter the scan or give a larger tolerance";
+      } else {
+        refusal = "the residual is down to the noise (sigma " + mm_text(noise) + ", RMS " + mm_text(rms) +
+                  "), yet some points lie farther than that noise reaches (about " + mm_text(reach) +
+                  "): a crease, step or outlier the surface cannot follow runs there; filter outliers, or scan and fit "
+                  "the regions on either side of it separately";
+      }
       break;
     }
     if (iteration >= 3 && rms > 0.97 * previous_rms) {
