@@ -1,10 +1,12 @@
-// Filtering: outliers are replaced by the robust local estimate and listed with their measured values.
+// Filtering: outliers are left out of the filtered points (or replaced by the robust local estimate
+// on request) and always listed with their measured values in a file of their own.
 #include "host/cli/filter_command.h"
 
 #include <cstdio>
 #include <stdexcept>
 #include <vector>
 
+#include "host/io/file_name.h"
 #include "host/scan/point_export.h"
 #include "host/scan/point_reader.h"
 
@@ -22,34 +24,49 @@ CLI::App* add_filter_command(CLI::App& app, FilterArgs& a) {
   cmd->add_option("--h", a.options.h, "residuals kept (default [n/2]+[(p+1)/2]: 13 of 25 for order 0)")->check(CLI::Range(1, 225));
   cmd->add_option("--outlier-sigmas", a.options.outlier_sigmas, "report points this many robust sigmas off")
       ->capture_default_str()->check(CLI::PositiveNumber);
-  cmd->add_option("--outliers", a.outliers, "write the outliers' measured points to this CSV");
+  cmd->add_option("--outliers", a.outliers, "the outliers' measured points (.csv; default OUTPUT.outliers.csv)");
+  cmd->add_flag("--replace-outliers", a.replace_outliers,
+                "put the local estimate in each outlier's place (default: leave outliers out of the output)");
   return cmd;
 }
 
 int run_filter(const FilterArgs& a) {
   if (!a.lts) throw std::invalid_argument("choose a filter: --lts");
-  PointCloud cloud = read_points(a.input);
+  const PointCloud cloud = read_points(a.input);
   const LtsResult r = lts_filter(cloud.points, a.options);
-  std::vector<Point3> raw = cloud.points;
-  for (size_t i = 0; i < cloud.points.size(); ++i) cloud.points[i].z = r.z[i];
-  write_cloud_csv(a.output, cloud.points, cloud.line ? &*cloud.line : nullptr);
+  // An outlier's place is left empty unless asked otherwise: near a crease a point on a sliver of
+  // surface can be flagged although it is right, and its estimate then comes from the other side
+  // of the crease; a missing point costs the fit little, a wrong height is a false measurement.
+  std::vector<bool> is_outlier(cloud.points.size(), false);
+  for (const auto& o : r.outliers) is_outlier[o.index] = true;
+  PointCloud kept;
+  if (cloud.line) kept.line = std::vector<uint32_t>();
+  for (size_t i = 0; i < cloud.points.size(); ++i) {
+    if (is_outlier[i] && !a.replace_outliers) continue;
+    kept.points.push_back({cloud.points[i].x, cloud.points[i].y, r.z[i]});
+    if (cloud.line) kept.line->push_back((*cloud.line)[i]);
+  }
+  write_cloud_csv(a.output, kept.points, kept.line ? &*kept.line : nullptr);
   std::printf("LTS %dx%d (%s neighbourhoods), %d iterations%s, residual sigma %.4f mm\n", a.options.window,
               a.options.window, r.gridded ? "grid" : "nearest-point", r.iterations, r.converged ? "" : " (not converged)",
               r.sigma_mm);
-  std::printf("%zu outliers (|z - filtered| > %.1f sigma)\n", r.outliers.size(), a.options.outlier_sigmas);
+  std::printf("%zu outliers (|z - estimate| > %.1f sigma)%s\n", r.outliers.size(), a.options.outlier_sigmas,
+              r.outliers.empty() ? "" : a.replace_outliers ? ", replaced by the estimate" : ", left out of the output");
+  const auto& raw = cloud.points;
   for (size_t k = 0; k < r.outliers.size() && k < 10; ++k) {
     const auto& o = r.outliers[k];
-    std::printf("  point %zu at (%.3f, %.3f): z %.4f -> %.4f mm (%+.4f)\n", o.index + 1, raw[o.index].x, raw[o.index].y,
-                raw[o.index].z, r.z[o.index], o.residual_mm);
+    std::printf("  point %zu at (%.3f, %.3f): z %.4f, estimate %.4f mm (%+.4f)\n", o.index + 1, raw[o.index].x,
+                raw[o.index].y, raw[o.index].z, r.z[o.index], o.residual_mm);
   }
-  if (r.outliers.size() > 10) std::printf("  ... %s\n", a.outliers.empty() ? "list them all with --outliers FILE.csv" : "all in the outliers file");
-  if (!a.outliers.empty()) {
+  if (r.outliers.size() > 10) std::printf("  ... all in the outliers file\n");
+  if (!r.outliers.empty()) {
+    const std::string list = a.outliers.empty() ? without_extension(a.output) + ".outliers.csv" : a.outliers;
     std::vector<Point3> bad;
     for (const auto& o : r.outliers) bad.push_back(raw[o.index]);
-    write_cloud_csv(a.outliers, bad, nullptr);
-    std::printf("wrote outliers (measured values) to %s\n", a.outliers.c_str());
+    write_cloud_csv(list, bad, nullptr);
+    std::printf("wrote the outliers (measured values) to %s\n", list.c_str());
   }
-  std::printf("wrote %zu filtered points to %s\n", cloud.points.size(), a.output.c_str());
+  std::printf("wrote %zu filtered points to %s\n", kept.points.size(), a.output.c_str());
   return 0;
 }
 

@@ -10,6 +10,7 @@ namespace dg::host {
 struct FilterArgs {
   std::string input, output, outliers;
   bool lts = false;
+  bool replace_outliers = false;  // put the estimate in an outlier's place instead of leaving it out
   LtsOptions options;
 };
 

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <map>
 
+#include "host/scan/median.h"
+
 namespace dg::host {
 namespace {
 
@@ -13,13 +15,6 @@ struct Sample {
   double z;      // height
   double param;  // the surface parameter in this direction
 };
-
-double median_of(std::vector<double> values) {
-  if (values.empty()) return 0;
-  const size_t mid = values.size() / 2;
-  std::nth_element(values.begin(), values.begin() + static_cast<long>(mid), values.end());
-  return values[mid];
-}
 
 // Parameters of the samples where the slope turns sharply (see detect_creases).
 void sequence_candidates(std::vector<Sample> seq, double sigma, std::vector<double>& out) {

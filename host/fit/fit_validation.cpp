@@ -196,8 +196,11 @@ FoldSupport::FoldSupport(const PointCloud& cloud, const Parameters& params, int 
     }
     sites_u_.push_back(distinct_sites(kept, true, merge));
     sites_v_.push_back(distinct_sites(kept, false, merge));
+    kept_.push_back(std::move(kept));
   }
 }
+
+
 
 std::string FoldSupport::problem(const std::vector<double>& knots_u, int degree_u, const std::vector<double>& knots_v,
                                  int degree_v) const {
@@ -208,6 +211,12 @@ std::string FoldSupport::problem(const std::vector<double>& knots_u, int degree_
         schoenberg_whitney_gap(knots_v, degree_v, sites_v_[f], 0.1) >= 0) {
       return "with validation fold " + std::to_string(f + 1) + " of " + std::to_string(sites_u_.size()) +
              " held out, the remaining points cannot determine the net";
+    }
+    const auto [i, j] = unmatched_control_point(knots_u, degree_u, knots_v, degree_v, kept_[f], 0.01);
+    if (i >= 0) {
+      return "with validation fold " + std::to_string(f + 1) + " of " + std::to_string(sites_u_.size()) +
+             " held out, the remaining points cannot determine control point (" + std::to_string(i) + ", " +
+             std::to_string(j) + ") of the net (a hole in the scan beside it)";
     }
   }
   return "";
@@ -248,6 +257,9 @@ FitValidation validate_fit(const PointCloud& cloud, const Parameters& params, co
       out.problem = "cannot be validated: with fold " + std::to_string(f + 1) + " of " + std::to_string(options.folds) +
                     (cloud.line ? " (every " + std::to_string(options.folds) + "th scan line)" : "") +
                     " held out, " + e.what();
+      // The folds measured so far are no figure for the fit: none is reported.
+      out.held_out_points = 0;
+      out.held_out_max_mm = 0;
       return out;
     }
     for (size_t i : held) {

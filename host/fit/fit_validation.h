@@ -25,6 +25,7 @@ class FoldSupport {
 
  private:
   std::vector<std::vector<double>> sites_u_, sites_v_;  // per fold, of the points that remain
+  std::vector<std::vector<UV>> kept_;                  // per fold, the parameters of those points
 };
 
 struct ValidationOptions {

@@ -108,7 +108,58 @@ std::string direction_problem(const std::vector<double>& knots, int degree, cons
          std::to_string(sites.size()) + " and none is left for control point " + std::to_string(gap) + " (" + where + ")";
 }
 
+// Kuhn's augmenting path from control point c; points visited in this search carry `stamp`.
+bool augment(int c, const std::vector<std::vector<int>>& points_of, std::vector<int>& control_of_point,
+             std::vector<int>& seen, int stamp) {
+  for (int k : points_of[static_cast<size_t>(c)]) {
+    if (seen[static_cast<size_t>(k)] == stamp) continue;
+    seen[static_cast<size_t>(k)] = stamp;
+    const int holder = control_of_point[static_cast<size_t>(k)];
+    if (holder < 0 || augment(holder, points_of, control_of_point, seen, stamp)) {
+      control_of_point[static_cast<size_t>(k)] = c;
+      return true;
+    }
+  }
+  return false;
+}
+
 }  // namespace
+
+std::pair<int, int> unmatched_control_point(const std::vector<double>& knots_u, int degree_u,
+                                            const std::vector<double>& knots_v, int degree_v,
+                                            const std::vector<UV>& uv, double min_product) {
+  const int count_u = static_cast<int>(knots_u.size()) - degree_u - 1;
+  const int count_v = static_cast<int>(knots_v.size()) - degree_v - 1;
+  if (count_u <= 0 || count_v <= 0 || degree_u >= 8 || degree_v >= 8) return {-1, -1};
+  std::vector<std::vector<int>> points_of(static_cast<size_t>(count_u) * count_v);
+  for (size_t k = 0; k < uv.size(); ++k) {
+    const int su = fit::find_span(count_u, degree_u, uv[k].u, knots_u.data());
+    const int sv = fit::find_span(count_v, degree_v, uv[k].v, knots_v.data());
+    double nu[8], nv[8];
+    fit::bspline_basis(su, degree_u, uv[k].u, knots_u.data(), nu);
+    fit::bspline_basis(sv, degree_v, uv[k].v, knots_v.data(), nv);
+    for (int a = 0; a <= degree_u; ++a) {
+      for (int b = 0; b <= degree_v; ++b) {
+        if (nu[a] * nv[b] > min_product) {
+          points_of[static_cast<size_t>(su - degree_u + a) * count_v + (sv - degree_v + b)].push_back(static_cast<int>(k));
+        }
+      }
+    }
+  }
+  const double merge = site_merge_distance(uv.size());
+  std::vector<bool> ramp_u(static_cast<size_t>(count_u), false), ramp_v(static_cast<size_t>(count_v), false);
+  for (const RampPoint& r : ramp_points(knots_u, degree_u, distinct_sites(uv, true, merge))) ramp_u[r.index] = true;
+  for (const RampPoint& r : ramp_points(knots_v, degree_v, distinct_sites(uv, false, merge))) ramp_v[r.index] = true;
+  std::vector<int> control_of_point(uv.size(), -1), seen(uv.size(), -1);
+  for (int i = 0; i < count_u; ++i) {
+    for (int j = 0; j < count_v; ++j) {
+      if (ramp_u[static_cast<size_t>(i)] || ramp_v[static_cast<size_t>(j)]) continue;
+      const int c = i * count_v + j;
+      if (!augment(c, points_of, control_of_point, seen, c)) return {i, j};
+    }
+  }
+  return {-1, -1};
+}
 
 std::string net_support_problem(const std::vector<double>& knots_u, int degree_u, const std::vector<double>& knots_v,
                                 int degree_v, const std::vector<UV>& uv, const Parameters& params) {

@@ -1,6 +1,7 @@
 // Whether data can determine a net: the Schoenberg-Whitney condition along each parameter direction.
 #pragma once
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "host/fit/parameterize.h"
@@ -37,6 +38,15 @@ std::vector<RampPoint> ramp_points(const std::vector<double>& knots, int degree,
 // non-singular (a site at the tail of a support determines its control point only weakly).
 int schoenberg_whitney_gap(const std::vector<double>& knots, int degree, const std::vector<double>& sites,
                            double min_basis = 0.0);
+
+// The condition for the whole tensor-product net: every control point (ramp points aside) can be
+// given a point of its own with N_i(u) N_j(v) > min_product (a bipartite matching). Each direction
+// may pass on its own while a hole in the scan (outliers left out, or a validation fold held out
+// beside one) leaves two control points near it sharing the few points under both. Returns
+// {-1, -1} when it holds, else a control point (i along u, j along v) left without a point.
+std::pair<int, int> unmatched_control_point(const std::vector<double>& knots_u, int degree_u,
+                                            const std::vector<double>& knots_v, int degree_v,
+                                            const std::vector<UV>& uv, double min_product = 0.0);
 
 // The same check for both directions of a net, with the reason in words ("" when it holds): how
 // many sites there are, how many control points were asked, and where the support is empty.

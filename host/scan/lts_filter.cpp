@@ -6,8 +6,10 @@
 #include <map>
 #include <stdexcept>
 
+#include "host/scan/difference_noise.h"
 #include "host/scan/local_polynomial.h"
 #include "host/scan/neighbours.h"
+#include "host/scan/median.h"
 
 namespace dg::host {
 
@@ -29,7 +31,8 @@ double grid_step(std::vector<double> values) {
   return step;
 }
 
-bool grid_neighbourhoods(const std::vector<Point3>& points, int window, std::vector<std::vector<size_t>>& out) {
+bool grid_neighbourhoods(const std::vector<Point3>& points, int window, std::vector<std::vector<size_t>>& out,
+                         std::vector<std::vector<size_t>>& rows_and_columns) {
   std::vector<double> xs, ys;
   for (const auto& p : points) xs.push_back(p.x), ys.push_back(p.y);
   const double sx = grid_step(xs), sy = grid_step(ys);
@@ -41,22 +44,161 @@ bool grid_neighbourhoods(const std::vector<Point3>& points, int window, std::vec
     at[i] = {std::lround((points[i].x - x0) / sx), std::lround((points[i].y - y0) / sy)};
     if (!cell.emplace(at[i], i).second) return false;  // two points in one grid cell: not a grid
   }
+  // The grid's rows and columns in order, for the noise estimate (gaps break the even spacing
+  // the estimate asks of each window, so they need no care here).
+  std::map<long, std::map<long, size_t>> rows, columns;
+  for (const auto& [key, index] : cell) {
+    rows[key.second][key.first] = index;
+    columns[key.first][key.second] = index;
+  }
+  rows_and_columns.clear();
+  for (const auto* lines : {&rows, &columns}) {
+    for (const auto& [k, members] : *lines) {
+      std::vector<size_t> sequence;
+      for (const auto& [position, index] : members) sequence.push_back(index);
+      rows_and_columns.push_back(std::move(sequence));
+    }
+  }
+  // Near an edge of the scan the window shifts inward rather than being cut, so that a point at an
+  // edge or a corner keeps a full window x window neighbourhood: a cut 3 x 3 corner window leaves a
+  // plane on 8 points, whose curvature bias on a 1 mm grid is tens of sigma.
   const long r = window / 2;
+  long lo_x = at[0].first, hi_x = lo_x, lo_y = at[0].second, hi_y = lo_y;
+  for (const auto& [ix, iy] : at) {
+    lo_x = std::min(lo_x, ix), hi_x = std::max(hi_x, ix), lo_y = std::min(lo_y, iy), hi_y = std::max(hi_y, iy);
+  }
+  auto start = [r](long index, long lo, long hi) {
+    return hi - lo < 2 * r ? lo : std::clamp(index - r, lo, hi - 2 * r);
+  };
   out.assign(points.size(), {});
   for (size_t i = 0; i < points.size(); ++i) {
-    for (long dy = -r; dy <= r; ++dy)
-      for (long dx = -r; dx <= r; ++dx) {
-        const auto it = cell.find({at[i].first + dx, at[i].second + dy});
+    const long x0 = start(at[i].first, lo_x, hi_x), y0 = start(at[i].second, lo_y, hi_y);
+    for (long y = y0; y <= y0 + 2 * r; ++y)
+      for (long x = x0; x <= x0 + 2 * r; ++x) {
+        const auto it = cell.find({x, y});
         if (it != cell.end()) out[i].push_back(it->second);
       }
   }
   return true;
 }
 
-double median_of(std::vector<double> v) {
-  const size_t mid = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid), v.end());
-  return v[mid];
+// A robust local model fitted without point i: least trimmed squares by concentration steps from
+// the h neighbours nearest to the filter's reference. h is 70 % of the window (at least the maximal
+// breakdown [n/2] + [(p+1)/2]): two or three outliers in one window stay out, and the trimmed
+// scale stays a usable measure of how well the model describes the rest.
+struct LooModel {
+  bool ok = false;
+  double prediction = 0;  // the model's height at point i
+  double scale = 0;       // its trimmed residual scale
+  // How many of point i's four nearest neighbours in the window the model kept: a model that trims
+  // them describes another surface than the one i is on (across a crease from it).
+  int near_kept = 0;
+};
+
+LooModel loo_model(const std::vector<Point3>& points, const std::vector<size_t>& window, size_t i,
+                   const std::vector<double>& reference) {
+  LooModel out;
+  const int n = static_cast<int>(window.size());
+  if (n < 3) return out;
+  // A model needs as many distinct x and y positions as its order plus one; a window on one line
+  // (the half-plane beyond a point on the scan's edge) determines no surface and is no evidence.
+  std::vector<double> xs, ys;
+  for (size_t j : window) xs.push_back(points[j].x), ys.push_back(points[j].y);
+  auto distinct = [](std::vector<double>& v) {
+    std::sort(v.begin(), v.end());
+    return static_cast<int>(std::unique(v.begin(), v.end(), [](double a, double b) { return std::fabs(a - b) < 1e-6; }) - v.begin());
+  };
+  const int spread = std::min(distinct(xs), distinct(ys));
+  if (spread < 2) return out;
+  const int order = n >= 12 && spread >= 3 ? 2 : n >= 6 ? 1 : 0;
+  const int p = order == 0 ? 1 : order == 1 ? 3 : 6;
+  const int h = std::min(n, std::max(n / 2 + (p + 1) / 2, static_cast<int>(std::ceil(0.7 * n))));
+  std::vector<std::pair<double, size_t>> by_residual;
+  for (size_t j : window) by_residual.push_back({std::fabs(points[j].z - reference[j]), j});
+  std::nth_element(by_residual.begin(), by_residual.begin() + (h - 1), by_residual.end());
+  std::vector<size_t> chosen;
+  for (int m = 0; m < h; ++m) chosen.push_back(by_residual[static_cast<size_t>(m)].second);
+  if (order == 0) {
+    double mean = 0, ss = 0;
+    for (size_t j : chosen) mean += points[j].z;
+    mean /= h;
+    for (size_t j : chosen) ss += (points[j].z - mean) * (points[j].z - mean);
+    out = {true, mean, std::sqrt(ss / std::max(1, h - 1)), 4};
+    return out;
+  }
+  LocalPolynomial model;
+  for (int step = 0; step < 4 && fit_local_polynomial(points, chosen, points[i], order, model); ++step) {
+    by_residual.clear();
+    for (size_t j : window) by_residual.push_back({std::fabs(points[j].z - model.at(points[j].x, points[j].y)), j});
+    std::nth_element(by_residual.begin(), by_residual.begin() + (h - 1), by_residual.end());
+    chosen.clear();
+    double trimmed = 0;
+    for (int m = 0; m < h; ++m) {
+      chosen.push_back(by_residual[static_cast<size_t>(m)].second);
+      trimmed += by_residual[static_cast<size_t>(m)].first * by_residual[static_cast<size_t>(m)].first;
+    }
+    out = {true, model.c[0], std::sqrt(trimmed / std::max(1, h - p)), 0};
+  }
+  if (out.ok) {
+    std::vector<std::pair<double, size_t>> nearest;
+    for (size_t j : window) nearest.push_back({std::hypot(points[j].x - points[i].x, points[j].y - points[i].y), j});
+    const size_t count = std::min<size_t>(4, nearest.size());
+    std::partial_sort(nearest.begin(), nearest.begin() + static_cast<std::ptrdiff_t>(count), nearest.end());
+    for (size_t m = 0; m < count; ++m) {
+      if (std::find(chosen.begin(), chosen.end(), nearest[m].second) != chosen.end()) ++out.near_kept;
+    }
+  }
+  return out;
+}
+
+// The outlier test. Each point is predicted without itself from its whole neighbourhood and from
+// the four half neighbourhoods on either side of it in x and in y. A point on a crease or a step,
+// or at the edge of the scan, lies on the model of at least one side; an outlier on none.
+constexpr int kWindows = 9;  // the whole neighbourhood and eight half-planes through the point
+
+struct PointTest {
+  LooModel model[kWindows];
+  double residual[kWindows] = {};
+};
+
+PointTest test_point(const std::vector<Point3>& points, const std::vector<size_t>& hood, size_t i,
+                     const std::vector<double>& reference) {
+  // Half-planes bounded by the lines through the point along x, y and both diagonals: a crease
+  // that crosses the window at any of these angles leaves one of them wholly on the point's side.
+  static const double kNormal[8][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, {-1, -1}, {1, -1}, {-1, 1}};
+  PointTest t;
+  std::vector<size_t> windows[kWindows];
+  for (size_t j : hood) {
+    if (j == i) continue;
+    windows[0].push_back(j);
+    const double dx = points[j].x - points[i].x, dy = points[j].y - points[i].y;
+    for (int w = 0; w < 8; ++w) {
+      if (kNormal[w][0] * dx + kNormal[w][1] * dy >= -1e-9) windows[w + 1].push_back(j);
+    }
+  }
+  for (int w = 0; w < kWindows; ++w) {
+    t.model[w] = loo_model(points, windows[w], i, reference);
+    if (t.model[w].ok) t.residual[w] = points[i].z - t.model[w].prediction;
+  }
+  return t;
+}
+
+// The verdict on one point given the scan's noise sigma. A window vouches for the point when it
+// describes its own neighbours (trimmed scale within 2.5 sigma: a window that holds too many
+// outliers, or straddles a crease, does not, and its prediction is no evidence either way), keeps
+// at least two of the point's four nearest neighbours (else it models another surface than the
+// point's), and predicts the point within `k` times its noise and scale together. The point is an
+// outlier when no window vouches for it but some describe their neighbours; the best-describing
+// one's prediction replaces it. Returns that window, or -1 for an inlier.
+int verdict(const PointTest& t, double sigma, double k) {
+  int best = -1;
+  for (int w = 0; w < kWindows; ++w) {
+    const LooModel& m = t.model[w];
+    if (!m.ok || m.near_kept < 2 || m.scale > 2.5 * sigma) continue;
+    if (std::fabs(t.residual[w]) <= k * std::hypot(sigma, m.scale)) return -1;
+    if (best < 0 || m.scale < t.model[best].scale) best = w;
+  }
+  return best;
 }
 
 }  // namespace
@@ -72,14 +214,14 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
   if (points.size() < 3) return result;
 
   std::vector<std::vector<size_t>> hood;
-  result.gridded = grid_neighbourhoods(points, options.window, hood);
+  std::vector<std::vector<size_t>> rows_and_columns;
+  result.gridded = grid_neighbourhoods(points, options.window, hood, rows_and_columns);
   if (!result.gridded) nearest_neighbourhoods(points, static_cast<size_t>(n_max), hood);
 
   std::vector<double> reference(points.size());
   std::vector<double> values;
   std::vector<std::pair<double, size_t>> by_distance;  // (|residual|, neighbour index)
   std::vector<size_t> chosen;
-  std::vector<double> local_sigma(points.size(), 0.0);  // the trimmed residual scale at each point
   for (size_t i = 0; i < points.size(); ++i) {
     values.clear();
     for (size_t j : hood[i]) values.push_back(points[j].z);
@@ -124,12 +266,7 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
           }
           std::nth_element(by_distance.begin(), by_distance.begin() + (h - 1), by_distance.end());
           chosen.clear();
-          double trimmed = 0;
-          for (int m = 0; m < h; ++m) {
-            chosen.push_back(by_distance[m].second);
-            trimmed += by_distance[m].first * by_distance[m].first;
-          }
-          local_sigma[i] = std::sqrt(trimmed / std::max(1, h - p));
+          for (int m = 0; m < h; ++m) chosen.push_back(by_distance[m].second);
         }
       }
       largest_change = std::max(largest_change, std::fabs(next[i] - reference[i]));
@@ -153,17 +290,30 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
       break;
     }
   }
-  // Outliers: residuals beyond outlier_sigmas robust standard deviations (1.4826 * MAD).
-  std::vector<double> abs_residual(points.size());
-  for (size_t i = 0; i < points.size(); ++i) abs_residual[i] = std::fabs(points[i].z - reference[i]);
-  result.sigma_mm = 1.4826 * median_of(abs_residual);
+  // Outliers: leave-one-out residuals from the whole neighbourhood and its four sides (test_point).
+  std::vector<PointTest> tests(points.size());
+  std::vector<double> abs_full(points.size());
+  for (size_t i = 0; i < points.size(); ++i) {
+    tests[i] = test_point(points, hood[i], i, reference);
+    abs_full[i] = std::fabs(tests[i].residual[0]);
+  }
+  // 1.4826 * MAD of the whole-neighbourhood residuals: the noise of the scan (outliers and model
+  // errors at creases are a minority and do not move the median).
+  result.sigma_mm = 1.4826 * median_of(abs_full);
+  // On a grid the noise comes from fifth differences along rows and columns instead: the local
+  // models' residuals also hold their shape errors, which would pass for noise.
+  if (result.gridded) {
+    const double from_differences = difference_noise_sigma(points, rows_and_columns);
+    if (from_differences > 0) result.sigma_mm = from_differences;
+  }
   const double limit = std::max(options.outlier_sigmas * result.sigma_mm, 1e-9);
   for (size_t i = 0; i < points.size(); ++i) {
-    // Where the local model does not describe the window (a crease, a step, a one-sided window on a
-    // steep flank) its residual is no evidence against the point: it must also stand out against
-    // the model's own trimmed scale there.
-    const bool outlier = abs_residual[i] > limit && abs_residual[i] > options.outlier_sigmas * 3.0 * local_sigma[i];
-    if (outlier) result.outliers.push_back({i, points[i].z - reference[i]});
+    const int window = verdict(tests[i], std::max(result.sigma_mm, 1e-9), options.outlier_sigmas);
+    const bool outlier = window >= 0 && std::fabs(tests[i].residual[window]) > limit;
+    if (outlier) {
+      result.outliers.push_back({i, tests[i].residual[window]});
+      reference[i] = tests[i].model[window].prediction;
+    }
     // Inliers keep their measured height unless smoothing is asked for: the least-squares fit that
     // follows averages Gaussian noise without the window's curvature bias.
     result.z[i] = options.replace_all || outlier ? reference[i] : points[i].z;

@@ -1,0 +1,98 @@
+// Binomial-weighted differences along sequences and a truncated RMS of them.
+#include "host/scan/difference_noise.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "host/scan/median.h"
+
+namespace dg::host {
+
+// The standard deviation of zero-mean normal values among outliers: the RMS of those within 3 s,
+// divided by the RMS a normal distribution has within 3 sigma (0.98655), iterated from the MAD.
+double truncated_sigma(const std::vector<double>& values) {
+  std::vector<double> magnitude = values;
+  for (double& v : magnitude) v = std::fabs(v);
+  std::vector<double> copy = magnitude;
+  double s = median_of(copy) / 0.6745;
+  if (!(s > 0)) {
+    // More than half the values are zero (readings coarser than the noise): start from the RMS of
+    // the smaller 90 %.
+    std::sort(copy.begin(), copy.end());
+    double sum = 0;
+    const size_t n = std::max<size_t>(1, copy.size() * 9 / 10);
+    for (size_t i = 0; i < n; ++i) sum += copy[i] * copy[i];
+    s = std::sqrt(sum / static_cast<double>(n));
+    if (!(s > 0)) return 0.0;
+  }
+  for (int iteration = 0; iteration < 8; ++iteration) {
+    double sum = 0;
+    size_t n = 0;
+    for (double v : magnitude) {
+      if (v <= 3.0 * s) sum += v * v, ++n;
+    }
+    if (n == 0) break;
+    const double next = std::sqrt(sum / static_cast<double>(n)) / 0.98655;
+    if (std::fabs(next - s) <= 1e-6 * s) {
+      s = next;
+      break;
+    }
+    s = next;
+  }
+  return s;
+}
+
+
+double difference_noise_sigma(const std::vector<Point3>& points, const std::vector<std::vector<size_t>>& lines) {
+  constexpr int k = kNoiseDifferenceOrder;
+  double coefficient[k + 1];
+  double variance_factor = 0;
+  for (int i = 0; i <= k; ++i) {
+    double binomial = 1;
+    for (int m = 0; m < i; ++m) binomial = binomial * (k - m) / (m + 1);
+    coefficient[i] = (i % 2 ? -1.0 : 1.0) * binomial;
+    variance_factor += binomial * binomial;
+  }
+  // One sequence of differences per line or column, NaN where the spacing was uneven.
+  std::vector<std::vector<double>> sequences;
+  std::vector<double> all;
+  for (const std::vector<size_t>& m : lines) {
+    std::vector<double> sequence;
+    for (size_t end = k; end < m.size(); ++end) {
+      // Even spacing in the table plane, within 10 %, or the difference is not a noise measure.
+      double lo = HUGE_VAL, hi = 0, value = 0;
+      for (int i = 0; i <= k; ++i) {
+        const Point3& p = points[m[end - k + static_cast<size_t>(i)]];
+        value += coefficient[i] * p.z;
+        if (i > 0) {
+          const Point3& q = points[m[end - k + static_cast<size_t>(i) - 1]];
+          const double step = std::hypot(p.x - q.x, p.y - q.y);
+          lo = std::min(lo, step);
+          hi = std::max(hi, step);
+        }
+      }
+      const bool even = lo > 0 && hi <= 1.1 * lo;
+      sequence.push_back(even ? value : std::nan(""));
+      if (even) all.push_back(value);
+    }
+    sequences.push_back(std::move(sequence));
+  }
+  if (all.size() < 8) return 0.0;
+  // A crease or a steep edge shows as a run of large differences; those past 3 sigma go, and so do
+  // their neighbours within one window, whose shape part is still large but below the cut.
+  const double first = truncated_sigma(all);
+  std::vector<double> calm;
+  for (const std::vector<double>& sequence : sequences) {
+    for (size_t i = 0; i < sequence.size(); ++i) {
+      if (std::isnan(sequence[i])) continue;
+      bool near_edge = false;
+      const size_t from = i >= static_cast<size_t>(k) ? i - k : 0, to = std::min(sequence.size() - 1, i + k);
+      for (size_t j = from; j <= to && !near_edge; ++j) near_edge = std::fabs(sequence[j]) > 3.0 * first;
+      if (!near_edge) calm.push_back(sequence[i]);
+    }
+  }
+  const double sigma = calm.size() >= all.size() / 2 ? truncated_sigma(calm) : first;
+  return sigma / std::sqrt(variance_factor);
+}
+
+}  // namespace dg::host

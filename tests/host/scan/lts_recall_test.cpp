@@ -1,0 +1,94 @@
+// The LTS filter against outliers the test plants on the simulated parts' true shapes (20 to 250
+// sigma at a 5 % rate, and pairs and triples in one window): every one found on the smooth parts,
+// nearly every one across the dome's rim, with few false alarms.
+#include <CppUTest/TestHarness.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <set>
+
+#include "host/scan/lts_filter.h"
+#include "tests/support/part_scan.h"
+
+using namespace dg::host;
+
+namespace {
+
+struct Planted {
+  std::vector<Point3> points;
+  std::set<size_t> outliers;
+};
+
+// A 41 x 31 scan at 1 mm with `sigma_um` of noise and 1 um readings; 5 % of the points are moved by
+// 20 to 250 sigma either way, and 12 pairs or triples of neighbours are moved together.
+Planted plant(dg::sim::PartKind kind, double sigma_um, unsigned seed) {
+  dg::test::PartScan s;
+  s.kind = kind;
+  s.sigma_um = sigma_um;
+  Planted out;
+  out.points = dg::test::scan_part(s, seed).points;
+  std::mt19937 rng(seed * 7 + 1);
+  std::uniform_real_distribution<double> chance(0.0, 1.0), size(20.0, 250.0);
+  auto move = [&](size_t i) {
+    if (!out.outliers.insert(i).second) return;
+    out.points[i].z += (chance(rng) < 0.5 ? -1 : 1) * size(rng) * sigma_um * 1e-3;
+  };
+  for (size_t i = 0; i < out.points.size(); ++i) {
+    if (chance(rng) < 0.05) move(i);
+  }
+  std::uniform_int_distribution<size_t> any(0, out.points.size() - 1);
+  for (int k = 0; k < 12; ++k) {
+    const size_t i = any(rng);
+    move(i);
+    if (i + 1 < out.points.size()) move(i + 1);  // a neighbour along the line
+    if (k % 2 && i + 41 < out.points.size()) move(i + 41);  // and one on the next line
+  }
+  return out;
+}
+
+struct Score {
+  double worst_recall = 1, worst_precision = 1;
+};
+
+Score score(dg::sim::PartKind kind) {
+  Score out;
+  for (double sigma_um : {2.0, 5.0}) {
+    for (unsigned seed = 1; seed <= 3; ++seed) {
+      const Planted p = plant(kind, sigma_um, seed);
+      const LtsResult r = lts_filter(p.points, LtsOptions{});
+      size_t hits = 0;
+      for (const LtsOutlier& o : r.outliers) hits += p.outliers.count(o.index);
+      const double recall = static_cast<double>(hits) / static_cast<double>(p.outliers.size());
+      const double precision = r.outliers.empty() ? 1.0 : static_cast<double>(hits) / static_cast<double>(r.outliers.size());
+      out.worst_recall = std::fmin(out.worst_recall, recall);
+      out.worst_precision = std::fmin(out.worst_precision, precision);
+    }
+  }
+  std::printf("\n  LTS on the %s at 2 and 5 um, three seeds: worst recall %.3f, worst precision %.3f",
+              dg::sim::part_name(kind), out.worst_recall, out.worst_precision);
+  return out;
+}
+
+}  // namespace
+
+TEST_GROUP(LtsRecall){};
+
+// Smooth parts, edges and corners of the scan included.
+TEST(LtsRecall, FindsEveryOutlierOfTwentySigmaOnSmoothPartsWithFewFalseAlarms) {
+  for (dg::sim::PartKind kind : {dg::sim::PartKind::kSaddle, dg::sim::PartKind::kCanister, dg::sim::PartKind::kFlat}) {
+    const Score s = score(kind);
+    CHECK(s.worst_recall >= 1.0);
+    CHECK(s.worst_precision >= 0.95);
+  }
+}
+
+// The dome's rim is a crease that grazes the scan's edges and corners: there a point on a sliver
+// of cap one grid step wide has no window on its own side, and is flagged (listed, not dropped).
+// Measured: recall >= 0.95, precision >= 0.85 there; segmenting the scan at the crease first is
+// what would remove these.
+TEST(LtsRecall, CatchesNearlyEveryOutlierAcrossTheDomesRim) {
+  const Score s = score(dg::sim::PartKind::kDome);
+  CHECK(s.worst_recall >= 0.95);
+  CHECK(s.worst_precision >= 0.85);
+}
