@@ -73,7 +73,13 @@ int run_curve(const CurveArgs& a) {
     curve = interpolate_natural(points);
   } else if (a.method == CurveMethod::kApproximate) {
     const int n = a.control_count > 0 ? a.control_count : std::max(4, static_cast<int>(points.size()) / 3);
-    curve = approximate_clamped(points, n);
+    ApproximationReport report;
+    curve = approximate_clamped(points, n, &report);
+    extra["parameter_corrections"] = report.corrections;
+    if (!a.quiet) {
+      std::printf("parameter correction: %d steps; RMS %.4f mm on chord-length parameters, %.4f mm orthogonal after\n",
+                  report.corrections, report.chord_rms_mm, report.corrected_rms_mm);
+    }
   } else {
     curve = control_polygon_curve(points);
   }

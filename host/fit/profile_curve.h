@@ -26,9 +26,18 @@ ProfileCubic fit_profile_cubic(const std::vector<Point3>& points);
 // both ends (a natural spline), as a clamped cubic B-spline (n + 2 control points).
 BSplineCurve interpolate_natural(const std::vector<Point3>& points);
 
-// The least-squares clamped cubic with `control_count` control points (uniform knots on
-// chord-length parameters), its ends on the first and last point.
-BSplineCurve approximate_clamped(const std::vector<Point3>& points, int control_count);
+struct ApproximationReport {
+  int corrections = 0;          // parameter corrections taken
+  double chord_rms_mm = 0;      // RMS distance on chord-length parameters, before correction
+  double corrected_rms_mm = 0;  // after: the RMS of the foot-point (orthogonal) distances
+};
+
+// The least-squares clamped cubic with `control_count` control points (uniform knots), its ends on
+// the first and last point, starting from chord-length parameters and improved by parameter
+// correction (each point's parameter moved to its foot point on the curve, then refitted) until
+// the RMS distance stops falling.
+BSplineCurve approximate_clamped(const std::vector<Point3>& points, int control_count,
+                                 ApproximationReport* report = nullptr);
 
 // The clamped cubic whose control polygon is the points themselves: what a CAD program draws for
 // "curve from control points" (Hlavova's (2021) clamped cubic of Tables 2, 4 and 5).

@@ -13,23 +13,11 @@
 #include "host/fit/fit_error.h"
 #include "host/geometry/vec3.h"
 #include "host/fit/orthogonal_distances.h"
+#include "tests/support/hamdan_table2.h"
 
 using namespace dg::host;
 
 namespace {
-
-// Hamdan 2010, Table 2: 51 points at x = 5 .. 20 mm in 0.3 mm steps, y constant.
-const double kTable2Z[51] = {6.00,  6.24,  6.47,  6.70,  6.92,  7.14,  7.35,  7.55,  7.75,  7.94,  8.13,
-                             8.31,  8.48,  8.64,  8.80,  8.95,  9.09,  9.23,  9.36,  9.47,  9.58,  9.69,
-                             9.78,  9.86,  9.94,  10.00, 10.06, 10.10, 10.14, 10.16, 10.18, 10.18, 10.17,
-                             10.16, 10.13, 10.09, 10.04, 9.97,  9.90,  9.81,  9.71,  9.60,  9.48,  9.34,
-                             9.19,  9.02,  8.85,  8.66,  8.45,  8.23,  8.00};
-
-std::vector<Point3> table2() {
-  std::vector<Point3> points;
-  for (int i = 0; i < 51; ++i) points.push_back({5.0 + 0.3 * i, 0.0, kTable2Z[i]});
-  return points;
-}
 
 double distance_to_line(const Point3& q, const Point3& a, const Point3& b) {
   const Point3 d = b - a;
@@ -69,7 +57,7 @@ PointCloud scan(double (*z)(double, double), double noise_mm, bool serpentine) {
 TEST_GROUP(BezierIps){};
 
 TEST(BezierIps, TangentLinesOfTable2MeetWhereEquations15And16Put) {
-  const std::vector<Point3> p = table2();
+  const std::vector<Point3> p = dg::test::hamdan_table2();
   Point3 meet;
   CHECK(tangent_intersection(p[0], p[1], p[50], p[49], meet));
   // m1 = 0.8, m2 = -0.2300/0.3: x = (z4 - z1 + m1 x1 - m2 x4) / (m1 - m2), z = m1 (x - x1) + z1.
@@ -83,7 +71,7 @@ TEST(BezierIps, TangentLinesOfTable2MeetWhereEquations15And16Put) {
 }
 
 TEST(BezierIps, FitsTheTable2BoundaryCurveToTheDataResolution) {
-  const std::vector<Point3> p = table2();
+  const std::vector<Point3> p = dg::test::hamdan_table2();
   const IpsCurve c = ips_curve(p);
   // P1 and P4 are the end points; P2 and P3 lie on the end tangents.
   DOUBLES_EQUAL(0.0, norm(c.curve.p[0] - p[0]), 0);
