@@ -1,8 +1,7 @@
 // Levenberg-Marquardt with a forward-difference Jacobian over eleven parameters: three sizes, two
 // squareness values (kept in [0.1, 2], the range of Koivunen and Bajcsy 1992, Fig. 8), the centre and a rotation
-// vector. The start comes from moments: the centroid, the principal axes of the scatter (the
-// object's z axis is the one whose spread differs most from the other two, the axis of a pin or a
-// disc), and the half extents along them.
+// vector. The starts come from moments: the centroid, the principal axes of the scatter (each in
+// turn as the object's z axis), and the half extents along them.
 #include "host/fit/superquadric.h"
 
 #include <Eigen/Dense>
@@ -162,46 +161,77 @@ SuperquadricFit fit_superquadric(const std::vector<Point3>& points, const Superq
     throw FitError("the points lie in a plane or on a line (spread " + std::to_string(std::sqrt(std::max(spread(0), 0.0))) +
                    " mm across it): a superquadric needs points with volume");
   }
-  // The object's z axis: the principal direction whose spread is farthest from the other two.
-  int z_axis = 0;
-  double isolation = -1;
-  for (int k = 0; k < 3; ++k) {
-    double nearest = 1e300;
-    for (int m = 0; m < 3; ++m) {
-      if (m != k) nearest = std::min(nearest, std::fabs(spread(k) - spread(m)));
-    }
-    if (nearest > isolation) {
-      isolation = nearest;
-      z_axis = k;
-    }
-  }
-  Eigen::Matrix3d start_axes;
-  start_axes.col(2) = eigen.eigenvectors().col(z_axis);
-  start_axes.col(0) = eigen.eigenvectors().col((z_axis + 1) % 3);
-  start_axes.col(1) = start_axes.col(2).cross(start_axes.col(0));
-  Vector x = Vector::Zero();
-  for (const Point3& p : points) {
-    const Eigen::Vector3d d = Eigen::Vector3d(p.x, p.y, p.z) - mean;
-    for (int k = 0; k < 3; ++k) x(k) = std::max(x(k), std::fabs(start_axes.col(k).dot(d)));
-  }
-  x(3) = x(4) = 1;
-  x(5) = mean(0);
-  x(6) = mean(1);
-  x(7) = mean(2);
-
-  // Large scans: most iterations on an evenly strided sample of at most 20,000 points, then a few
-  // on all of them (each iteration evaluates every point twelve times).
-  SuperquadricFit fit;
-  double cost = 0;
-  constexpr size_t kSample = 20000;
-  if (points.size() > 2 * kSample) {
+  // Starts: each principal direction in turn as the object's z axis (the moments cannot tell which
+  // one the shape's exponents belong to: a 40 x 25 x 12 shape may have its e1 about any of them),
+  // and across it the other two principal directions. Where their spreads are within 10 % of each
+  // other the moments fix no direction across the axis, and a cross-section fitted turned away from
+  // the true one settles in a false minimum (a rounded square turned 45 degrees looks like a
+  // rounded diamond, e2 near 2 - e2): there four turns 22.5 degrees apart are tried. Each start runs
+  // for at most 100 iterations on a sample of at most 600 points; the best two are refined on all
+  // of them (at most 20,000 for most iterations on large scans: each iteration evaluates every
+  // point twelve times).
+  auto strided = [&points](size_t count) {
+    if (points.size() <= count) return points;
     std::vector<Point3> sample;
-    const double stride = static_cast<double>(points.size()) / kSample;
-    for (size_t k = 0; k < kSample; ++k) sample.push_back(points[static_cast<size_t>(static_cast<double>(k) * stride)]);
-    fit.iterations = levenberg_marquardt(x, start_axes, sample, scale, options.max_iterations, &cost);
-    fit.iterations += levenberg_marquardt(x, start_axes, points, scale, 10, &cost);
-  } else {
-    fit.iterations = levenberg_marquardt(x, start_axes, points, scale, options.max_iterations, &cost);
+    const double stride = static_cast<double>(points.size()) / static_cast<double>(count);
+    for (size_t k = 0; k < count; ++k) sample.push_back(points[static_cast<size_t>(static_cast<double>(k) * stride)]);
+    return sample;
+  };
+  const std::vector<Point3> trial_points = strided(600);
+  struct Trial {
+    double cost;
+    Vector x;
+    Eigen::Matrix3d axes;
+  };
+  std::vector<Trial> trials;
+  SuperquadricFit fit;
+  for (int z_axis = 0; z_axis < 3; ++z_axis) {
+    const double spread_a = spread((z_axis + 1) % 3), spread_b = spread((z_axis + 2) % 3);
+    const bool round_across = std::fabs(spread_a - spread_b) <= 0.1 * std::max(spread_a, spread_b);
+    std::vector<double> turns = {0.0};
+    if (round_across) turns = {0.0, M_PI / 8, M_PI / 4, 3 * M_PI / 8};
+    for (double turn : turns) {
+      Eigen::Matrix3d axes;
+      axes.col(2) = eigen.eigenvectors().col(z_axis);
+      const Eigen::Vector3d across = eigen.eigenvectors().col((z_axis + 1) % 3);
+      axes.col(0) = std::cos(turn) * across + std::sin(turn) * axes.col(2).cross(across);
+      axes.col(1) = axes.col(2).cross(axes.col(0));
+      Vector start = Vector::Zero();
+      for (const Point3& p : points) {
+        const Eigen::Vector3d d = Eigen::Vector3d(p.x, p.y, p.z) - mean;
+        for (int k = 0; k < 3; ++k) start(k) = std::max(start(k), std::fabs(axes.col(k).dot(d)));
+      }
+      start(3) = start(4) = 1;
+      start(5) = mean(0);
+      start(6) = mean(1);
+      start(7) = mean(2);
+      double cost = 0;
+      fit.iterations += levenberg_marquardt(start, axes, trial_points, scale, std::min(options.max_iterations, 100), &cost);
+      trials.push_back({cost, start, axes});
+    }
+  }
+  // The two best trials are refined: shapes near a symmetry (a rounded diamond, e2 near 2, is
+  // nearly a rounded square turned 45 degrees, e2 near 0.1) leave two minima within a sample's
+  // noise of each other, and only all the points tell them apart.
+  std::sort(trials.begin(), trials.end(), [](const Trial& a, const Trial& b) { return a.cost < b.cost; });
+  constexpr size_t kSample = 20000;
+  Vector x = trials[0].x;
+  Eigen::Matrix3d start_axes = trials[0].axes;
+  double cost = HUGE_VAL;
+  for (size_t k = 0; k < std::min<size_t>(2, trials.size()); ++k) {
+    Vector candidate = trials[k].x;
+    double candidate_cost = trials[k].cost;
+    if (points.size() > 2 * kSample) {
+      fit.iterations += levenberg_marquardt(candidate, trials[k].axes, strided(kSample), scale, options.max_iterations, &candidate_cost);
+      fit.iterations += levenberg_marquardt(candidate, trials[k].axes, points, scale, 10, &candidate_cost);
+    } else {
+      fit.iterations += levenberg_marquardt(candidate, trials[k].axes, points, scale, options.max_iterations, &candidate_cost);
+    }
+    if (candidate_cost < cost) {
+      cost = candidate_cost;
+      x = candidate;
+      start_axes = trials[k].axes;
+    }
   }
   fit.model = model_of(x, start_axes);
   fit.objective = cost;

@@ -184,3 +184,54 @@ TEST(Superquadric, TheSurfaceOfRevolutionFollowsTheSlices) {
   std::printf("  surface of revolution, 32 control points around: radius error %.2e mm of 4\n", worst);
   CHECK(worst < 4 * 4e-6);
 }
+
+// Any superquadric with e1, e2 in [0.1, 1.9], axis-aligned or rotated, sizes in any order: the fit
+// starts from each of the three principal directions as the object's z axis and keeps the best.
+// Success: sizes (matched to the truth's axes by direction) within 1 %, e1 and e2 within 0.05, and
+// the samples' RMS distance to the fitted surface along their rays within 0.5 % of the largest size.
+TEST(Superquadric, RecoversAnySuperquadricWhicheverAxisIsItsZ) {
+  const double sizes[][3] = {{40, 25, 12}, {12, 25, 40}, {25, 40, 12}, {20, 20, 35}, {30, 10, 10}};
+  const double squareness[][2] = {{0.7, 1.3}, {0.1, 1.0}, {1.9, 0.5}, {1.0, 1.9}, {0.4, 0.1}, {1.5, 1.5}};
+  int failures = 0, cases = 0;
+  for (const auto& a : sizes) {
+    for (const auto& e : squareness) {
+      for (bool turn : {false, true}) {
+        Superquadric truth = rotated(a[0], a[1], a[2], e[0], e[1], {5, -3, 20});
+        if (!turn) {
+          for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 3; ++c) truth.axes[r][c] = r == c ? 1 : 0;
+        }
+        const SuperquadricFit fit = fit_superquadric(sample(truth, 16));
+        ++cases;
+        const Superquadric& m = fit.model;
+        // The fitted axis k matches the truth's axis it is most parallel to.
+        bool sizes_ok = true;
+        for (int k = 0; k < 3; ++k) {
+          int match = 0;
+          double best = -1;
+          for (int t = 0; t < 3; ++t) {
+            const double c = std::fabs(m.axes[k][0] * truth.axes[t][0] + m.axes[k][1] * truth.axes[t][1] +
+                                       m.axes[k][2] * truth.axes[t][2]);
+            if (c > best) best = c, match = t;
+          }
+          sizes_ok = sizes_ok && std::fabs(m.a[k] - truth.a[match]) <= 0.01 * truth.a[match];
+        }
+        // e1 and e2 belong to the z axis; where the fit's z is another of the truth's axes the shape
+        // must be one that reads the same about it (a box is a box about any axis): judged by the
+        // surface then.
+        const double z_match = std::fabs(m.axes[2][0] * truth.axes[2][0] + m.axes[2][1] * truth.axes[2][1] +
+                                         m.axes[2][2] * truth.axes[2][2]);
+        const bool exponents_ok = z_match < 0.9 || (std::fabs(m.e1 - e[0]) <= 0.05 && std::fabs(m.e2 - e[1]) <= 0.05);
+        const bool surface_ok = fit.rms_radial_mm <= 0.005 * std::max({a[0], a[1], a[2]});
+        if (!surface_ok || !sizes_ok || !exponents_ok) {
+          ++failures;
+          std::printf("\n  a (%g %g %g) e (%g %g) %s: fitted a (%.2f %.2f %.2f) e (%.2f %.2f), RMS %.3f mm", a[0], a[1],
+                      a[2], e[0], e[1], turn ? "rotated" : "aligned", m.a[0], m.a[1], m.a[2], m.e1, m.e2,
+                      fit.rms_radial_mm);
+        }
+      }
+    }
+  }
+  std::printf("\n  superquadrics recovered: %d of %d", cases - failures, cases);
+  LONGS_EQUAL(0, failures);
+}
