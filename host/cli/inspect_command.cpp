@@ -79,6 +79,11 @@ void write_report(const InspectArgs& a, const Inspection& r, const FittedSurface
   const std::string stem = without_extension(a.report_html);
   const char* names[] = {"-deviation.png", "-error-x.png", "-error-y.png", "-error-z.png"};
   for (size_t k = 0; k < in.pictures.size() && k < 4; ++k) write_file_atomically(stem + names[k], in.pictures[k].png);
+  ReportPicture uncertainty = uncertainty_picture(surface);
+  if (!uncertainty.png.empty()) {
+    write_file_atomically(stem + "-uncertainty.png", uncertainty.png);
+    in.pictures.push_back(std::move(uncertainty));
+  }
   write_file_atomically(stem + "-deviation.svg", svg);
   write_file_atomically(a.report_html, html_report(in));
 }
@@ -138,8 +143,8 @@ int run_inspect(const InspectArgs& a) {
   for (const Band& b : r.bands) std::printf("within %.4f mm: %zu points (%.1f %%)\n", b.limit_mm, b.count, 100.0 * b.share);
   if (!a.deviations_csv.empty()) std::printf("wrote %s\n", a.deviations_csv.c_str());
   if (!a.report_html.empty()) {
-    std::printf("wrote %s (pictures beside it: %s-deviation.png/.svg, -error-x/y/z.png)\n", a.report_html.c_str(),
-                without_extension(a.report_html).c_str());
+    std::printf("wrote %s (pictures beside it: %s-deviation.png/.svg, -error-x/y/z.png%s)\n", a.report_html.c_str(),
+                without_extension(a.report_html).c_str(), surface.uncertainty.computed ? ", -uncertainty.png" : "");
   }
   return 0;
 }

@@ -114,15 +114,17 @@ std::string deviation_map_png(const std::vector<MapPoint>& points, const MapPict
       const int x = l.plot_x + c * l.cell, y = l.plot_y + r * l.cell;
       image.fill(x, y, x + l.cell, y + l.cell, diverging_colour(b.value / l.range));
     }
-  // The colour bar: +range at the top, -range at the bottom, with five labels.
+  // The colour bar: +range at the top, -range (or 0 for a magnitude) at the bottom, five labels.
   for (int y = 0; y < l.bar_h; ++y) {
-    const double t = 1.0 - 2.0 * y / std::max(1, l.bar_h - 1);
+    const double from_top = static_cast<double>(y) / std::max(1, l.bar_h - 1);
+    const double t = pic.magnitude ? 1.0 - from_top : 1.0 - 2.0 * from_top;
     image.fill(l.bar_x, l.bar_y + y, l.bar_x + l.bar_w, l.bar_y + y + 1, diverging_colour(t));
   }
   for (int k = 0; k <= 4; ++k) {
     const int y = l.bar_y + (l.bar_h - 1) * k / 4;
     image.fill(l.bar_x + l.bar_w, y, l.bar_x + l.bar_w + 6, y + 1, black);
-    image.text(l.bar_x + l.bar_w + 10, y - 7, mm_label(l.range * (1.0 - k / 2.0)), black, 2);
+    const double value = pic.magnitude ? l.range * (1.0 - k / 4.0) : l.range * (1.0 - k / 2.0);
+    image.text(l.bar_x + l.bar_w + 10, y - 7, mm_label(value), black, 2);
   }
   return image.png();
 }

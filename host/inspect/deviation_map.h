@@ -16,6 +16,8 @@ struct MapPoint {
 struct MapPicture {
   int width = 900, height = 600;
   double range_mm = 0;  // colours span [-range, +range]; 0: the largest |value|
+  // A value that is never negative (an uncertainty): white at 0 to red at +range, the bar from 0.
+  bool magnitude = false;
 };
 
 // Blue (negative) through white (0) to red (positive); t in [-1, 1], clamped.

@@ -1,6 +1,7 @@
 // HTML assembly: escaped text, tables, and pictures as data: URIs so the file stands alone.
 #include "host/inspect/html_report.h"
 
+#include <algorithm>
 #include <cstdio>
 
 #include "host/inspect/deviation_map.h"
@@ -72,6 +73,34 @@ std::vector<ReportPicture> inspection_pictures(const Inspection& inspection, std
           {"Z error map (Fig. 17c)", deviation_map_png(ez, small)}};
 }
 
+ReportPicture uncertainty_picture(const FittedSurface& f) {
+  ReportPicture out;
+  const SurfaceUncertainty& u = f.uncertainty;
+  if (!u.computed || u.rows < 2 || u.cols < 2 || u.u_mm.size() != static_cast<size_t>(u.rows) * u.cols) return out;
+  const BSplineSurface& s = f.surface;
+  std::vector<MapPoint> points;
+  const int samples = 160;  // per direction: the grid's 21 nodes would show as dots
+  for (int r = 0; r <= samples; ++r) {
+    for (int c = 0; c <= samples; ++c) {
+      const double a = static_cast<double>(c) / samples, b = static_cast<double>(r) / samples;
+      const double gc = a * (u.cols - 1), gr = b * (u.rows - 1);
+      const int c0 = std::min(static_cast<int>(gc), u.cols - 2), r0 = std::min(static_cast<int>(gr), u.rows - 2);
+      const double fc = gc - c0, fr = gr - r0;
+      auto at = [&](int rr, int cc) { return u.u_mm[static_cast<size_t>(rr) * u.cols + cc]; };
+      const double value = (1 - fr) * ((1 - fc) * at(r0, c0) + fc * at(r0, c0 + 1)) +
+                           fr * ((1 - fc) * at(r0 + 1, c0) + fc * at(r0 + 1, c0 + 1));
+      const Point3 p = s.evaluate(s.u_min() + a * (s.u_max() - s.u_min()), s.v_min() + b * (s.v_max() - s.v_min()));
+      points.push_back({p.x, p.y, 2 * value});
+    }
+  }
+  MapPicture picture;
+  picture.magnitude = true;
+  out.caption = "Expanded uncertainty U = 2u of the fitted surface (k = 2), from a point uncertainty of " +
+                number(u.sigma_mm) + " mm (" + u.sigma_from + "): the fit's precision, not its shape error";
+  out.png = deviation_map_png(points, picture);
+  return out;
+}
+
 std::string html_report(const ReportInputs& in) {
   std::string h = "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>" + escape(in.title) +
                   "</title>\n<style>body{font-family:sans-serif;margin:2em;max-width:1000px}"
@@ -106,6 +135,17 @@ std::string html_report(const ReportInputs& in) {
       h += row("tolerance", number(f.tolerance_mm) + " mm, " + (f.tolerance_kept ? "kept" : "NOT kept"));
     }
     if (f.noise_sigma_mm > 0) h += row("estimated noise (sigma)", number(f.noise_sigma_mm) + " mm");
+    const FitValidation& v = f.validation;
+    if (v.checked && v.held_out_points > 0) {
+      h += row("between the samples (hold-out)", std::to_string(v.held_out_points) + " points predicted without them: RMS " +
+                                                     number(v.held_out_rms_mm) + " mm, max " + number(v.held_out_max_mm) + " mm");
+    }
+    if (v.checked && !v.problem.empty()) h += row("validation", v.problem);
+    const SurfaceUncertainty& u = f.uncertainty;
+    if (u.computed) {
+      h += row("standard uncertainty u (k = 1)", "max " + number(u.max_mm) + " mm, mean " + number(u.mean_mm) + " mm");
+      h += row("expanded uncertainty U = 2u", "max " + number(2 * u.max_mm) + " mm, mean " + number(2 * u.mean_mm) + " mm");
+    }
     if (!f.source.empty()) h += row("fitted from", f.source);
     h += "</table>\n";
   }

@@ -31,4 +31,9 @@ std::string base64(const std::string& bytes);
 // maps (the components of point - foot), each as PNG; `svg` receives the deviation map as SVG.
 std::vector<ReportPicture> inspection_pictures(const Inspection& inspection, std::string* svg);
 
+// The map of the fitted surface's expanded uncertainty U = 2u over the part (from the u grid in
+// SURF.json, interpolated bilinearly and placed at the surface's x, y); empty png when the surface
+// carries no uncertainty.
+ReportPicture uncertainty_picture(const FittedSurface& surface);
+
 }  // namespace dg::host

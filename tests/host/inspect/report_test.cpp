@@ -84,3 +84,37 @@ TEST(Report, SvgAndHtmlCarryThePicturesAndTheNumbers) {
   STRCMP_EQUAL("Zm9vYmFy", base64("foobar").c_str());
   STRCMP_EQUAL("Zm9vYg==", base64("foob").c_str());
 }
+
+// The uncertainty map: nothing without an uncertainty; with one, U = 2u placed where the surface
+// is, darkest where u is largest (here one corner of a flat 40 x 30 mm surface) and white where it
+// is zero, and the report lists u and U.
+TEST(Report, TheUncertaintyMapShowsExpandedUncertaintyWhereTheSurfaceIs) {
+  FittedSurface f;
+  f.surface.degree_u = f.surface.degree_v = 1;
+  f.surface.count_u = f.surface.count_v = 2;
+  f.surface.knots_u = f.surface.knots_v = {0, 0, 1, 1};
+  f.surface.control = {{0, 0, 1}, {0, 30, 1}, {40, 0, 1}, {40, 30, 1}};
+  CHECK(uncertainty_picture(f).png.empty());
+  f.uncertainty.computed = true;
+  f.uncertainty.sigma_mm = 0.002;
+  f.uncertainty.sigma_from = "test";
+  f.uncertainty.rows = f.uncertainty.cols = 3;
+  f.uncertainty.u_mm = {0, 0, 0, 0, 0, 0, 0, 0, 0.004};  // largest at u = v = 1: (40, 30) mm
+  f.uncertainty.max_mm = 0.004;
+  f.uncertainty.mean_mm = 0.004 / 9;
+  const ReportPicture picture = uncertainty_picture(f);
+  const Decoded d = decode(picture.png);
+  LONGS_EQUAL(900, d.width);
+  // The plot spans x 20.. and y 20..; the table's (40, 30) is its top right corner, (0, 0) bottom left.
+  auto pixel = [&](int x, int y) { return &d.rgb[(static_cast<size_t>(y) * d.width + x) * 3]; };
+  const uint8_t* top_right = pixel(20 + 600 - 8, 20 + 4);
+  const uint8_t* bottom_left = pixel(20 + 4, 20 + 450 - 8);
+  CHECK(top_right[1] < 80);        // saturated red: little green
+  CHECK(bottom_left[1] > 240);     // white
+  STRCMP_CONTAINS("U = 2u", picture.caption.c_str());
+  ReportInputs in;
+  in.surface = &f;
+  const std::string html = html_report(in);
+  STRCMP_CONTAINS("expanded uncertainty U = 2u", html.c_str());
+  STRCMP_CONTAINS("0.0080 mm", html.c_str());
+}
