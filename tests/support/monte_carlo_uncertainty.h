@@ -1,0 +1,73 @@
+// The predicted standard uncertainty of a least-squares surface against the spread of refits of
+// noisy replicas (the Monte Carlo method of GUM Supplement 1), on the simulated canister's true
+// shape: shared by the test and the benchmark.
+#pragma once
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "host/fit/bspline_fit.h"
+#include "tests/support/part_scan.h"
+
+namespace dg::test {
+
+struct MonteCarloAgreement {
+  int replicas = 0;
+  double predicted_max_mm = 0, predicted_mean_mm = 0;
+  double worst_relative = 0;  // max over the grid of |u_predicted / u_empirical - 1|
+};
+
+// A 21 x 16 scan of the canister, a 9 x 8 bicubic net; unweighted every point has sigma 5 um,
+// weighted sigma runs from 2 to 10 um across the part (a sigma column).
+inline MonteCarloAgreement uncertainty_against_monte_carlo(bool weighted, int replicas) {
+  PartScan part;
+  part.kind = sim::PartKind::kCanister;
+  part.sigma_um = 0;  // the replicas add their own noise
+  part.step_um = 0;
+  part.nx = 21;
+  part.ny = 16;
+  const host::PointCloud truth = scan_part(part, 1);
+  const host::Parameters params = host::parameterize(truth, host::Parameterization::kTableXy);
+  host::LsqSpec spec;
+  spec.knots_u = host::clamped_uniform_knots(9, 3);
+  spec.knots_v = host::clamped_uniform_knots(8, 3);
+  std::vector<double> sigma(truth.points.size(), 0.005), weights;
+  if (weighted) {
+    for (size_t i = 0; i < sigma.size(); ++i) {
+      sigma[i] = 0.002 + 0.008 * truth.points[i].x / 20.0;
+      weights.push_back(1.0 / (sigma[i] * sigma[i]));
+    }
+  }
+  const std::vector<double>* w = weighted ? &weights : nullptr;
+  const host::BSplineSurface nominal = host::fit_least_squares(truth.points, params, w, spec);
+  constexpr int kGrid = 11;
+  const host::SurfaceUncertainty predicted = host::fit_uncertainty(truth.points, params, w, nominal, 0.005, kGrid);
+
+  std::mt19937 rng(11);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  std::vector<double> sum(kGrid * kGrid, 0.0), sum_sq(kGrid * kGrid, 0.0);
+  for (int k = 0; k < replicas; ++k) {
+    std::vector<host::Point3> noisy = truth.points;
+    for (size_t i = 0; i < noisy.size(); ++i) noisy[i].z += sigma[i] * unit(rng);
+    const host::BSplineSurface s = host::fit_least_squares(noisy, params, w, spec);
+    for (int r = 0; r < kGrid; ++r) {
+      for (int c = 0; c < kGrid; ++c) {
+        const double z = s.evaluate(static_cast<double>(c) / (kGrid - 1), static_cast<double>(r) / (kGrid - 1)).z;
+        sum[static_cast<size_t>(r) * kGrid + c] += z;
+        sum_sq[static_cast<size_t>(r) * kGrid + c] += z * z;
+      }
+    }
+  }
+  MonteCarloAgreement out;
+  out.replicas = replicas;
+  out.predicted_max_mm = predicted.max_mm;
+  out.predicted_mean_mm = predicted.mean_mm;
+  for (size_t g = 0; g < sum.size(); ++g) {
+    const double mean = sum[g] / replicas;
+    const double empirical = std::sqrt((sum_sq[g] - replicas * mean * mean) / (replicas - 1));
+    out.worst_relative = std::fmax(out.worst_relative, std::fabs(predicted.u_mm[g] / empirical - 1.0));
+  }
+  return out;
+}
+
+}  // namespace dg::test
