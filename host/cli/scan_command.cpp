@@ -1,8 +1,10 @@
 // The scan command: identify, request (or resume), capture with progress, summarise.
 #include "host/cli/scan_command.h"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cinttypes>
 #include <csignal>
@@ -121,6 +123,7 @@ CLI::App* add_scan_command(CLI::App& app, ScanArgs& scan) {
       ->check(CLI::Range(0.0, 10.0));
   cmd->add_option("-o,--output", scan.output, "scan file to write (with --resume: to continue)")->required();
   cmd->add_flag("--resume", scan.resume, "continue the scan in -o after Ctrl-C, a crash or a pulled cable; the grid comes from the file");
+  cmd->add_flag("--force", scan.force, "replace an existing -o (once the device has accepted the new scan)")->excludes("--resume");
   cmd->add_option("--reconnect-s", scan.reconnect_s, "after a pulled cable, try this long to reach the device again (0: give up at once)")
       ->capture_default_str()->check(CLI::Range(0, 3600));
   cmd->add_option("--device-fit", scan.device_fit, "after the scan, pull the surface the device fitted while scanning into this SURF.json");
@@ -161,6 +164,13 @@ int run_scan(const ScanArgs& a) {
     request = *stored->request;
   } else {
     request = request_from(a);
+    // A scan file is the only record of hours of table time: never replaced without asking, and
+    // checked before the device moves.
+    struct stat existing {};
+    if (!a.force && ::stat(a.output.c_str(), &existing) == 0) {
+      throw ScanFileError(a.output + ": exists already (" + std::to_string(existing.st_size) +
+                          " bytes); give another name, --force to replace it, or --resume to continue the scan in it");
+    }
   }
   uint32_t required = a.device_fit.empty() ? 0 : digitizer_Capability_CAP_DEVICE_FIT;
   if (a.resume) required |= digitizer_Capability_CAP_RESUME;
@@ -181,8 +191,13 @@ int run_scan(const ScanArgs& a) {
                 device.gauge_resolution_nm);
     if (stored) std::printf("resuming %s after %zu points\n", a.output.c_str(), stored->points.size());
   }
-  ScanFileWriter file = stored ? ScanFileWriter::continue_file(a.output, stored->complete_bytes) : ScanFileWriter(a.output);
+  // A new scan's file appears only once the device has accepted the scan: a refused scan leaves
+  // no file, and an existing one (with --force) stays until the new scan has started.
+  ScanFileWriter file = stored ? ScanFileWriter::continue_file(a.output, stored->complete_bytes)
+                               : ScanFileWriter::when_accepted(a.output, a.force);
   CaptureOptions options;
+  // Acknowledge well before the device's ring is full (it pauses the scan when it is).
+  if (device.point_ring_capacity > 0) options.ack_batch_points = std::max<uint32_t>(1, device.point_ring_capacity / 2);
   options.reconnect_timeout_ms = a.reconnect_s * 1000;
   // A bar with rate and ETA on a terminal; a plain line every tenth of the scan otherwise.
   ProgressPrinter progress(stdout, isatty(fileno(stdout)) != 0);

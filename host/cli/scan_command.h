@@ -22,6 +22,7 @@ struct ScanArgs {
   double approach_mm = 0;  // single-direction approach: overshoot this far, come back towards +
   std::string output;
   bool resume = false;     // continue the scan in `output` instead of starting one
+  bool force = false;  // replace an existing -o
   int reconnect_s = 30;    // how long to try to reach a device again after a pulled cable
   std::string device_fit;  // pull the device's fit into this SURF.json after the scan
   std::string device_fit_model = "bezier";

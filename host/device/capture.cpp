@@ -1,6 +1,7 @@
 // Capture loop: store first, then acknowledge, so the device frees only what is on disk.
 #include "host/device/capture.h"
 
+#include <algorithm>
 #include <chrono>
 #include <thread>
 
@@ -58,7 +59,15 @@ class Capture {
         if (stop_ == Stop::kNone && options_.stop_requested && options_.stop_requested()) request_pause();
         if (stop_ == Stop::kPaused && ms_since(quiet_since_) >= 200) break;
         if (stop_ != Stop::kNone && ms_since(stop_asked_) >= 2000) break;
-        if (!session_.receive(&message, stop_ == Stop::kNone ? options_.heartbeat_ms : 50)) {
+        // With points waiting for their acknowledgement, wait only briefly: a device whose ring is
+        // full sends nothing until they are acknowledged.
+        const int wait_ms = unacknowledged_ > 0 ? std::min(5, options_.heartbeat_ms)
+                            : stop_ == Stop::kNone ? options_.heartbeat_ms : 50;
+        if (!session_.receive(&message, wait_ms)) {
+          if (unacknowledged_ > 0) {
+            acknowledge();
+            continue;
+          }
           if (stop_ != Stop::kNone) continue;
           const int64_t silent_ms = ms_since(last_heard);
           if (silent_ms >= options_.silence_timeout_ms) {
@@ -77,6 +86,7 @@ class Capture {
       }
     }
     // Stopped on request: everything that arrived is stored and acknowledged.
+    acknowledge();
     file_.sync();
     session_.flush(1000);
     result_.interrupted = true;
@@ -119,7 +129,8 @@ class Capture {
     have_last_line_ = true;
     last_line_ = message.body.line_done.line;
     file_.append(message);
-    file_.sync();
+    if (unacknowledged_ > 0) acknowledge();  // syncs the line's end too
+    else file_.sync();
     ++result_.lines;
     progress_.lines = result_.lines;
   }
@@ -135,6 +146,7 @@ class Capture {
   // The link broke: reach the device again and continue from the last stored point.
   void reconnect(const TransportError& error) {
     file_.sync();
+    unacknowledged_ = 0;  // the resume's next_seq confirms them
     const std::string stored = std::to_string(result_.points) + " points are in " + file_.path();
     if (!session_.reconnectable() || options_.reconnect_timeout_ms <= 0) {
       throw TransportError(std::string(error.what()) + "; " + stored);
@@ -173,6 +185,7 @@ class Capture {
         if (message.body.accepted.request_id == request_id_) {
           accepted_ = true;
           if (expected_seq_ == 0) expected_seq_ = message.body.accepted.first_seq;
+          file_.accepted();
         }
         if (stop_ == Stop::kAsked && message.body.accepted.request_id == pause_id_) stop_ = Stop::kPaused;
         return false;
@@ -201,6 +214,7 @@ class Capture {
       case digitizer_Envelope_scan_done_tag:
         if (message.body.scan_done.scan_id != scan_id_) return false;
         file_.append(message);
+        acknowledge();
         file_.sync();
         result_.done = message.body.scan_done;
         result_.finished = true;
@@ -209,6 +223,19 @@ class Capture {
       default:
         return false;
     }
+  }
+
+  // Makes what the file holds durable, then tells the device it may free those points: a point is
+  // acknowledged only once it would survive a power loss. Batched (ack_batch_points, ack_batch_ms,
+  // and whenever the link falls quiet) so one fdatasync covers many points.
+  void acknowledge() {
+    if (unacknowledged_ == 0) return;
+    file_.sync();
+    digitizer_Envelope ack = digitizer_Envelope_init_zero;
+    ack.which_body = digitizer_Envelope_point_ack_tag;
+    ack.body.point_ack.seq = expected_seq_ - 1;
+    session_.send(ack);
+    unacknowledged_ = 0;
   }
 
   void store_points(const digitizer_Envelope& message) {
@@ -250,10 +277,11 @@ class Capture {
     tail_line_end_ = batch.flags_count == count && (batch.flags[count - 1] & digitizer_PointFlag_POINT_LINE_END) != 0;
     expected_seq_ = batch.first_seq + count;
     result_.points += added;
-    digitizer_Envelope ack = digitizer_Envelope_init_zero;
-    ack.which_body = digitizer_Envelope_point_ack_tag;
-    ack.body.point_ack.seq = expected_seq_ - 1;
-    session_.send(ack);
+    if (unacknowledged_ == 0) first_unacknowledged_ = Clock::now();
+    unacknowledged_ += added;
+    if (unacknowledged_ >= options_.ack_batch_points || ms_since(first_unacknowledged_) >= options_.ack_batch_ms) {
+      acknowledge();
+    }
     progress_.points = result_.points;
     if (options_.progress) options_.progress(progress_);
   }
@@ -276,6 +304,8 @@ class Capture {
   bool tail_line_end_ = false;
   Stop stop_ = Stop::kNone;
   uint32_t pause_id_ = 0;
+  uint32_t unacknowledged_ = 0;  // points stored but not yet durable and acknowledged
+  Clock::time_point first_unacknowledged_{};
   Clock::time_point stop_asked_{}, quiet_since_{};
 };
 

@@ -43,6 +43,11 @@ struct CaptureOptions {
   // When the link breaks (a pulled cable, a device reset) on a transport that can reconnect, try
   // for this long to reach the device again and resume; 0 gives up at once.
   int reconnect_timeout_ms = 30000;
+  // Points are acknowledged only after an fdatasync of the file, in batches: once this many are
+  // waiting (keep it below the device's ring, Hello.point_ring_capacity), once the oldest has
+  // waited this long, and whenever the link falls quiet.
+  uint32_t ack_batch_points = 64;
+  int ack_batch_ms = 20;
   std::function<void(const CaptureProgress&)> progress;
   // Asked between messages; true stops cleanly (Ctrl-C): the device pauses the scan, what arrives
   // meanwhile is stored, and resume_capture() continues it later.

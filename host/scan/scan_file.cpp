@@ -4,12 +4,15 @@
 #include "host/io/whole_file.h"
 
 #include <fcntl.h>
+#include <sys/file.h>
+#include <sys/stat.h>
 #include <pb_decode.h>
 #include <pb_encode.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
+#include <vector>
 
 #include "common/link/crc32.h"
 #include "common/proto/messages.h"
@@ -20,9 +23,92 @@ namespace dg::host {
 // reads records one at a time).
 constexpr uint32_t kScanFileRecordTag = 1;
 
+namespace {
+
+std::string directory_of(const std::string& path) {
+  const size_t slash = path.find_last_of('/');
+  return slash == std::string::npos ? "." : slash == 0 ? "/" : path.substr(0, slash);
+}
+
+// Makes a rename or link in `directory` durable.
+void sync_directory(const std::string& directory) {
+  const int fd = ::open(directory.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return;
+  fsync(fd);
+  ::close(fd);
+}
+
+}  // namespace
+
+void ScanFileWriter::lock_or_throw() {
+  if (flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+    const int error = errno;
+    ::close(fd_);
+    fd_ = -1;
+    if (error == EWOULDBLOCK) {
+      throw ScanFileError(path_ + ": another digitizer process is writing this scan file (it holds its lock); "
+                          "wait for it to finish or stop it");
+    }
+    throw ScanFileError(path_ + ": cannot lock: " + std::strerror(error));
+  }
+}
+
 ScanFileWriter::ScanFileWriter(const std::string& path) : path_(path) {
-  fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_APPEND | O_CLOEXEC, 0644);
-  if (fd_ < 0) throw ScanFileError(path + ": cannot create: " + std::strerror(errno));
+  fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_APPEND | O_CLOEXEC, 0644);
+  if (fd_ < 0) {
+    throw ScanFileError(path + (errno == EEXIST ? ": exists already; a scan file is never replaced without asking"
+                                                : ": cannot create: " + std::string(std::strerror(errno))));
+  }
+  lock_or_throw();
+}
+
+ScanFileWriter ScanFileWriter::when_accepted(const std::string& path, bool replace) {
+  ScanFileWriter writer;
+  writer.path_ = path;
+  writer.replace_ = replace;
+  struct stat existing {};
+  if (::stat(path.c_str(), &existing) == 0) {
+    if (!S_ISREG(existing.st_mode)) throw ScanFileError(path + ": exists and is not a regular file; a scan file cannot go there");
+    if (!replace) throw ScanFileError(path + ": exists already; a scan file is never replaced without asking");
+    // A file another process is still writing is not replaced under it.
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd >= 0) {
+      const bool busy = flock(fd, LOCK_EX | LOCK_NB) != 0 && errno == EWOULDBLOCK;
+      ::close(fd);
+      if (busy) throw ScanFileError(path + ": another digitizer process is writing this scan file; it is not replaced");
+    }
+  }
+  const std::string directory = directory_of(path);
+  const size_t slash = path.find_last_of('/');
+  std::string pattern = directory + "/." + (slash == std::string::npos ? path : path.substr(slash + 1)) + ".XXXXXX";
+  std::vector<char> name(pattern.begin(), pattern.end());
+  name.push_back('\0');
+  writer.fd_ = mkostemp(name.data(), O_APPEND | O_CLOEXEC);
+  if (writer.fd_ < 0) throw ScanFileError(path + ": cannot create a file in " + directory + ": " + std::strerror(errno));
+  writer.pending_ = name.data();
+  fchmod(writer.fd_, 0644);
+  writer.lock_or_throw();
+  return writer;
+}
+
+void ScanFileWriter::accepted() {
+  if (pending_.empty()) return;
+  sync();
+  if (replace_) {
+    if (::rename(pending_.c_str(), path_.c_str()) != 0) {
+      throw ScanFileError(path_ + ": cannot put the scan in place: " + std::strerror(errno) + "; it is in " + pending_);
+    }
+  } else {
+    // link(2) fails if the name exists: a scan file that appeared meanwhile is not replaced.
+    if (::link(pending_.c_str(), path_.c_str()) != 0) {
+      throw ScanFileError(path_ + (errno == EEXIST ? ": another scan created this file meanwhile; this scan's points are in " + pending_
+                                                   : ": cannot put the scan in place: " + std::string(std::strerror(errno)) +
+                                                         "; it is in " + pending_));
+    }
+    ::unlink(pending_.c_str());
+  }
+  sync_directory(directory_of(path_));
+  pending_.clear();
 }
 
 ScanFileWriter ScanFileWriter::continue_file(const std::string& path, uint64_t keep_bytes) {
@@ -30,6 +116,7 @@ ScanFileWriter ScanFileWriter::continue_file(const std::string& path, uint64_t k
   writer.path_ = path;
   writer.fd_ = ::open(path.c_str(), O_WRONLY | O_APPEND | O_CLOEXEC);
   if (writer.fd_ < 0) throw ScanFileError(path + ": cannot open to continue: " + std::strerror(errno));
+  writer.lock_or_throw();
   if (ftruncate(writer.fd_, static_cast<off_t>(keep_bytes)) != 0) {
     throw ScanFileError(path + ": cannot cut off the damaged end: " + std::strerror(errno));
   }
@@ -38,8 +125,10 @@ ScanFileWriter ScanFileWriter::continue_file(const std::string& path, uint64_t k
 }
 
 ScanFileWriter::ScanFileWriter(ScanFileWriter&& other) noexcept
-    : path_(std::move(other.path_)), fd_(other.fd_), bytes_(other.bytes_) {
+    : path_(std::move(other.path_)), pending_(std::move(other.pending_)), replace_(other.replace_), fd_(other.fd_),
+      bytes_(other.bytes_) {
   other.fd_ = -1;
+  other.pending_.clear();
 }
 
 ScanFileWriter::~ScanFileWriter() {
@@ -47,6 +136,8 @@ ScanFileWriter::~ScanFileWriter() {
     fsync(fd_);
     ::close(fd_);
   }
+  // A scan the device never accepted leaves nothing behind.
+  if (!pending_.empty()) ::unlink(pending_.c_str());
 }
 
 void ScanFileWriter::append(const digitizer_Envelope& message) {
@@ -83,8 +174,8 @@ void ScanFileWriter::append(const digitizer_Envelope& message) {
 }
 
 void ScanFileWriter::sync() {
-  if (fsync(fd_) != 0 && errno != EINVAL) {
-    throw ScanFileError(path_ + ": fsync failed: " + std::strerror(errno));
+  if (fdatasync(fd_) != 0 && errno != EINVAL) {
+    throw ScanFileError(path_ + ": fdatasync failed: " + std::strerror(errno));
   }
 }
 

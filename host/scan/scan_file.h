@@ -17,10 +17,17 @@ class ScanFileError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// Every writer holds an exclusive lock (flock) on its file while it writes: a second writer of the
+// same file is refused, whichever way it opens it.
 class ScanFileWriter : public ScanSink {
  public:
-  // Creates (or truncates) the file.
+  // Creates `path` now; an existing file is an error (nothing is replaced).
   explicit ScanFileWriter(const std::string& path);
+  // A new scan file that appears at `path` only when the device has accepted the scan (accepted()):
+  // until then the records go to a hidden file beside it, removed if the scan never starts. With
+  // `replace`, an existing regular file at `path` is replaced at that moment, in one rename;
+  // without, a file that appeared there meanwhile (another scan) is an error.
+  static ScanFileWriter when_accepted(const std::string& path, bool replace);
   // Opens an existing file to continue it: cuts it to its first `keep_bytes` (the whole records a
   // reader found; a record cut off by a crash goes) and appends after them.
   static ScanFileWriter continue_file(const std::string& path, uint64_t keep_bytes);
@@ -32,18 +39,21 @@ class ScanFileWriter : public ScanSink {
   // Appends one record with a single write(2): a crash leaves whole records and at
   // most one cut-off record at the end, which readers detect and skip.
   void append(const digitizer_Envelope& message) override;
-  // Forces everything appended so far to the disk (at each line's end).
+  // Forces everything appended so far to the disk (fdatasync).
   void sync() override;
+  void accepted() override;
   const std::string& path() const override { return path_; }
   uint64_t bytes_written() const { return bytes_; }
 
  private:
   ScanFileWriter() = default;
+  void lock_or_throw();
   std::string path_;
+  std::string pending_;  // the hidden file until accepted(); empty once the file is at path_
+  bool replace_ = false;
   int fd_ = -1;
   uint64_t bytes_ = 0;
 };
-
 
 // Reads a whole scan file. A damaged record in the middle is an error naming the
 // byte offset; a cut-off final record (a crash while writing) is a warning.

@@ -32,6 +32,9 @@ class ScanSink {
   virtual ~ScanSink() = default;
   virtual void append(const digitizer_Envelope& message) = 0;
   virtual void sync() = 0;
+  // The device accepted the scan: a sink that keeps a new scan out of sight until then (so a
+  // refused scan leaves nothing behind) shows it now.
+  virtual void accepted() {}
   // Where the points are, for messages ("part.scan").
   virtual const std::string& path() const = 0;
 };

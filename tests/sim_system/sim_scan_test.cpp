@@ -2,6 +2,9 @@
 // simulated board -> pin-level gauge over a virtual part, and back into a scan file.
 #include <CppUTest/TestHarness.h>
 
+#include <dirent.h>
+#include <unistd.h>
+
 #include <unistd.h>
 
 #include <chrono>
@@ -31,7 +34,7 @@ dg::host::CaptureResult capture_to(const std::string& uri, const digitizer_ScanR
   auto transport = dg::host::open_transport(uri);
   dg::host::Session session(*transport);
   const digitizer_Hello hello = session.hello(5000);
-  dg::host::ScanFileWriter file(path);
+  dg::host::ScanFileWriter file = dg::host::ScanFileWriter::when_accepted(path, true);
   return dg::host::capture_scan(session, hello, request, file, dg::host::CaptureOptions{});
 }
 
@@ -124,6 +127,57 @@ TEST(SimScan, RefusesAScanOutsideTheTable) {
   } catch (const dg::host::DeviceError& e) {
     CHECK(std::string(e.what()).find("soft limit") != std::string::npos);
   }
+  std::remove(path.c_str());
+}
+
+// A scan the device refuses leaves the record that was there untouched (even asked to replace it),
+// creates nothing where there was nothing, and leaves no hidden file behind.
+TEST(SimScan, ARefusedScanLeavesNoFileAndAnExistingOneUntouched) {
+  const std::string kept = temp_path("kept.scan"), fresh = temp_path("fresh.scan");
+  {
+    std::FILE* f = std::fopen(kept.c_str(), "wb");
+    std::fputs("an earlier scan", f);
+    std::fclose(f);
+  }
+  digitizer_ScanRequest r = grid_41_by_31(digitizer_ScanPattern_PATTERN_RASTER);
+  r.x.max_nm = 900000000;
+  for (const std::string& path : {kept, fresh}) {
+    CHECK_THROWS(dg::host::ScanRefused, capture_to("sim:part=flat", r, path));
+  }
+  std::FILE* f = std::fopen(kept.c_str(), "rb");
+  char text[32] = {};
+  CHECK(f != nullptr && std::fread(text, 1, sizeof text - 1, f) > 0);
+  if (f) std::fclose(f);
+  STRCMP_EQUAL("an earlier scan", text);
+  CHECK(access(fresh.c_str(), F_OK) != 0);
+  // No ".kept.scan.XXXXXX" or ".fresh.scan.XXXXXX" is left in the directory.
+  const std::string dir = std::string(P_tmpdir);
+  bool leftover = false;
+  if (DIR* d = opendir(dir.c_str())) {
+    while (const dirent* entry = readdir(d)) {
+      const std::string name = entry->d_name;
+      const std::string pid = std::to_string(getpid());
+      leftover |= name.rfind(".dg_system_" + pid, 0) == 0;
+    }
+    closedir(d);
+  }
+  CHECK(!leftover);
+  std::remove(kept.c_str());
+}
+
+// Two hosts scanning into one file: the second cannot open it while the first writes.
+TEST(SimScan, ASecondWriterOfAScanFileIsRefused) {
+  const std::string path = temp_path("shared.scan");
+  std::remove(path.c_str());
+  dg::host::ScanFileWriter first(path);
+  try {
+    dg::host::ScanFileWriter second = dg::host::ScanFileWriter::continue_file(path, 0);
+    FAIL("a second writer was let in");
+  } catch (const dg::host::ScanFileError& e) {
+    STRCMP_CONTAINS("another digitizer process is writing", e.what());
+  }
+  CHECK_THROWS(dg::host::ScanFileError, dg::host::ScanFileWriter::when_accepted(path, true));
+  CHECK_THROWS(dg::host::ScanFileError, dg::host::ScanFileWriter(path));
   std::remove(path.c_str());
 }
 
