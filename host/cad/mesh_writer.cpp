@@ -77,6 +77,18 @@ std::string ply_mesh_bytes(const Mesh& mesh) {
 }
 
 void write_mesh(const std::string& path, const Mesh& mesh) {
+  // STL and binary PLY store 32-bit floats: a vertex beyond their range would be written as
+  // infinity (a surface with control points near 1e300 did that).
+  for (size_t k = 0; k < mesh.vertices.size(); ++k) {
+    const Point3& v = mesh.vertices[k];
+    for (double c : {v.x, v.y, v.z}) {
+      if (!std::isfinite(c) || std::fabs(c) > 1e30) {
+        throw std::invalid_argument(path + ": mesh vertex " + std::to_string(k + 1) +
+                                    " is not a finite coordinate a mesh file can hold (the surface's control points are out of range)");
+      }
+    }
+  }
+  if (!std::isfinite(mesh.chord_error_mm)) throw std::invalid_argument(path + ": the mesh's chord error is not a finite number");
   switch (file_format(path)) {
     case FileFormat::kStl: return write_file_atomically(path, stl_bytes(mesh));
     case FileFormat::kObj: return write_file_atomically(path, obj_text(mesh));

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <stdexcept>
 
 #include "host/io/file_name.h"
 #include "host/scan/point_reader.h"
@@ -92,6 +93,7 @@ void write_report(const InspectArgs& a, const Inspection& r, const FittedSurface
 
 int run_inspect(const InspectArgs& a) {
   PointCloud cloud = read_points(a.points);
+  if (cloud.points.empty()) throw std::invalid_argument(a.points + ": holds no points to inspect");
   FittedSurface surface;
   const FileFormat format = file_format(a.surface);
   const bool iges = format == FileFormat::kIges;

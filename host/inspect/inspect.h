@@ -26,7 +26,8 @@ struct Inspection {
   std::vector<Band> bands;
 };
 
-// Every point's closest point by SurfaceLocator; `bands_mm` in ascending order.
+// Every point's closest point by SurfaceLocator; `bands_mm` in ascending order. Throws
+// std::invalid_argument for no points, or a point whose distance is not finite (naming it).
 Inspection inspect(const std::vector<Point3>& points, const BSplineSurface& surface, const std::vector<double>& bands_mm);
 
 }  // namespace dg::host

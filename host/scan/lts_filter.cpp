@@ -208,6 +208,21 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
   const int n_max = options.window * options.window;
   if (options.order < 0 || options.order > 2) throw std::invalid_argument("--order must be 0, 1 or 2");
   if (options.h < 0 || options.h > n_max) throw std::invalid_argument("h must be 1.." + std::to_string(n_max));
+  // Points on one line in XY (a single scan line, a profile) have no neighbourhood to model a
+  // surface on.
+  if (points.size() >= 3) {
+    double mx = 0, my = 0;
+    for (const auto& p : points) mx += p.x, my += p.y;
+    mx /= static_cast<double>(points.size()), my /= static_cast<double>(points.size());
+    double sxx = 0, syy = 0, sxy = 0;
+    for (const auto& p : points) sxx += (p.x - mx) * (p.x - mx), syy += (p.y - my) * (p.y - my), sxy += (p.x - mx) * (p.y - my);
+    const double half_trace = 0.5 * (sxx + syy), root = std::sqrt(0.25 * (sxx - syy) * (sxx - syy) + sxy * sxy);
+    const double across_mm = std::sqrt(std::max(0.0, half_trace - root) / static_cast<double>(points.size()));
+    if (!(across_mm > 1e-6 * std::max(1.0, std::sqrt((half_trace + root) / static_cast<double>(points.size()))))) {
+      throw std::invalid_argument("the points lie on one line in XY (a single scan line or a profile): the LTS filter "
+                                  "needs points spread over an area; for a profile use `curve`");
+    }
+  }
   LtsResult result;
   result.z.resize(points.size());
   for (size_t i = 0; i < points.size(); ++i) result.z[i] = points[i].z;

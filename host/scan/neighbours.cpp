@@ -12,7 +12,10 @@ void nearest_neighbourhoods(const std::vector<Point3>& points, size_t k, std::ve
   double x0 = HUGE_VAL, x1 = -HUGE_VAL, y0 = HUGE_VAL, y1 = -HUGE_VAL;
   for (const auto& p : points) x0 = std::min(x0, p.x), x1 = std::max(x1, p.x), y0 = std::min(y0, p.y), y1 = std::max(y1, p.y);
   const double area = std::max((x1 - x0) * (y1 - y0), 1e-12);
-  const double cell = std::max(std::sqrt(area * 4.0 / static_cast<double>(points.size())), 1e-9);  // ~4 points a cell
+  // About 4 points a cell; points on (nearly) one line have no area, so the cell is also at least
+  // four points' share of the longer side (else it collapses and the rings grow for ever).
+  const double n = static_cast<double>(points.size());
+  const double cell = std::max({std::sqrt(area * 4.0 / n), 4.0 * std::max(x1 - x0, y1 - y0) / n, 1e-9});
   std::unordered_map<long long, std::vector<size_t>> buckets;
   // Unsigned arithmetic: cell coordinates may be negative one ring out from the edge.
   auto key = [](long cx, long cy) {

@@ -5,6 +5,7 @@
 #include <RWStl.hxx>
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 #include <string>
 #include <unistd.h>
 
@@ -30,4 +31,14 @@ TEST(StlOcct, OpenCascadeReadsEveryTriangle) {
     for (const Point3& p : mesh.vertices) nearest = std::fmin(nearest, std::hypot(p.x - q.X(), p.y - q.Y(), p.z - q.Z()));
     CHECK(nearest < 1e-4);
   }
+}
+
+// A vertex a 32-bit float cannot hold is refused, and nothing is written.
+TEST(StlOcct, RefusesAVertexBeyondAFloatsRange) {
+  Mesh mesh = tessellate(dg::test::clamped_sample(), 0.05);
+  mesh.vertices[3].z = 1e300;
+  const std::string path = std::string(P_tmpdir) + "/dg_stl_huge_" + std::to_string(getpid()) + ".stl";
+  std::remove(path.c_str());
+  CHECK_THROWS(std::invalid_argument, write_mesh(path, mesh));
+  CHECK(access(path.c_str(), F_OK) != 0);
 }

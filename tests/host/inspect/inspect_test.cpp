@@ -4,6 +4,8 @@
 
 #include <CppUTest/TestHarness.h>
 
+#include <stdexcept>
+
 #include <cmath>
 #include <random>
 
@@ -81,4 +83,16 @@ TEST(Inspect, PointsBeyondTheEdgeFindTheEdge) {
   const Inspection r = inspect({{50, 15, 6}, {-10, -10, 1}}, plane, {});
   DOUBLES_EQUAL(norm(Point3{50, 15, 6} - Point3{40, 15, 5}), std::fabs(r.points[0].distance), 1e-9);
   DOUBLES_EQUAL(std::sqrt(200.0), std::fabs(r.points[1].distance), 1e-9);
+}
+
+// No statistics from nothing, and none from a point whose distance overflows: both refused, the
+// second naming the point.
+TEST(Inspect, RefusesNoPointsAndAPointWhoseDistanceIsNotFinite) {
+  CHECK_THROWS(std::invalid_argument, inspect({}, tilted_plane(), {}));
+  try {
+    inspect({{1, 1, 1}, {1e308, 0, 1}}, tilted_plane(), {0.01});
+    FAIL("a point at 1e308 was inspected");
+  } catch (const std::invalid_argument& e) {
+    STRCMP_CONTAINS("point 2", e.what());
+  }
 }

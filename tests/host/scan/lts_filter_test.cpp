@@ -106,3 +106,11 @@ TEST(LtsFilter, SettlesWhenGaugeQuantisationMakesItAlternate) {
   }
   LONGS_EQUAL(cases, converged);
 }
+
+// A single scan line (points on one line in XY) has no area to model a surface on: refused at once
+// (it hung: the scattered-point neighbour grid collapsed to a cell of a micrometre).
+TEST(LtsFilter, RefusesPointsOnOneLineInXY) {
+  std::vector<Point3> p;
+  for (int i = 0; i < 200; ++i) p.push_back({0.5 * i, 3.0, 2.0 + 0.01 * i});
+  CHECK_THROWS(std::invalid_argument, lts_filter(p, LtsOptions{}));
+}

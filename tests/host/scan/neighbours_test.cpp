@@ -1,0 +1,54 @@
+// Nearest neighbours by rings of buckets, against a brute-force search, also for points on a line
+// (whose bounding box has no area).
+#include "host/scan/neighbours.h"
+
+#include <CppUTest/TestHarness.h>
+
+#include <algorithm>
+#include <random>
+
+using namespace dg::host;
+
+namespace {
+
+// The k nearest by sorting every distance; ties broken by index like any order, so compare the
+// sorted distances, not the indices.
+std::vector<double> brute_distances(const std::vector<Point3>& p, size_t i, size_t k) {
+  std::vector<double> d;
+  for (const Point3& q : p) d.push_back((q.x - p[i].x) * (q.x - p[i].x) + (q.y - p[i].y) * (q.y - p[i].y));
+  std::sort(d.begin(), d.end());
+  d.resize(k);
+  return d;
+}
+
+void check_against_brute_force(const std::vector<Point3>& p, size_t k) {
+  std::vector<std::vector<size_t>> hood;
+  nearest_neighbourhoods(p, k, hood);
+  LONGS_EQUAL(p.size(), hood.size());
+  for (size_t i = 0; i < p.size(); i += 7) {
+    std::vector<double> d;
+    for (size_t j : hood[i]) d.push_back((p[j].x - p[i].x) * (p[j].x - p[i].x) + (p[j].y - p[i].y) * (p[j].y - p[i].y));
+    std::sort(d.begin(), d.end());
+    const std::vector<double> expected = brute_distances(p, i, k);
+    LONGS_EQUAL(expected.size(), d.size());
+    for (size_t m = 0; m < d.size(); ++m) DOUBLES_EQUAL(expected[m], d[m], 1e-12);
+  }
+}
+
+}  // namespace
+
+TEST_GROUP(Neighbours){};
+
+TEST(Neighbours, ScatteredPointsGetTheirTrueNearest) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> x(0, 40), y(0, 30);
+  std::vector<Point3> p;
+  for (int i = 0; i < 1500; ++i) p.push_back({x(rng), y(rng), 0});
+  check_against_brute_force(p, 25);
+}
+
+TEST(Neighbours, PointsOnOneLineGetTheirTrueNearestWithoutEndlessRings) {
+  std::vector<Point3> p;
+  for (int i = 0; i < 2000; ++i) p.push_back({0.5 * i, 3.0, 0});
+  check_against_brute_force(p, 25);
+}
