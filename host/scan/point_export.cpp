@@ -1,10 +1,12 @@
 // Point cloud writers. Integer nanometres print as exact millimetre decimals.
 #include "host/scan/point_export.h"
+#include "host/io/atomic_file.h"
 #include "host/io/file_name.h"
 
 #include <cerrno>
 #include <cinttypes>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <memory>
 #include <stdexcept>
@@ -12,22 +14,33 @@
 namespace dg::host {
 namespace {
 
-struct FileCloser {
-  void operator()(std::FILE* f) const { std::fclose(f); }
+// The file is built in memory (open_memstream) and written in one piece by
+// write_file_atomically: a full disk or a crash leaves the old file or none, never a truncated one.
+struct Buffer {
+  char* data = nullptr;
+  size_t size = 0;
+  std::FILE* stream = nullptr;
+  ~Buffer() {
+    if (stream) std::fclose(stream);
+    std::free(data);
+  }
+  std::FILE* get() const { return stream; }
 };
-using File = std::unique_ptr<std::FILE, FileCloser>;
+using File = std::unique_ptr<Buffer>;
 
-File open_for_writing(const std::string& path, const char* mode) {
-  File file(std::fopen(path.c_str(), mode));
-  if (!file) throw std::runtime_error(path + ": cannot create: " + std::strerror(errno));
+File open_for_writing(const std::string& path, const char*) {
+  File file = std::make_unique<Buffer>();
+  file->stream = open_memstream(&file->data, &file->size);
+  if (!file->stream) throw std::runtime_error(path + ": cannot build the file: " + std::strerror(errno));
   return file;
 }
 
 void finish(File file, const std::string& path) {
-  std::FILE* raw = file.release();
-  if (std::ferror(raw) != 0 || std::fclose(raw) != 0) {
-    throw std::runtime_error(path + ": write failed: " + std::strerror(errno));
-  }
+  const bool failed = std::ferror(file->stream) != 0;
+  const bool closed = std::fclose(file->stream) == 0;
+  file->stream = nullptr;
+  if (failed || !closed) throw std::runtime_error(path + ": cannot build the file (out of memory?)");
+  write_file_atomically(path, std::string(file->data, file->size));
 }
 
 // "-12.345678" from -12345678 nm, without going through floating point.
@@ -42,14 +55,14 @@ void print_mm(std::FILE* f, int32_t nm) {
 
 void write_points_csv(const std::string& path, const std::vector<PointSample>& points) {
   File f = open_for_writing(path, "w");
-  std::fprintf(f.get(), "x,y,z,line\n");
+  std::fprintf(f->get(), "x,y,z,line\n");
   for (const PointSample& p : points) {
-    print_mm(f.get(), p.x_nm);
-    std::fputc(',', f.get());
-    print_mm(f.get(), p.y_nm);
-    std::fputc(',', f.get());
-    print_mm(f.get(), p.z_nm);
-    std::fprintf(f.get(), ",%" PRIu32 "\n", p.line);
+    print_mm(f->get(), p.x_nm);
+    std::fputc(',', f->get());
+    print_mm(f->get(), p.y_nm);
+    std::fputc(',', f->get());
+    print_mm(f->get(), p.z_nm);
+    std::fprintf(f->get(), ",%" PRIu32 "\n", p.line);
   }
   finish(std::move(f), path);
 }
@@ -57,19 +70,19 @@ void write_points_csv(const std::string& path, const std::vector<PointSample>& p
 void write_points_xyz(const std::string& path, const std::vector<PointSample>& points) {
   File f = open_for_writing(path, "w");
   for (const PointSample& p : points) {
-    print_mm(f.get(), p.x_nm);
-    std::fputc(' ', f.get());
-    print_mm(f.get(), p.y_nm);
-    std::fputc(' ', f.get());
-    print_mm(f.get(), p.z_nm);
-    std::fputc('\n', f.get());
+    print_mm(f->get(), p.x_nm);
+    std::fputc(' ', f->get());
+    print_mm(f->get(), p.y_nm);
+    std::fputc(' ', f->get());
+    print_mm(f->get(), p.z_nm);
+    std::fputc('\n', f->get());
   }
   finish(std::move(f), path);
 }
 
 void write_points_ply(const std::string& path, const std::vector<PointSample>& points) {
   File f = open_for_writing(path, "wb");
-  std::fprintf(f.get(),
+  std::fprintf(f->get(),
                "ply\nformat binary_little_endian 1.0\ncomment bench digitizer scan, millimetres\n"
                "element vertex %zu\nproperty double x\nproperty double y\nproperty double z\n"
                "property int line\nend_header\n",
@@ -81,7 +94,7 @@ void write_points_ply(const std::string& path, const std::vector<PointSample>& p
     // x86 and ARM hosts are little endian, as the header says; memcpy keeps it exact.
     std::memcpy(record, xyz, sizeof(xyz));
     std::memcpy(record + 24, &line, sizeof(line));
-    std::fwrite(record, sizeof(record), 1, f.get());
+    std::fwrite(record, sizeof(record), 1, f->get());
   }
   finish(std::move(f), path);
 }
@@ -94,12 +107,12 @@ void write_lines_csv(const std::string& path, const std::vector<Point3>& points,
 void write_cloud_csv(const std::string& path, const std::vector<Point3>& points, const std::vector<uint32_t>* lines) {
   if (lines && lines->size() != points.size()) throw std::invalid_argument(path + ": one line index per point");
   File f = open_for_writing(path, "w");
-  std::fprintf(f.get(), lines ? "x,y,z,line\n" : "x,y,z\n");
+  std::fprintf(f->get(), lines ? "x,y,z,line\n" : "x,y,z\n");
   for (size_t i = 0; i < points.size(); ++i) {
     if (lines) {
-      std::fprintf(f.get(), "%.7f,%.7f,%.7f,%" PRIu32 "\n", points[i].x, points[i].y, points[i].z, (*lines)[i]);
+      std::fprintf(f->get(), "%.7f,%.7f,%.7f,%" PRIu32 "\n", points[i].x, points[i].y, points[i].z, (*lines)[i]);
     } else {
-      std::fprintf(f.get(), "%.7f,%.7f,%.7f\n", points[i].x, points[i].y, points[i].z);
+      std::fprintf(f->get(), "%.7f,%.7f,%.7f\n", points[i].x, points[i].y, points[i].z);
     }
   }
   finish(std::move(f), path);
