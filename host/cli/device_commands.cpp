@@ -143,7 +143,7 @@ int run_repeatability(const DeviceArgs& a) {
 void add_device_commands(CLI::App& app, DeviceArgs& a) {
   app.add_subcommand("devices", "list the kinds of device this build reaches");
   auto with_device = [&](CLI::App* cmd) {
-    cmd->add_option("--device", a.device, "device URI")->capture_default_str();
+    cmd->add_option("--device", a.device, "device URI: usb:, sim:part=dome, unix:PATH, tcp:HOST:PORT (else DIGITIZER_DEVICE or the config file)");
     return cmd;
   };
   with_device(app.add_subcommand("status", "the device's state, position and scan"))->add_flag("--json", a.json, "as JSON");

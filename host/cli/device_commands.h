@@ -6,7 +6,7 @@
 namespace dg::host {
 
 struct DeviceArgs {
-  std::string device = "sim:part=dome";
+  std::string device;  // --device; chosen_device() when empty
   bool json = false;          // status: as JSON
   double dx_mm = 0, dy_mm = 0;  // jog
   double feed_mm_s = 0;       // jog: 0 = the device's default

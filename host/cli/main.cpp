@@ -5,6 +5,7 @@
 
 #include "host/cli/characterize_command.h"
 #include "host/cli/curve_command.h"
+#include "host/cli/device_choice.h"
 #include "host/cli/device_commands.h"
 #include "host/cli/export_command.h"
 #include "host/cli/filter_command.h"
@@ -64,9 +65,20 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? kExitOk : kExitUsage;
   }
   try {
-    if (*scan_cmd) return run_scan(scan);
+    // Device commands name their device (--device, DIGITIZER_DEVICE or the config file): none
+    // falls back to the simulator.
+    for (const char* name : {"status", "home", "unlock", "abort", "jog", "repeatability", "touch"}) {
+      if (app.got_subcommand(name)) device_args.device = chosen_device(device_args.device);
+    }
+    if (*scan_cmd) {
+      scan.device = chosen_device(scan.device);
+      return run_scan(scan);
+    }
     if (*export_cmd) return run_export(export_args);
-    if (*pull_cmd) return run_pull(pull);
+    if (*pull_cmd) {
+      pull.device = chosen_device(pull.device);
+      return run_pull(pull);
+    }
     if (*curve_cmd) return run_curve(curve);
     if (*superquadric_cmd) return run_superquadric(superquadric);
     if (*characterize_cmd) return run_characterize(characterize_args);

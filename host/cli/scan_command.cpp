@@ -105,8 +105,7 @@ void print_summary(const ScanData& data, const char* prefix) {
 
 CLI::App* add_scan_command(CLI::App& app, ScanArgs& scan) {
   CLI::App* cmd = app.add_subcommand("scan", "scan a grid on the device and store it, or --resume a scan");
-  cmd->add_option("--device", scan.device, "device URI: sim:part=dome,seed=7, usb:, unix:PATH, tcp:HOST:PORT")
-      ->capture_default_str();
+  cmd->add_option("--device", scan.device, "device URI: usb:, sim:part=dome, unix:PATH, tcp:HOST:PORT (else DIGITIZER_DEVICE or the config file)");
   cmd->add_option("--x", scan.x, "x range MIN:MAX in mm")->capture_default_str();
   cmd->add_option("--y", scan.y, "y range MIN:MAX in mm")->capture_default_str();
   cmd->add_option("--step", scan.step_mm, "grid step along a line, mm")->capture_default_str()->check(CLI::PositiveNumber);
@@ -135,7 +134,7 @@ CLI::App* add_scan_command(CLI::App& app, ScanArgs& scan) {
 
 CLI::App* add_pull_command(CLI::App& app, PullArgs& pull) {
   CLI::App* cmd = app.add_subcommand("pull", "fetch the surface the device fitted during its latest scan");
-  cmd->add_option("--device", pull.device, "device URI")->capture_default_str();
+  cmd->add_option("--device", pull.device, "device URI: usb:, sim:part=dome, unix:PATH, tcp:HOST:PORT (else DIGITIZER_DEVICE or the config file)");
   cmd->add_option("--model", pull.model, "bezier (one bicubic patch) or bspline (5 x 5 cubic net)")
       ->capture_default_str()->check(CLI::IsMember({"bezier", "bspline"}));
   cmd->add_option("-o,--output", pull.output, "SURF.json to write")->required();

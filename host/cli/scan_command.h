@@ -8,7 +8,7 @@
 namespace dg::host {
 
 struct ScanArgs {
-  std::string device = "sim:part=dome";
+  std::string device;  // --device; chosen_device() when empty
   std::string x = "0:40", y = "0:30";
   double step_mm = 1.0;
   double step_y_mm = 0.0;
@@ -30,7 +30,7 @@ struct ScanArgs {
 };
 
 struct PullArgs {
-  std::string device = "sim:part=dome";
+  std::string device;  // --device; chosen_device() when empty
   std::string model = "bezier";
   std::string output;
   bool quiet = false;
