@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "host/io/atomic_file.h"
+#include "host/io/text_field.h"
 
 namespace dg::host {
 
@@ -97,6 +98,19 @@ FittedSurface parse_surface_json(const std::string& text, const std::string& nam
     f.model = j.at("model").get<std::string>();
     f.method = j.value("method", "lsq");
     f.parameterization = j.value("parameterization", "xy");
+    // Only what the format defines (docs/surface-json.md): a "nurbs" surface would be read as a
+    // non-rational one, its weights ignored.
+    auto one_of = [&](const std::string& field, const std::string& value, std::initializer_list<const char*> known) {
+      for (const char* k : known) {
+        if (value == k) return;
+      }
+      std::string list;
+      for (const char* k : known) list += std::string(list.empty() ? "" : ", ") + k;
+      throw fail("\"" + field + "\" is " + quoted(value) + "; known: " + list);
+    };
+    one_of("model", f.model, {"bspline", "bezier", "hermite", "revolution"});
+    one_of("method", f.method, {"lsq", "ips", "normals", "superquadric", "device"});
+    one_of("parameterization", f.parameterization, {"xy", "uniform", "chord", "centripetal", "axis"});
     f.height_field = j.value("height_field", false);
     const auto degree = j.at("degree").get<std::vector<int>>();
     const auto count = j.at("control_count").get<std::vector<int>>();

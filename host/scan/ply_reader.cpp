@@ -6,6 +6,8 @@
 #include <cstring>
 #include <sstream>
 
+#include "host/io/text_field.h"
+
 namespace dg::host {
 namespace {
 
@@ -78,6 +80,7 @@ size_t type_size(PlyType t) {
 class BinaryCursor {
  public:
   BinaryCursor(const uint8_t* data, size_t size, bool big_endian) : data_(data), size_(size), big_(big_endian) {}
+  size_t left() const { return size_ - offset_; }
 
   double read(PlyType t, const std::string& name, const std::string& where) {
     const size_t n = type_size(t);
@@ -125,6 +128,14 @@ class BinaryCursor {
 class AsciiCursor {
  public:
   AsciiCursor(const char* text, size_t size, size_t first_line) : p_(text), end_(text + size), line_(first_line) {}
+  // After the last element: anything but white space is a row the header does not count.
+  bool at_end() {
+    while (p_ < end_ && (*p_ == ' ' || *p_ == '\t' || *p_ == '\r' || *p_ == '\n')) {
+      if (*p_ == '\n') ++line_;
+      ++p_;
+    }
+    return p_ == end_;
+  }
 
   double read(const std::string& name, const std::string& property) {
     while (p_ < end_ && (*p_ == ' ' || *p_ == '\t' || *p_ == '\r' || *p_ == '\n')) {
@@ -137,10 +148,10 @@ class AsciiCursor {
     // At the end of the file, name the line of the last value: that is the short row.
     if (token.empty()) throw PointFileError(name + ":" + std::to_string(last_line_) + ": file ends before '" + property + "'");
     last_line_ = line_;
-    char* used = nullptr;
-    const double v = std::strtod(token.c_str(), &used);
-    if (used == token.c_str() || *used != '\0') {
-      throw PointFileError(name + ":" + std::to_string(line_) + ": '" + property + "' is not a number: '" + token + "'");
+    double v = 0;
+    if (!parse_decimal(token, &v)) {
+      throw PointFileError(name + ":" + std::to_string(line_) + ": " + quoted(property) +
+                           " is not a finite decimal number: " + quoted(token));
     }
     return v;
   }
@@ -281,7 +292,9 @@ PointCloud parse_ply_points(const uint8_t* data, size_t size, const std::string&
   BinaryCursor bin(data + h.body_offset, body, h.format == PlyFormat::kBinaryBig);
   AsciiCursor text(reinterpret_cast<const char*>(data) + h.body_offset, body, h.body_line);
   auto vertex_where = [&](uint64_t v) { return "vertex " + std::to_string(v); };
-  for (size_t e = 0; e <= vertex_index; ++e) {
+  // Every element is read (the others skipped value by value), so that what the file holds beyond
+  // the header's counts is found.
+  for (size_t e = 0; e < h.elements.size(); ++e) {
     const PlyElement& el = h.elements[e];
     for (uint64_t item = 0; item < el.count; ++item) {
       const std::string where = e == vertex_index ? vertex_where(item) : "element '" + el.name + "'";
@@ -308,7 +321,9 @@ PointCloud parse_ply_points(const uint8_t* data, size_t size, const std::string&
       }
       if (cloud.line) {
         const double l = values[slot_of[6]];
-        if (l < 0 || l != std::floor(l) || l > 4294967295.0) throw PointFileError(at + ": line must be a whole number >= 0");
+        if (l < 0 || l != std::floor(l) || l > 4294967294.0) {
+          throw PointFileError(at + ": line must be a whole number from 0 to 4294967294");
+        }
         cloud.line->push_back(static_cast<uint32_t>(l));
       }
       if (cloud.sigma) {
@@ -319,6 +334,10 @@ PointCloud parse_ply_points(const uint8_t* data, size_t size, const std::string&
       if (cloud.normal) cloud.normal->push_back({values[slot_of[3]], values[slot_of[4]], values[slot_of[5]]});
       source.push_back(binary ? static_cast<size_t>(item) : text.line());
     }
+  }
+  if (binary ? bin.left() != 0 : !text.at_end()) {
+    throw PointFileError(binary ? name + ": " + std::to_string(bin.left()) + " bytes after the elements the header counts"
+                                : name + ":" + std::to_string(text.line()) + ": a row after the elements the header counts");
   }
   check_duplicate_points(cloud, [&](size_t i) {
     return binary ? name + ": vertex " + std::to_string(source[i]) : name + ":" + std::to_string(source[i]);

@@ -3,6 +3,7 @@
 #include "host/scan/point_reader.h"
 #include "host/io/whole_file.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -13,6 +14,7 @@
 #include <tuple>
 
 #include "host/io/file_name.h"
+#include "host/io/text_field.h"
 #include "host/scan/ply_reader.h"
 #include "host/scan/scan_file.h"
 
@@ -22,19 +24,19 @@ namespace {
 std::string where(const std::string& name, size_t line) { return name + ":" + std::to_string(line); }
 
 double parse_number(const std::string& field, const std::string& name, size_t line, const std::string& column) {
-  const char* begin = field.c_str();
-  while (*begin == ' ' || *begin == '\t') ++begin;
-  char* end = nullptr;
-  errno = 0;
-  const double v = std::strtod(begin, &end);
-  while (end != nullptr && (*end == ' ' || *end == '\t' || *end == '\r')) ++end;
-  if (end == begin || *end != '\0' || errno == ERANGE) {
-    throw PointFileError(where(name, line) + ": column '" + column + "' is not a number: '" + field + "'");
-  }
-  if (!std::isfinite(v)) {
-    throw PointFileError(where(name, line) + ": column '" + column + "' is " + field + " (not finite)");
+  double v = 0;
+  if (!parse_decimal(field, &v)) {
+    throw PointFileError(where(name, line) + ": column " + quoted(column) + " is not a finite decimal number: " + quoted(field));
   }
   return v;
+}
+
+// Text point files hold no NUL: one is damage (or a binary file), named by its line.
+void check_no_nul(const std::string& text, const std::string& name) {
+  const size_t at = text.find('\0');
+  if (at == std::string::npos) return;
+  const size_t line = 1 + static_cast<size_t>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
+  throw PointFileError(where(name, line) + ": a NUL byte (byte " + std::to_string(at + 1) + "): not a text point file");
 }
 
 std::vector<std::string> split(const std::string& row, char separator) {
@@ -65,6 +67,7 @@ void check_duplicate_points(const PointCloud& cloud, const std::function<std::st
 }
 
 PointCloud parse_csv_points(const std::string& text, const std::string& name) {
+  check_no_nul(text, name);
   std::istringstream in(text);
   std::string row;
   size_t line_no = 0;
@@ -81,11 +84,11 @@ PointCloud parse_csv_points(const std::string& text, const std::string& name) {
     bool known = false;
     for (const char* k : kKnown) known = known || columns[i] == k;
     if (!known) {
-      throw PointFileError(where(name, line_no) + ": unknown column '" + columns[i] +
-                           "' (known: x,y,z,line,nx,ny,nz,sigma)");
+      throw PointFileError(where(name, line_no) + ": unknown column " + quoted(columns[i]) +
+                           " (known: x,y,z,line,nx,ny,nz,sigma)");
     }
     if (!index.emplace(columns[i], i).second) {
-      throw PointFileError(where(name, line_no) + ": column '" + columns[i] + "' appears twice");
+      throw PointFileError(where(name, line_no) + ": column " + quoted(columns[i]) + " appears twice");
     }
   }
   for (const char* required : {"x", "y", "z"}) {
@@ -116,8 +119,9 @@ PointCloud parse_csv_points(const std::string& text, const std::string& name) {
     cloud.points.push_back({value("x"), value("y"), value("z")});
     if (cloud.line) {
       const double l = value("line");
-      if (l < 0 || l != std::floor(l) || l > 4294967295.0) {
-        throw PointFileError(where(name, line_no) + ": line must be a whole number >= 0");
+      // 4294967295 (UINT32_MAX) is kept for "no line" by the code that reads lines.
+      if (l < 0 || l != std::floor(l) || l > 4294967294.0) {
+        throw PointFileError(where(name, line_no) + ": line must be a whole number from 0 to 4294967294");
       }
       cloud.line->push_back(static_cast<uint32_t>(l));
     }
@@ -134,6 +138,7 @@ PointCloud parse_csv_points(const std::string& text, const std::string& name) {
 }
 
 PointCloud parse_xyz_points(const std::string& text, const std::string& name) {
+  check_no_nul(text, name);
   std::istringstream in(text);
   std::string row;
   size_t line_no = 0;

@@ -183,10 +183,14 @@ namespace {
 
 void take(ScanData* data, const digitizer_Envelope& message, const std::string& where) {
   switch (message.which_body) {
+    // A scan file holds one scan: a second Hello or request is two files joined (cat a b > c),
+    // whose points would read back as one scan.
     case digitizer_Envelope_hello_tag:
+      if (data->device) throw ScanFileError(where + ": a second device hello: two scan files joined into one?");
       data->device = message.body.hello;
       break;
     case digitizer_Envelope_scan_request_tag:
+      if (data->request) throw ScanFileError(where + ": a second scan request: two scan files joined into one?");
       data->request = message.body.scan_request;
       break;
     case digitizer_Envelope_points_tag: {

@@ -102,9 +102,10 @@ TEST(PlyReader, SkipsElementsBeforeTheVertices) {
 
 TEST(PlyReader, NamesWhatIsWrongAndWhere) {
   const std::string head = "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
-  STRCMP_CONTAINS("in.ply:9 (vertex 1): 'z' is not finite", error_of(head + "1 2 3\n4 5 nan\n").c_str());
+  STRCMP_CONTAINS("in.ply:9: 'z' is not a finite decimal number: 'nan'", error_of(head + "1 2 3\n4 5 nan\n").c_str());
+  STRCMP_CONTAINS("in.ply:10: a row after the elements the header counts", error_of(head + "1 2 3\n4 5 6\n7 8 9\n").c_str());
   STRCMP_CONTAINS("in.ply:9: file ends before 'z'", error_of(head + "1 2 3\n4 5\n").c_str());
-  STRCMP_CONTAINS("in.ply:9: 'y' is not a number: 'a'", error_of(head + "1 2 3\n4 a 6\n").c_str());
+  STRCMP_CONTAINS("in.ply:9: 'y' is not a finite decimal number: 'a'", error_of(head + "1 2 3\n4 a 6\n").c_str());
   STRCMP_CONTAINS("in.ply:9: the same point as in.ply:8", error_of(head + "1 2 3\n1 2 3\n").c_str());
   STRCMP_CONTAINS("not a PLY file", error_of("solid x\n").c_str());
   STRCMP_CONTAINS("no end_header", error_of("ply\nformat ascii 1.0\n").c_str());

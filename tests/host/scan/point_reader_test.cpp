@@ -34,14 +34,14 @@ TEST(PointReader, ReadsCsvWithOptionalColumnsInAnyOrder) {
 }
 
 TEST(PointReader, NamesTheLineOfEveryBadRow) {
-  STRCMP_CONTAINS("in.csv:3: column 'z' is nan", error_of("x,y,z\n1,2,3\n1,2,nan\n").c_str());
-  STRCMP_CONTAINS("in.csv:2: column 'y' is inf", error_of("x,y,z\n1,inf,3\n").c_str());
+  STRCMP_CONTAINS("in.csv:3: column 'z' is not a finite decimal number: 'nan'", error_of("x,y,z\n1,2,3\n1,2,nan\n").c_str());
+  STRCMP_CONTAINS("in.csv:2: column 'y' is not a finite decimal number: 'inf'", error_of("x,y,z\n1,inf,3\n").c_str());
   STRCMP_CONTAINS("in.csv:3: 2 values, the header has 3", error_of("x,y,z\n1,2,3\n4,5\n").c_str());
   STRCMP_CONTAINS("in.csv:1: unknown column 'w'", error_of("x,y,z,w\n1,2,3,4\n").c_str());
   STRCMP_CONTAINS("in.csv:1: column 'x' appears twice", error_of("x,y,z,x\n").c_str());
   STRCMP_CONTAINS("in.csv:1: header has no 'z'", error_of("x,y\n1,2\n").c_str());
   STRCMP_CONTAINS("in.csv:3: the same point as in.csv:2", error_of("x,y,z\n1,2,3\n1,2,3\n").c_str());
-  STRCMP_CONTAINS("in.csv:2: column 'x' is not a number: '1.2.3'", error_of("x,y,z\n1.2.3,2,3\n").c_str());
+  STRCMP_CONTAINS("in.csv:2: column 'x' is not a finite decimal number: '1.2.3'", error_of("x,y,z\n1.2.3,2,3\n").c_str());
   STRCMP_CONTAINS("normals need all of nx, ny, nz", error_of("x,y,z,nx\n").c_str());
   STRCMP_CONTAINS("empty file", error_of("").c_str());
 }
@@ -56,4 +56,22 @@ TEST(PointReader, ReadsWhitespaceXyzAndRefusesShortRows) {
   } catch (const dg::host::PointFileError& e) {
     STRCMP_CONTAINS("in.xyz:2: expected 3 values", e.what());
   }
+}
+
+// Numbers are decimal and finite; a denormal is a number; nothing else passes, and an error never
+// echoes a huge field or a terminal's escape sequence.
+TEST(PointReader, TakesDecimalNumbersOnlyAndQuotesBadFieldsSafely) {
+  STRCMP_CONTAINS("in.csv:2: column 'x' is not a finite decimal number: '0x10'", error_of("x,y,z\n0x10,2,3\n").c_str());
+  STRCMP_CONTAINS("'1e999'", error_of("x,y,z\n1e999,2,3\n").c_str());
+  const dg::host::PointCloud tiny = dg::host::parse_csv_points("x,y,z\n4.9e-324,2,3\n", "in.csv");
+  CHECK(tiny.points[0].x > 0);
+  STRCMP_CONTAINS("in.csv:2: a NUL byte", error_of(std::string("x,y,z\n1\0junk,2,3\n", 18)).c_str());
+  STRCMP_CONTAINS("from 0 to 4294967294", error_of("x,y,z,line\n1,2,3,4294967295\n").c_str());
+  const std::string huge(10000000, '7');
+  const std::string long_error = error_of("x,y,z\n1," + huge + "x,3\n");
+  CHECK(long_error.size() < 300);
+  STRCMP_CONTAINS("(cut; 10000001 characters)", long_error.c_str());
+  const std::string escape_error = error_of("x,y,z,\x1b[2J\n1,2,3,4\n");
+  CHECK(escape_error.find('\x1b') == std::string::npos);
+  STRCMP_CONTAINS("\\x1b[2J", escape_error.c_str());
 }

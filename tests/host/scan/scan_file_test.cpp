@@ -123,3 +123,26 @@ TEST(ScanFile, KeepsDuplicatedPointsOnce) {
   LONGS_EQUAL(6, data.points.size());
   LONGS_EQUAL(6, data.points.back().seq);
 }
+
+// Two scan files joined (cat a b > c) read as one scan would be two scans' points mixed: refused.
+TEST(ScanFile, RefusesTwoScansJoinedIntoOneFile) {
+  write_three_batches();
+  std::vector<char> bytes = read_bytes(path);
+  std::vector<char> twice = bytes;
+  twice.insert(twice.end(), bytes.begin(), bytes.end());
+  write_bytes(path, twice);
+  try {
+    dg::host::read_scan_file(path);
+    FAIL("a doubled scan file was read as one scan");
+  } catch (const dg::host::ScanFileError& e) {
+    STRCMP_CONTAINS("two scan files joined", e.what());
+  }
+}
+
+// A scan file is never replaced by a new writer.
+TEST(ScanFile, ANewWriterNeverReplacesAnExistingFile) {
+  write_three_batches();
+  CHECK_THROWS(dg::host::ScanFileError, dg::host::ScanFileWriter(path));
+  CHECK_THROWS(dg::host::ScanFileError, dg::host::ScanFileWriter::when_accepted(path, false));
+  LONGS_EQUAL(37, dg::host::read_scan_file(path).points.size());
+}
