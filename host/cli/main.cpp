@@ -1,6 +1,7 @@
 // digitizer: the command-line front end; each subcommand lives in its own *_command file.
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <new>
 #include <stdexcept>
 
 #include "host/cli/characterize_command.h"
@@ -92,6 +93,9 @@ int main(int argc, char** argv) {
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "digitizer: %s\n", e.what());
     return kExitUsage;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "digitizer: out of memory: the input or the fit asked is too large for this machine\n");
+    return kExitFailure;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "digitizer: %s\n", e.what());
     return kExitFailure;

@@ -3,8 +3,11 @@
 
 #include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <string>
 
@@ -43,6 +46,23 @@ void check_support(const std::vector<double>& knots, int degree, int count, cons
 }
 
 // The lower band of a symmetric matrix: entry (row, row - d) for d = 0..width.
+// The normal equations' band, its copy as a sparse matrix and the Cholesky factor take about 40
+// bytes per band entry; a net that needs more than 80 % of the machine's memory is refused before
+// the allocation (a 1000 x 1000 net died with a bare std::bad_alloc).
+void check_memory(int unknowns, int width, int count_u, int count_v) {
+  const double needed = 40.0 * unknowns * (width + 1.0);
+  const double pages = static_cast<double>(sysconf(_SC_PHYS_PAGES)), page = static_cast<double>(sysconf(_SC_PAGESIZE));
+  const double available = pages > 0 && page > 0 ? pages * page : 0;
+  if (available > 0 && needed > 0.8 * available) {
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  "a %d x %d net needs about %.1f GB for its normal equations and their factor; this machine has %.1f GB: "
+                  "use fewer control points",
+                  count_u, count_v, needed / 1e9, available / 1e9);
+    throw FitError(text);
+  }
+}
+
 class Band {
  public:
   Band(int n, int width) : n_(n), width_(width), data_(static_cast<size_t>(n) * (width + 1), 0.0) {}
@@ -142,6 +162,7 @@ NormalSystem assemble(const std::vector<Point3>& points, const Parameters& param
     throw FitError("not enough points: " + std::to_string(points.size()) + " points for " + std::to_string(s.count_u) +
                    " x " + std::to_string(s.count_v) + " control points");
   }
+  check_memory(static_cast<int>(unknowns), s.degree_u * s.count_v + s.degree_v, s.count_u, s.count_v);
   check_support(s.knots_u, s.degree_u, s.count_u, params.uv, true, params);
   check_support(s.knots_v, s.degree_v, s.count_v, params.uv, false, params);
   const std::string problem = net_support_problem(s.knots_u, s.degree_u, s.knots_v, s.degree_v, params.uv, params);
@@ -150,7 +171,8 @@ NormalSystem assemble(const std::vector<Point3>& points, const Parameters& param
   const bool height_field = params.kind == Parameterization::kTableXy;
   const int rhs_count = height_field ? 1 : 3;
   const int n = static_cast<int>(unknowns);
-  Band band(n, s.degree_u * s.count_v + s.degree_v);
+  const int width = s.degree_u * s.count_v + s.degree_v;
+  Band band(n, width);
   Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n, rhs_count);
   const int pu = s.degree_u + 1, pv = s.degree_v + 1, m = pu * pv;
   // Every point of a cell (a pair of knot spans) touches the same m unknowns, so each cell sums its

@@ -151,3 +151,27 @@ TEST(BSplineFit, OrthogonalDistanceToATiltedPlaneIsTheNormalDistance) {
   const Closest below = closest_point(s, {5.0, 5.0, 2.5 - 1.0}, 0.5, 0.5);
   DOUBLES_EQUAL(-1.0 / std::sqrt(1.25), below.distance, 1e-9);
 }
+
+// A net whose normal equations cannot fit in memory is refused with the figure, before anything
+// large is allocated (a 1000 x 1000 net on a million points died with a bare std::bad_alloc).
+TEST(BSplineFit, RefusesANetTooLargeForTheMachinesMemoryWithTheFigure) {
+  const int side = 1500;
+  std::vector<Point3> points;
+  Parameters params;
+  points.reserve(static_cast<size_t>(side) * side);
+  params.uv.reserve(points.capacity());
+  for (int j = 0; j < side; ++j) {
+    for (int i = 0; i < side; ++i) {
+      points.push_back({1.0 * i, 1.0 * j, 1.0});
+      params.uv.push_back({i / (side - 1.0), j / (side - 1.0)});
+    }
+  }
+  LsqSpec spec;
+  spec.knots_u = spec.knots_v = clamped_uniform_knots(side, 3);
+  try {
+    fit_least_squares(points, params, nullptr, spec);
+    FAIL("a 1500 x 1500 net was attempted");
+  } catch (const FitError& e) {
+    STRCMP_CONTAINS("GB for its normal equations", e.what());
+  }
+}
