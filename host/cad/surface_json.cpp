@@ -83,15 +83,42 @@ void write_surface_json(const std::string& path, const FittedSurface& file) {
   write_file_atomically(path, surface_json_text(file));
 }
 
+namespace {
+
+// An integer field: a JSON integer in [lo, hi]. Converting a float such as 2e59 to an int is
+// undefined behaviour (found by fuzzing), so the type and range are checked first.
+long long whole(const nlohmann::json& v, const std::string& name, const std::string& field, long long lo, long long hi) {
+  if (!v.is_number_integer()) throw std::runtime_error(name + ": \"" + field + "\" must be a whole number");
+  const long long value = v.is_number_unsigned() && v.get<unsigned long long>() > static_cast<unsigned long long>(hi)
+                              ? hi + 1
+                              : v.get<long long>();
+  if (value < lo || value > hi) {
+    throw std::runtime_error(name + ": \"" + field + "\" must be " + std::to_string(lo) + ".." + std::to_string(hi));
+  }
+  return value;
+}
+
+std::vector<int> whole_pair(const nlohmann::json& v, const std::string& name, const std::string& field, int lo, int hi) {
+  if (!v.is_array() || v.size() != 2) throw std::runtime_error(name + ": \"" + field + "\" needs two numbers");
+  return {static_cast<int>(whole(v[0], name, field, lo, hi)), static_cast<int>(whole(v[1], name, field, lo, hi))};
+}
+
+}  // namespace
+
 FittedSurface parse_surface_json(const std::string& text, const std::string& name) {
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(text);
   } catch (const nlohmann::json::parse_error& e) {
     throw std::runtime_error(name + ": not valid JSON (byte " + std::to_string(e.byte) + ")");
+  } catch (const nlohmann::json::exception&) {
+    // A number too large for a double (1e23089) is out_of_range, not a parse_error.
+    throw std::runtime_error(name + ": a number beyond the range of a double");
   }
   auto fail = [&](const std::string& what) { return std::runtime_error(name + ": " + what); };
-  if (!j.is_object() || j.value("format", "") != kFormat) throw fail("not a digitizer surface file (\"format\" is missing)");
+  if (!j.is_object() || !j.contains("format") || !j.at("format").is_string() || j.at("format").get<std::string>() != kFormat) {
+    throw fail("not a digitizer surface file (\"format\" is missing)");
+  }
   if (!j["version"].is_number_integer() || j["version"].get<int>() != kVersion) throw fail("unsupported version");
   FittedSurface f;
   try {
@@ -112,8 +139,8 @@ FittedSurface parse_surface_json(const std::string& text, const std::string& nam
     one_of("method", f.method, {"lsq", "ips", "normals", "superquadric", "device"});
     one_of("parameterization", f.parameterization, {"xy", "uniform", "chord", "centripetal", "axis"});
     f.height_field = j.value("height_field", false);
-    const auto degree = j.at("degree").get<std::vector<int>>();
-    const auto count = j.at("control_count").get<std::vector<int>>();
+    const auto degree = whole_pair(j.at("degree"), name, "degree", 1, 15);
+    const auto count = whole_pair(j.at("control_count"), name, "control_count", 1, 1000000);
     if (degree.size() != 2 || count.size() != 2) throw fail("\"degree\" and \"control_count\" need two numbers");
     f.surface.degree_u = degree[0];
     f.surface.degree_v = degree[1];
@@ -133,7 +160,7 @@ FittedSurface parse_surface_json(const std::string& text, const std::string& nam
       f.has_fit = true;
       f.source = fit.value("source", "");
       const auto& d = fit.at("distance");
-      f.distance.count = d.at("count").get<size_t>();
+      f.distance.count = static_cast<size_t>(whole(d.at("count"), name, "count", 0, 1LL << 48));
       f.distance.mean = d.at("mean").get<double>();
       f.distance.median = d.at("median").get<double>();
       f.distance.stddev = d.at("stddev").get<double>();
@@ -143,20 +170,23 @@ FittedSurface parse_surface_json(const std::string& text, const std::string& nam
       f.distance.max_abs = d.at("max_abs").get<double>();
       f.tolerance_mm = fit.value("tolerance_mm", 0.0);
       f.tolerance_kept = fit.value("tolerance_kept", false);
-      f.iterations = fit.value("iterations", 0);
-      f.noise_sigma_mm = fit["noise_sigma_mm"].is_number() ? fit["noise_sigma_mm"].get<double>() : 0.0;
+      f.iterations = fit.contains("iterations") ? static_cast<int>(whole(fit.at("iterations"), name, "iterations", 0, 1000000)) : 0;
+      // (A const json's operator[] on a missing key is undefined: found by fuzzing.)
+      f.noise_sigma_mm = fit.contains("noise_sigma_mm") && fit.at("noise_sigma_mm").is_number()
+                             ? fit.at("noise_sigma_mm").get<double>()
+                             : 0.0;
       if (fit.contains("validation")) {
         const auto& v = fit["validation"];
         f.validation.checked = true;
         f.validation.passed = v.at("passed").get<bool>();
         f.validation.problem = v.value("problem", "");
         const auto& h = v.at("hold_out");
-        f.validation.folds = h.at("folds").get<int>();
-        f.validation.held_out_points = h.at("points").get<size_t>();
+        f.validation.folds = static_cast<int>(whole(h.at("folds"), name, "folds", 0, 1000));
+        f.validation.held_out_points = static_cast<size_t>(whole(h.at("points"), name, "points", 0, 1LL << 48));
         f.validation.held_out_rms_mm = h.at("rms_mm").get<double>();
         f.validation.held_out_max_mm = h.at("max_mm").get<double>();
         const auto& n = v.at("neighbours");
-        f.validation.neighbour_checks = n.at("checks").get<size_t>();
+        f.validation.neighbour_checks = static_cast<size_t>(whole(n.at("checks"), name, "checks", 0, 1LL << 48));
         f.validation.range_excess_max_mm = n.at("excess_max_mm").get<double>();
       }
       if (fit.contains("uncertainty")) {
@@ -167,10 +197,7 @@ FittedSurface parse_surface_json(const std::string& text, const std::string& nam
         out.sigma_from = u.value("sigma_from", "");
         out.max_mm = u.at("max_mm").get<double>();
         out.mean_mm = u.at("mean_mm").get<double>();
-        const auto grid = u.at("grid").get<std::vector<int>>();
-        if (grid.size() != 2 || grid[0] < 2 || grid[1] < 2 || grid[0] > 4096 || grid[1] > 4096) {
-          throw fail("\"uncertainty\": \"grid\" needs two sizes of 2..4096");
-        }
+        const auto grid = whole_pair(u.at("grid"), name, "grid", 2, 4096);
         out.rows = grid[0];
         out.cols = grid[1];
         out.u_mm = u.at("u_mm").get<std::vector<double>>();

@@ -1,10 +1,20 @@
-// Surfaces for export tests: a clamped fit-like net and an unclamped uniform net like the device's.
+// Surfaces for tests: a plane, a clamped fit-like net and an unclamped uniform net like the device's.
 #pragma once
 #include <cmath>
 
 #include "host/geometry/bspline_surface.h"
 
 namespace dg::test {
+
+// A bilinear patch that is exactly a plane: z = 1 + 0.1 x over 0..40 x 0..30 mm.
+inline host::BSplineSurface tilted_plane() {
+  host::BSplineSurface s;
+  s.degree_u = s.degree_v = 1;
+  s.count_u = s.count_v = 2;
+  s.knots_u = s.knots_v = {0, 0, 1, 1};
+  s.control = {{0, 0, 1}, {0, 30, 1}, {40, 0, 5}, {40, 30, 5}};
+  return s;
+}
 
 // A 6 x 5 bicubic-by-quadratic net with an interior double knot in v.
 inline host::BSplineSurface clamped_sample() {

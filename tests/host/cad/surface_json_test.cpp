@@ -79,3 +79,29 @@ TEST(SurfaceJson, RefusesAKnotVectorOfTheWrongLength) {
   f.surface.knots_u.pop_back();
   CHECK(!error_of(surface_json_text(f)).empty());
 }
+
+// Found by fuzzing: a number beyond a double's range escaped the reader as a JSON library error.
+TEST(SurfaceJson, ANumberBeyondADoublesRangeIsAClearError) {
+  std::string text = surface_json_text(fitted());
+  const size_t at = text.find("\"knots_u\": [") + 12;
+  text.insert(at, "5.1e23089,");
+  STRCMP_CONTAINS("beyond the range of a double", error_of(text).c_str());
+}
+
+// Found by fuzzing: a fit section without its noise field read past the end of a JSON object.
+TEST(SurfaceJson, AFitSectionWithoutItsNoiseFieldReadsAsNoEstimate) {
+  std::string text = surface_json_text(fitted());
+  const size_t at = text.find("\"noise_sigma_mm\"");
+  text.replace(at, 16, "\"noise_sigma_xx\"");
+  DOUBLES_EQUAL(0.0, parse_surface_json(text, "s.json").noise_sigma_mm, 0);
+}
+
+// Found by fuzzing: a float where a whole number belongs (2e59 control points) was converted to an
+// int, which is undefined.
+TEST(SurfaceJson, AFloatWhereAWholeNumberBelongsIsRefused) {
+  std::string text = surface_json_text(fitted());
+  const size_t at = text.find("\"control_count\": [") + 18;
+  const size_t end = text.find(']', at);
+  text.replace(at, end - at, "2.2e59, 5");
+  STRCMP_CONTAINS("\"control_count\" must be a whole number", error_of(text).c_str());
+}

@@ -12,20 +12,11 @@
 #include "host/fit/bspline_fit.h"
 #include "host/geometry/surface_locator.h"
 #include "host/geometry/vec3.h"
+#include "tests/support/sample_surfaces.h"
 
 using namespace dg::host;
 
 namespace {
-
-// A bilinear patch is exactly a plane here: z = 1 + 0.1 x over 0..40 x 0..30.
-BSplineSurface tilted_plane() {
-  BSplineSurface s;
-  s.degree_u = s.degree_v = 1;
-  s.count_u = s.count_v = 2;
-  s.knots_u = s.knots_v = {0, 0, 1, 1};
-  s.control = {{0, 0, 1}, {0, 30, 1}, {40, 0, 5}, {40, 30, 5}};
-  return s;
-}
 
 // A fitted sphere cap of radius 50 (centre (20, 15, -40)): bicubic 12 x 12, a few um from the sphere.
 BSplineSurface sphere_cap() {
@@ -45,7 +36,7 @@ BSplineSurface sphere_cap() {
 TEST_GROUP(Inspect){};
 
 TEST(Inspect, PlaneDistancesAreExactWithTheirSign) {
-  const BSplineSurface plane = tilted_plane();
+  const BSplineSurface plane = dg::test::tilted_plane();
   const double n = std::sqrt(1 + 0.01);  // |(-0.1, 0, 1)|
   std::vector<Point3> points;
   std::vector<double> expected;
@@ -79,7 +70,7 @@ TEST(Inspect, SphereDistancesMatchTheTrueOnesFromAnyStart) {
 }
 
 TEST(Inspect, PointsBeyondTheEdgeFindTheEdge) {
-  const BSplineSurface plane = tilted_plane();
+  const BSplineSurface plane = dg::test::tilted_plane();
   const Inspection r = inspect({{50, 15, 6}, {-10, -10, 1}}, plane, {});
   DOUBLES_EQUAL(norm(Point3{50, 15, 6} - Point3{40, 15, 5}), std::fabs(r.points[0].distance), 1e-9);
   DOUBLES_EQUAL(std::sqrt(200.0), std::fabs(r.points[1].distance), 1e-9);
@@ -88,9 +79,9 @@ TEST(Inspect, PointsBeyondTheEdgeFindTheEdge) {
 // No statistics from nothing, and none from a point whose distance overflows: both refused, the
 // second naming the point.
 TEST(Inspect, RefusesNoPointsAndAPointWhoseDistanceIsNotFinite) {
-  CHECK_THROWS(std::invalid_argument, inspect({}, tilted_plane(), {}));
+  CHECK_THROWS(std::invalid_argument, inspect({}, dg::test::tilted_plane(), {}));
   try {
-    inspect({{1, 1, 1}, {1e308, 0, 1}}, tilted_plane(), {0.01});
+    inspect({{1, 1, 1}, {1e308, 0, 1}}, dg::test::tilted_plane(), {0.01});
     FAIL("a point at 1e308 was inspected");
   } catch (const std::invalid_argument& e) {
     STRCMP_CONTAINS("point 2", e.what());
