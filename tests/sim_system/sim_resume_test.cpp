@@ -259,3 +259,75 @@ TEST(SimResume, ANewScanKeepsNoneOfTheLastScansUnacknowledgedPoints) {
   LONGS_EQUAL(21 * 11 + 1, data.points.front().seq);  // the first scan had seqs 1..231
   std::remove(path.c_str());
 }
+
+namespace {
+
+// The scan file of a host whose power fails: records reach the real file, the sizes at each sync
+// are noted, and after `records` appends the "power" goes (append throws, the capture stops, no
+// acknowledgement follows). What was synced is on the disk; anything after it may be lost.
+class PowerFailingSink : public dg::host::ScanSink {
+ public:
+  PowerFailingSink(dg::host::ScanFileWriter& file, size_t records) : file_(file), records_left_(records) {}
+  void append(const digitizer_Envelope& message) override {
+    if (records_left_ == 0) throw dg::host::ScanFileError("the power failed");
+    --records_left_;
+    file_.append(message);
+  }
+  void sync() override {
+    file_.sync();
+    synced_bytes_ = file_.bytes_written();
+  }
+  void accepted() override { file_.accepted(); }
+  const std::string& path() const override { return file_.path(); }
+  uint64_t synced_bytes() const { return synced_bytes_; }
+
+ private:
+  dg::host::ScanFileWriter& file_;
+  size_t records_left_;
+  uint64_t synced_bytes_ = 0;
+};
+
+// Scans until the power fails after `records` records, cuts the file `cut` bytes after the last
+// sync (a negative `cut`: that many bytes before the end, but not before the sync), and resumes:
+// every point must still be had, since the device was told only of points that were synced.
+void check_power_loss(size_t records, int64_t cut, const char* name) {
+  const std::string socket_path = temp_path(std::string(name) + ".sock"), path = temp_path(std::string(name) + ".scan");
+  std::remove(path.c_str());
+  ListeningSim sim("unix:" + socket_path);
+  const std::string uri = "unix:" + socket_path;
+  const digitizer_ScanRequest request = long_scan();
+  uint64_t synced = 0, written = 0;
+  {
+    auto transport = dg::host::open_transport(uri);
+    dg::host::Session session(*transport);
+    const digitizer_Hello hello = session.hello(5000);
+    dg::host::ScanFileWriter file = dg::host::ScanFileWriter::when_accepted(path, false);
+    PowerFailingSink sink(file, records);
+    CHECK_THROWS(dg::host::ScanFileError, dg::host::capture_scan(session, hello, request, sink, dg::host::CaptureOptions{}));
+    synced = sink.synced_bytes();
+    written = file.bytes_written();
+  }
+  CHECK(written > synced);  // an unsynced tail exists to lose
+  const uint64_t keep = cut >= 0 ? std::min<uint64_t>(written, synced + static_cast<uint64_t>(cut))
+                                 : std::max<uint64_t>(synced, written - static_cast<uint64_t>(-cut));
+  CHECK(truncate(path.c_str(), static_cast<off_t>(keep)) == 0);
+  try {
+    const dg::host::CaptureResult result = resume(uri, path);
+    CHECK(result.finished);
+    check_complete(dg::host::read_scan_file(path), request);
+  } catch (const std::exception& e) {
+    std::remove(path.c_str());
+    FAIL(e.what());  // "acknowledged and freed": the device was told of points the disk lost
+  }
+  std::remove(path.c_str());
+}
+
+}  // namespace
+
+// A power loss keeps what was synced and may lose everything after it: cut exactly there, in the
+// middle of the next record, and 7 bytes before the end, the resume finds every point.
+TEST(SimResume, APowerLossLosesNoPointTheDeviceWasToldIsStored) {
+  check_power_loss(300, 0, "power0");
+  check_power_loss(377, 5, "power5");
+  check_power_loss(450, -7, "power7");
+}
