@@ -43,11 +43,26 @@ int run_superquadric(const SuperquadricArgs& a) {
                point_json({m.axes[2][0], m.axes[2][1], m.axes[2][2]})};
   j["fit"] = {{"points", points.size()},         {"iterations", fit.iterations},         {"objective", fit.objective},
               {"goodness", fit.goodness},        {"rms_radial_mm", fit.rms_radial_mm}};
+  if (fit.uncertainty.computed) {
+    const SuperquadricUncertainty& u = fit.uncertainty;
+    j["uncertainty"] = {{"kind", "standard uncertainty (k = 1), from the points' scatter about the shape"},
+                        {"a_mm", {u.a_mm[0], u.a_mm[1], u.a_mm[2]}},
+                        {"e1", u.e1},
+                        {"e2", u.e2},
+                        {"center_mm", {u.center_mm[0], u.center_mm[1], u.center_mm[2]}}};
+  }
   j["shape"] = shape_name(fit.shape);
   j["rotationally_symmetric"] = fit.rotationally_symmetric;
   if (!a.quiet) {
     std::printf("superquadric: size %.4f x %.4f x %.4f mm, e1 %.3f e2 %.3f, centre (%.4f, %.4f, %.4f)\n", m.a[0], m.a[1], m.a[2],
                 m.e1, m.e2, m.center.x, m.center.y, m.center.z);
+    if (fit.uncertainty.computed) {
+      const SuperquadricUncertainty& u = fit.uncertainty;
+      std::printf("standard uncertainty (k = 1): size %.4f, %.4f, %.4f mm, e1 %.4f e2 %.4f, centre %.4f, %.4f, %.4f mm\n",
+                  u.a_mm[0], u.a_mm[1], u.a_mm[2], u.e1, u.e2, u.center_mm[0], u.center_mm[1], u.center_mm[2]);
+    } else {
+      std::printf("standard uncertainty: the points do not determine it\n");
+    }
     std::printf("%s; goodness (eq. 10 per point) %.3g, RMS radial distance %.4f mm, %d iterations\n", fit.description.c_str(),
                 fit.goodness, fit.rms_radial_mm, fit.iterations);
   }

@@ -24,8 +24,18 @@ struct Superquadric {
 
 enum class SuperquadricShape { kEllipsoid, kCylinder, kParallelepiped, kRotational, kOther };
 
+// Standard uncertainties (k = 1) of the fitted parameters, from the scatter of the points about
+// the fitted shape; computed false when the points do not determine them.
+struct SuperquadricUncertainty {
+  bool computed = false;
+  double a_mm[3] = {0, 0, 0};
+  double e1 = 0, e2 = 0;
+  double center_mm[3] = {0, 0, 0};
+};
+
 struct SuperquadricFit {
   Superquadric model;
+  SuperquadricUncertainty uncertainty;
   int iterations = 0;
   double objective = 0;           // eq. 10 at the solution
   double goodness = 0;            // eq. 10 divided by the number of points (Koivunen and Bajcsy 1992, Table 2's measure)
