@@ -76,9 +76,21 @@ int run_curve(const CurveArgs& a) {
     ApproximationReport report;
     curve = approximate_clamped(points, n, &report);
     extra["parameter_corrections"] = report.corrections;
+    if (!report.u_mm.empty()) {
+      extra["uncertainty"] = {{"kind", "standard uncertainty across the curve at each point (k = 1)"},
+                              {"max_mm", report.u_max_mm},
+                              {"mean_mm", report.u_mean_mm},
+                              {"u_mm", report.u_mm}};
+    }
     if (!a.quiet) {
       std::printf("parameter correction: %d steps; RMS %.4f mm on chord-length parameters, %.4f mm orthogonal after\n",
                   report.corrections, report.chord_rms_mm, report.corrected_rms_mm);
+      if (report.u_mm.empty()) {
+        std::printf("standard uncertainty: not determined (as many points as the curve has freedoms)\n");
+      } else {
+        std::printf("standard uncertainty across the curve u (k = 1): max %.4f mean %.4f mm; U = 2u: max %.4f mm\n",
+                    report.u_max_mm, report.u_mean_mm, 2 * report.u_max_mm);
+      }
     }
   } else {
     curve = control_polygon_curve(points);

@@ -30,6 +30,10 @@ struct ApproximationReport {
   int corrections = 0;          // parameter corrections taken
   double chord_rms_mm = 0;      // RMS distance on chord-length parameters, before correction
   double corrected_rms_mm = 0;  // after: the RMS of the foot-point (orthogonal) distances
+  // The curve's standard uncertainty (k = 1) across itself at each point's foot, from the points'
+  // scatter about it (more points than control points needed; empty otherwise).
+  std::vector<double> u_mm;
+  double u_max_mm = 0, u_mean_mm = 0;
 };
 
 // The least-squares clamped cubic with `control_count` control points (uniform knots), its ends on

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <random>
 
 #include "host/fit/bezier_ips.h"
 #include "host/fit/fit_error.h"
@@ -121,4 +122,50 @@ TEST(ProfileCurve, ParameterCorrectionReachesTheBestCubicOnHamdansBoundaryCurve)
   CHECK(report.chord_rms_mm > 0.04);
   DOUBLES_EQUAL(report.corrected_rms_mm, s.rms, 1e-6);
   CHECK(s.rms <= 1.05 * std::min(ips.rms_mm, 0.0026));
+}
+
+// The curve's predicted uncertainty across itself against the spread of 400 fits of noisy
+// replicas of a gentle cubic profile (5 um of noise across it, 41 points, 6 control points): at
+// every point, the ends included, within 25 % (measured 19 % at worst, in the middle, where the
+// prediction is high; 400 replicas estimate a spread to 3.5 %).
+TEST(ProfileCurve, TheUncertaintyAcrossTheCurveAgreesWithTheSpreadOfNoisyRefits) {
+  auto height = [](double x) { return 10.0 + 0.2 * x - 0.01 * x * x + 0.0002 * x * x * x; };
+  auto slope = [](double x) { return 0.2 - 0.02 * x + 0.0006 * x * x; };
+  constexpr int kPoints = 41, kReplicas = 400;
+  std::mt19937 rng(5);
+  std::normal_distribution<double> noise(0.0, 0.005);
+  std::vector<double> sum(kPoints, 0.0), sum_sq(kPoints, 0.0), predicted(kPoints, 0.0);
+  for (int r = 0; r < kReplicas; ++r) {
+    std::vector<Point3> p;
+    for (int k = 0; k < kPoints; ++k) {
+      const double x = k, g = slope(x), across = noise(rng), norm_g = std::sqrt(1 + g * g);
+      p.push_back({x - g / norm_g * across, 0.0, height(x) + across / norm_g});
+    }
+    ApproximationReport report;
+    const BSplineCurve c = approximate_clamped(p, 6, &report);
+    LONGS_EQUAL(kPoints, report.u_mm.size());
+    // The fitted curve's height at each true x (dense samples, interpolated), as an offset across
+    // the true curve.
+    std::vector<Point3> dense;
+    for (int s = 0; s <= 4000; ++s) dense.push_back(c.evaluate(c.t_min() + (c.t_max() - c.t_min()) * s / 4000.0));
+    for (int k = 0; k < kPoints; ++k) {
+      const double x = k;
+      size_t j = 1;
+      while (j + 1 < dense.size() && dense[j].x < x) ++j;
+      const double w = (x - dense[j - 1].x) / (dense[j].x - dense[j - 1].x);
+      const double z = dense[j - 1].z + w * (dense[j].z - dense[j - 1].z);
+      const double offset = (z - height(x)) / std::sqrt(1 + slope(x) * slope(x));
+      sum[k] += offset;
+      sum_sq[k] += offset * offset;
+      predicted[k] += report.u_mm[static_cast<size_t>(k)] / kReplicas;
+    }
+  }
+  double worst = 0;
+  for (int k = 0; k < kPoints; ++k) {
+    const double mean = sum[k] / kReplicas;
+    const double spread = std::sqrt((sum_sq[k] - kReplicas * mean * mean) / (kReplicas - 1));
+    worst = std::fmax(worst, std::fabs(predicted[k] / spread - 1));
+  }
+  std::printf("\n  approximate curve: predicted u against %d refits, worst relative difference %.1f %%", kReplicas, 100 * worst);
+  CHECK(worst <= 0.25);
 }
