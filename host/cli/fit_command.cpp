@@ -81,7 +81,12 @@ void print_validation(const FittedSurface& out) {
 
 void print_uncertainty(const FittedSurface& out) {
   const SurfaceUncertainty& u = out.uncertainty;
-  if (!u.computed) return;
+  if (!u.computed) {
+    // Said, not left out: a reader must not take the distances above for the surface's uncertainty.
+    std::printf("standard uncertainty of the surface: not computed for the %s method (least-squares fits carry it)\n",
+                out.method.c_str());
+    return;
+  }
   std::printf("standard uncertainty of the surface u (k = 1): max %.4f mean %.4f mm; expanded U = 2u: max %.4f mean %.4f mm\n",
               u.max_mm, u.mean_mm, 2 * u.max_mm, 2 * u.mean_mm);
   std::printf("  from a point uncertainty of %.4f mm (%s); the fit's precision, not its shape error\n", u.sigma_mm,
