@@ -133,6 +133,29 @@ Eigen::SparseMatrix<double> elimination_map(const DirectionMap& u, const Directi
 }
 
 
+// The membrane that places a region net's outside control points (LsqSpec::fill_outside): for every
+// pair of neighbouring control points with at least one outside, lambda (P_a - P_b)^2. Only the
+// outside points lack data, so it decides them and leaves the fitted ones where the data put them.
+void add_membrane(Band& band, const BSplineSurface& s, const std::vector<char>& outside) {
+  double largest = 0;
+  const int n = s.count_u * s.count_v;
+  for (int k = 0; k < n; ++k) largest = std::max(largest, band(k, k));
+  const double lambda = 1e-8 * (largest > 0 ? largest : 1.0);
+  auto edge = [&](int a, int b) {
+    if (!outside[static_cast<size_t>(a)] && !outside[static_cast<size_t>(b)]) return;
+    band(a, a) += lambda;
+    band(b, b) += lambda;
+    band(std::max(a, b), std::min(a, b)) -= lambda;
+  };
+  for (int i = 0; i < s.count_u; ++i) {
+    for (int j = 0; j < s.count_v; ++j) {
+      const int k = i * s.count_v + j;
+      if (i + 1 < s.count_u) edge(k, k + s.count_v);
+      if (j + 1 < s.count_v) edge(k, k + 1);
+    }
+  }
+}
+
 // The normal equations of a net, reduced by the ramps' elimination (x = map y when `eliminate`),
 // and their factorization, checked for vanishing pivots.
 struct NormalSystem {
@@ -158,14 +181,23 @@ NormalSystem assemble(const std::vector<Point3>& points, const Parameters& param
   }
   if (s.count_u <= s.degree_u || s.count_v <= s.degree_v) throw FitError("a net needs at least degree + 1 control points per direction");
   const size_t unknowns = static_cast<size_t>(s.count_u) * s.count_v;
-  if (points.size() < unknowns) {
+  std::vector<char> outside;
+  size_t fitted = unknowns;
+  if (spec.fill_outside) {
+    outside = outside_control_points(s.knots_u, s.degree_u, s.knots_v, s.degree_v, params.uv);
+    fitted = static_cast<size_t>(std::count(outside.begin(), outside.end(), 0));
+  }
+  if (points.size() < fitted) {
     throw FitError("not enough points: " + std::to_string(points.size()) + " points for " + std::to_string(s.count_u) +
                    " x " + std::to_string(s.count_v) + " control points");
   }
   check_memory(static_cast<int>(unknowns), s.degree_u * s.count_v + s.degree_v, s.count_u, s.count_v);
-  check_support(s.knots_u, s.degree_u, s.count_u, params.uv, true, params);
-  check_support(s.knots_v, s.degree_v, s.count_v, params.uv, false, params);
-  const std::string problem = net_support_problem(s.knots_u, s.degree_u, s.knots_v, s.degree_v, params.uv, params);
+  if (!spec.fill_outside) {
+    check_support(s.knots_u, s.degree_u, s.count_u, params.uv, true, params);
+    check_support(s.knots_v, s.degree_v, s.count_v, params.uv, false, params);
+  }
+  const std::string problem = net_support_problem(s.knots_u, s.degree_u, s.knots_v, s.degree_v, params.uv, params,
+                                                  spec.fill_outside ? &outside : nullptr);
   if (!problem.empty()) throw FitError("the points cannot determine this net: " + problem);
 
   const bool height_field = params.kind == Parameterization::kTableXy;
@@ -220,6 +252,7 @@ NormalSystem assemble(const std::vector<Point3>& points, const Parameters& param
       }
     }
   }
+  if (spec.fill_outside && std::count(outside.begin(), outside.end(), 1) > 0) add_membrane(band, s, outside);
   // No regularization: a net the points do not determine is refused, not smoothed into shape. The
   // pivots of the factorization say whether it is determined; one far below the largest (relative
   // to the rounding of a double over the matrix's size) means a control point the data leaves free.

@@ -186,7 +186,8 @@ std::vector<int> validation_folds(const PointCloud& cloud, int folds) {
   return fold;
 }
 
-FoldSupport::FoldSupport(const PointCloud& cloud, const Parameters& params, int folds) {
+FoldSupport::FoldSupport(const PointCloud& cloud, const Parameters& params, int folds, bool fill_outside)
+    : fill_outside_(fill_outside) {
   const std::vector<int> fold = validation_folds(cloud, folds);
   const double merge = site_merge_distance(cloud.points.size());
   for (int f = 0; f < folds; ++f) {
@@ -205,6 +206,14 @@ FoldSupport::FoldSupport(const PointCloud& cloud, const Parameters& params, int 
 std::string FoldSupport::problem(const std::vector<double>& knots_u, int degree_u, const std::vector<double>& knots_v,
                                  int degree_v) const {
   for (size_t f = 0; f < sites_u_.size(); ++f) {
+    if (fill_outside_) {
+      const std::vector<char> outside = outside_control_points(knots_u, degree_u, knots_v, degree_v, kept_[f]);
+      const auto [i, j] = unmatched_control_point(knots_u, degree_u, knots_v, degree_v, kept_[f], 0.01, &outside);
+      if (i < 0) continue;
+      return "with validation fold " + std::to_string(f + 1) + " of " + std::to_string(sites_u_.size()) +
+             " held out, the remaining points of the region cannot determine control point (" + std::to_string(i) +
+             ", " + std::to_string(j) + ") of the net";
+    }
     // A margin (each control point with a site where its basis function is at least 0.1) keeps
     // the nets the tolerance loop reaches well conditioned for every fold.
     if (schoenberg_whitney_gap(knots_u, degree_u, sites_u_[f], 0.1) >= 0 ||
@@ -233,6 +242,7 @@ FitValidation validate_fit(const PointCloud& cloud, const Parameters& params, co
   spec.degree_v = surface.degree_v;
   spec.knots_u = surface.knots_u;
   spec.knots_v = surface.knots_v;
+  spec.fill_outside = options.fill_outside;
   double sum_sq = 0;
   for (int f = 0; f < options.folds; ++f) {
     std::vector<Point3> kept;

@@ -19,13 +19,16 @@ std::vector<int> validation_folds(const PointCloud& cloud, int folds);
 // it reaches can always be validated.
 class FoldSupport {
  public:
-  FoldSupport(const PointCloud& cloud, const Parameters& params, int folds);
+  // `fill_outside`: a region's net (LsqSpec::fill_outside), whose control points beyond the points
+  // are placed, not fitted; only the others must be determined.
+  FoldSupport(const PointCloud& cloud, const Parameters& params, int folds, bool fill_outside = false);
   std::string problem(const std::vector<double>& knots_u, int degree_u, const std::vector<double>& knots_v,
                       int degree_v) const;
 
  private:
   std::vector<std::vector<double>> sites_u_, sites_v_;  // per fold, of the points that remain
   std::vector<std::vector<UV>> kept_;                  // per fold, the parameters of those points
+  bool fill_outside_ = false;
 };
 
 struct ValidationOptions {
@@ -33,6 +36,7 @@ struct ValidationOptions {
   int folds = 5;
   // Parameters evaluated between each pair of neighbours (besides the quad centres).
   int samples_between = 3;
+  bool fill_outside = false;  // the refits place control points beyond the points (LsqSpec::fill_outside)
 };
 
 // Two checks of a least-squares B-spline fit between the samples:

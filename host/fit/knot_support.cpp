@@ -127,7 +127,8 @@ bool augment(int c, const std::vector<std::vector<int>>& points_of, std::vector<
 
 std::pair<int, int> unmatched_control_point(const std::vector<double>& knots_u, int degree_u,
                                             const std::vector<double>& knots_v, int degree_v,
-                                            const std::vector<UV>& uv, double min_product) {
+                                            const std::vector<UV>& uv, double min_product,
+                                            const std::vector<char>* outside) {
   const int count_u = static_cast<int>(knots_u.size()) - degree_u - 1;
   const int count_v = static_cast<int>(knots_v.size()) - degree_v - 1;
   if (count_u <= 0 || count_v <= 0 || degree_u >= 8 || degree_v >= 8) return {-1, -1};
@@ -155,14 +156,43 @@ std::pair<int, int> unmatched_control_point(const std::vector<double>& knots_u, 
     for (int j = 0; j < count_v; ++j) {
       if (ramp_u[static_cast<size_t>(i)] || ramp_v[static_cast<size_t>(j)]) continue;
       const int c = i * count_v + j;
+      if (outside && (*outside)[static_cast<size_t>(c)]) continue;
       if (!augment(c, points_of, control_of_point, seen, c)) return {i, j};
     }
   }
   return {-1, -1};
 }
 
+std::vector<char> outside_control_points(const std::vector<double>& knots_u, int degree_u,
+                                         const std::vector<double>& knots_v, int degree_v, const std::vector<UV>& uv) {
+  const int count_u = static_cast<int>(knots_u.size()) - degree_u - 1;
+  const int count_v = static_cast<int>(knots_v.size()) - degree_v - 1;
+  if (count_u <= 0 || count_v <= 0 || degree_u >= 8 || degree_v >= 8) return {};
+  std::vector<char> outside(static_cast<size_t>(count_u) * count_v, 1);
+  for (const UV& p : uv) {
+    const int su = fit::find_span(count_u, degree_u, p.u, knots_u.data());
+    const int sv = fit::find_span(count_v, degree_v, p.v, knots_v.data());
+    double nu[8], nv[8];
+    fit::bspline_basis(su, degree_u, p.u, knots_u.data(), nu);
+    fit::bspline_basis(sv, degree_v, p.v, knots_v.data(), nv);
+    for (int a = 0; a <= degree_u; ++a) {
+      for (int b = 0; b <= degree_v; ++b) {
+        if (nu[a] * nv[b] > 0) outside[static_cast<size_t>(su - degree_u + a) * count_v + (sv - degree_v + b)] = 0;
+      }
+    }
+  }
+  return outside;
+}
+
 std::string net_support_problem(const std::vector<double>& knots_u, int degree_u, const std::vector<double>& knots_v,
-                                int degree_v, const std::vector<UV>& uv, const Parameters& params) {
+                                int degree_v, const std::vector<UV>& uv, const Parameters& params,
+                                const std::vector<char>* outside) {
+  if (outside) {
+    const auto [i, j] = unmatched_control_point(knots_u, degree_u, knots_v, degree_v, uv, 0.0, outside);
+    if (i < 0) return "";
+    return "control point (" + std::to_string(i) + ", " + std::to_string(j) +
+           ") has no point of its own under its support (the region is too small or too thin for this net)";
+  }
   const double merge = site_merge_distance(uv.size());
   std::string problem = direction_problem(knots_u, degree_u, distinct_sites(uv, true, merge), true, params);
   if (problem.empty()) problem = direction_problem(knots_v, degree_v, distinct_sites(uv, false, merge), false, params);

@@ -44,13 +44,25 @@ int schoenberg_whitney_gap(const std::vector<double>& knots, int degree, const s
 // may pass on its own while a hole in the scan (outliers left out, or a validation fold held out
 // beside one) leaves two control points near it sharing the few points under both. Returns
 // {-1, -1} when it holds, else a control point (i along u, j along v) left without a point.
+// Control points flagged in `outside` (index i * count_v + j) are not asked for a point.
 std::pair<int, int> unmatched_control_point(const std::vector<double>& knots_u, int degree_u,
                                             const std::vector<double>& knots_v, int degree_v,
-                                            const std::vector<UV>& uv, double min_product = 0.0);
+                                            const std::vector<UV>& uv, double min_product = 0.0,
+                                            const std::vector<char>* outside = nullptr);
+
+// For a net fitted to one region of a scan (host/fit/regions.h): the control points whose support
+// holds no point at all, flagged by index i * count_v + j. They lie beyond the region, where its
+// trimmed surface is not used; the fit places them (bspline_fit.h's fill_outside) instead of
+// refusing the net.
+std::vector<char> outside_control_points(const std::vector<double>& knots_u, int degree_u,
+                                         const std::vector<double>& knots_v, int degree_v, const std::vector<UV>& uv);
 
 // The same check for both directions of a net, with the reason in words ("" when it holds): how
 // many sites there are, how many control points were asked, and where the support is empty.
+// With `outside`, only the tensor matching for the other control points is checked (a region's
+// points need not cover every row and column of the net's box).
 std::string net_support_problem(const std::vector<double>& knots_u, int degree_u, const std::vector<double>& knots_v,
-                                int degree_v, const std::vector<UV>& uv, const Parameters& params);
+                                int degree_v, const std::vector<UV>& uv, const Parameters& params,
+                                const std::vector<char>* outside = nullptr);
 
 }  // namespace dg::host

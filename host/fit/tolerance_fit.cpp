@@ -105,6 +105,7 @@ ToleranceResult refine(const PointCloud& cloud, const Parameters& params, const 
   const double noise = noise_estimate.reading_sigma_mm;
   const std::vector<Point3>& points = cloud.points;
   LsqSpec spec;
+  spec.fill_outside = options.fill_outside;
   spec.degree_u = options.degree_u;
   spec.degree_v = options.degree_v;
   spec.knots_u = start_knots(options.start_count_u > 0 ? options.start_count_u : options.degree_u + 1, options.degree_u,
@@ -118,8 +119,8 @@ ToleranceResult refine(const PointCloud& cloud, const Parameters& params, const 
   const double min_width = typical_spacing(points.size());
   // The net may grow only while every validation fold's remaining points still determine it, so
   // the surface reached can be checked between the samples (fit_validation.h).
-  const ValidationOptions validation_options{options.tolerance_mm, options.validation_folds, 3};
-  const FoldSupport fold_support(cloud, params, options.validation_folds);
+  const ValidationOptions validation_options{options.tolerance_mm, options.validation_folds, 3, options.fill_outside};
+  const FoldSupport fold_support(cloud, params, options.validation_folds, options.fill_outside);
   auto allowed_u = [&](const std::vector<double>& knots) {
     return fold_support.problem(knots, spec.degree_u, spec.knots_v, spec.degree_v).empty();
   };

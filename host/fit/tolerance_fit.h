@@ -21,6 +21,9 @@ struct ToleranceOptions {
   size_t sample_above = 400000;
   // Hold-out folds for the validation between the samples (fit_validation.h).
   int validation_folds = 5;
+  // A region's points (host/fit/regions.h) over a larger box: control points beyond them are placed,
+  // not fitted (LsqSpec::fill_outside).
+  bool fill_outside = false;
 };
 
 struct ToleranceResult {

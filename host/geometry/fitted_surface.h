@@ -4,6 +4,7 @@
 
 #include "host/geometry/bspline_surface.h"
 #include "host/geometry/distance_stats.h"
+#include "host/geometry/trimmed_face.h"
 
 namespace dg::host {
 
@@ -39,7 +40,10 @@ struct FittedSurface {
   std::string method = "lsq";     // lsq | ips | device
   std::string parameterization = "xy";
   bool height_field = true;
+  // One surface over the whole scan, or (faces not empty) several trimmed faces, one per region
+  // between creases and steps (host/fit/regions.h); `surface` is then empty and unused.
   BSplineSurface surface;
+  std::vector<TrimmedFace> faces;
   // Fit report; `has_fit` false for a surface that was not fitted here.
   bool has_fit = false;
   DistanceStats distance;  // orthogonal distances, mm

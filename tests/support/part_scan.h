@@ -7,6 +7,7 @@
 #include <random>
 
 #include "host/geometry/bspline_surface.h"
+#include "host/geometry/trimmed_face.h"
 #include "host/scan/point_reader.h"
 #include "hw/sim/parts.h"
 
@@ -57,6 +58,47 @@ inline double max_error_against_part(const host::BSplineSurface& surface, const 
       if (e > worst) {
         worst = e;
         if (where) *where = p;
+      }
+    }
+  }
+  return worst;
+}
+
+// The same for trimmed faces: each grid point is judged on the face whose loops hold it. A grid
+// point on no face (on a shared boundary, where the even-odd test may miss both) takes the nearer of
+// the faces whose surface spans it; `uncovered` counts those held by none at all.
+inline double max_error_against_part(const std::vector<host::TrimmedFace>& faces, const PartScan& s, int per_mm = 4,
+                                     host::Point3* where = nullptr, int* uncovered = nullptr) {
+  double worst = 0;
+  if (uncovered) *uncovered = 0;
+  const int gx = (s.nx - 1) * per_mm, gy = (s.ny - 1) * per_mm;
+  for (int a = 0; a <= gx; ++a) {
+    for (int b = 0; b <= gy; ++b) {
+      const double x = static_cast<double>(a) / per_mm, y = static_cast<double>(b) / per_mm;
+      const double truth = dg::sim::shape_height_mm(s.kind, x, y);
+      double e = HUGE_VAL;
+      for (const host::TrimmedFace& f : faces) {
+        if (!host::inside_face(f, x, y)) continue;
+        double u, v;
+        host::table_to_parameters(f.surface, x, y, u, v);
+        e = std::fabs(f.surface.evaluate(u, v).z - truth);
+        break;
+      }
+      if (e == HUGE_VAL) {
+        for (const host::TrimmedFace& f : faces) {
+          double u, v;
+          host::table_to_parameters(f.surface, x, y, u, v);
+          if (u < f.surface.u_min() || u > f.surface.u_max() || v < f.surface.v_min() || v > f.surface.v_max()) continue;
+          e = std::min(e, std::fabs(f.surface.evaluate(u, v).z - truth));
+        }
+      }
+      if (e == HUGE_VAL) {
+        if (uncovered) ++*uncovered;
+        continue;
+      }
+      if (e > worst) {
+        worst = e;
+        if (where) *where = {x, y, truth};
       }
     }
   }

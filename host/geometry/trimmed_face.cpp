@@ -1,0 +1,45 @@
+// Point-in-polygon and parameter lookup for trimmed height-field faces.
+#include "host/geometry/trimmed_face.h"
+
+namespace dg::host {
+
+double twice_signed_area(const TrimLoop& loop) {
+  double sum = 0;
+  for (size_t i = 0, n = loop.size(); i < n; ++i) {
+    const Point2& a = loop[i];
+    const Point2& b = loop[(i + 1) % n];
+    sum += a.x * b.y - b.x * a.y;
+  }
+  return sum;
+}
+
+bool inside_loop(const TrimLoop& loop, double x, double y) {
+  bool inside = false;
+  for (size_t i = 0, n = loop.size(), j = n - 1; i < n; j = i++) {
+    const Point2& a = loop[i];
+    const Point2& b = loop[j];
+    if ((a.y > y) != (b.y > y) && x < (b.x - a.x) * (y - a.y) / (b.y - a.y) + a.x) inside = !inside;
+  }
+  return inside;
+}
+
+bool inside_face(const TrimmedFace& face, double x, double y) {
+  if (face.loops.empty() || !inside_loop(face.loops[0], x, y)) return false;
+  for (size_t k = 1; k < face.loops.size(); ++k) {
+    if (inside_loop(face.loops[k], x, y)) return false;
+  }
+  return true;
+}
+
+void table_to_parameters(const BSplineSurface& s, double x, double y, double& u, double& v) {
+  // A height field's x depends on u only and y on v only, linearly (bspline_fit.h); the corner
+  // control points sit at the domain's ends.
+  const Point3& first = s.at(0, 0);
+  const Point3& last = s.at(s.count_u - 1, s.count_v - 1);
+  const double tu = last.x != first.x ? (x - first.x) / (last.x - first.x) : 0.0;
+  const double tv = last.y != first.y ? (y - first.y) / (last.y - first.y) : 0.0;
+  u = s.u_min() + tu * (s.u_max() - s.u_min());
+  v = s.v_min() + tv * (s.v_max() - s.v_min());
+}
+
+}  // namespace dg::host

@@ -1,0 +1,36 @@
+// A trimmed face: a height-field surface cut to the part of the table it describes by closed loops in XY.
+#pragma once
+#include <vector>
+
+#include "host/geometry/bspline_surface.h"
+#include "host/geometry/distance_stats.h"
+
+namespace dg::host {
+
+struct Point2 {
+  double x = 0, y = 0;  // mm, table coordinates
+};
+
+// A closed polygon, last vertex not repeated.
+using TrimLoop = std::vector<Point2>;
+
+struct TrimmedFace {
+  BSplineSurface surface;      // a height field over a box that holds every loop
+  std::vector<TrimLoop> loops;  // loops[0] the outer boundary (counter-clockwise), then holes (clockwise)
+  // The fit of this face's region, when it was fitted here.
+  size_t points = 0;        // the region's points
+  DistanceStats distance;   // their orthogonal distances to this face, mm
+  int iterations = 0;
+};
+
+// Twice the signed area of a loop (positive counter-clockwise), mm^2.
+double twice_signed_area(const TrimLoop& loop);
+// Whether (x, y) lies inside the polygon (even-odd rule; a point on an edge counts either way).
+bool inside_loop(const TrimLoop& loop, double x, double y);
+// Inside the outer loop and outside every hole.
+bool inside_face(const TrimmedFace& face, double x, double y);
+// The parameters (u, v) of a height-field surface above table point (x, y): the surface's x and y
+// are affine in (u, v) (control points at the Greville abscissae), read from its corner points.
+void table_to_parameters(const BSplineSurface& surface, double x, double y, double& u, double& v);
+
+}  // namespace dg::host

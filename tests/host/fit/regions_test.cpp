@@ -1,0 +1,72 @@
+// Regions between creases: the dome comes back as trimmed faces within the tolerance of the true part
+// everywhere inside the scan, and a smooth part stays one surface.
+#include <CppUTest/TestHarness.h>
+
+#include "host/fit/regions.h"
+#include "tests/support/part_scan.h"
+
+using namespace dg::host;
+
+namespace {
+
+RegionFit fit_scan(const dg::test::PartScan& s, unsigned seed, double tolerance_mm) {
+  RegionOptions o;
+  o.tolerance.tolerance_mm = tolerance_mm;
+  return fit_regions(dg::test::scan_part(s, seed), nullptr, o);
+}
+
+}  // namespace
+
+TEST_GROUP(Regions){};
+
+TEST(Regions, TheDomeComesBackAsTrimmedFacesWithinTheToleranceOfTheTruePartEverywhere) {
+  dg::test::PartScan s;
+  s.kind = dg::sim::PartKind::kDome;
+  s.sigma_um = 5;
+  const double tolerance = 0.025;
+  const RegionFit r = fit_scan(s, 3, tolerance);
+  CHECK(r.kept);
+  // The cap and the base plate's four corners.
+  CHECK(r.regions >= 2);
+  dg::host::Point3 where;
+  int uncovered = 0;
+  const double truth = dg::test::max_error_against_part(r.faces, s, 4, &where, &uncovered);
+  LONGS_EQUAL(0, uncovered);
+  CHECK(truth <= tolerance);
+}
+
+TEST(Regions, AKeptDomeIsWithinTheToleranceOfTheTruePartAtEveryNoiseAndTolerance) {
+  // Kept or refused with a reason, never kept and wrong.
+  int kept = 0;
+  for (double sigma : {1.0, 2.0, 5.0}) {
+    for (double f : {2.0, 5.0, 25.0}) {
+      for (unsigned seed : {3u, 7u}) {
+        dg::test::PartScan s;
+        s.sigma_um = sigma;
+        const double tolerance = f * sigma * 1e-3;
+        const RegionFit r = fit_scan(s, seed, tolerance);
+        CHECK(r.regions >= 2);
+        if (!r.kept) {
+          CHECK(!r.reason.empty());
+          continue;
+        }
+        ++kept;
+        int uncovered = 0;
+        CHECK(dg::test::max_error_against_part(r.faces, s, 4, nullptr, &uncovered) <= tolerance);
+        LONGS_EQUAL(0, uncovered);
+      }
+    }
+  }
+  CHECK(kept >= 6);
+}
+
+TEST(Regions, ASmoothPartIsOneRegion) {
+  for (auto kind : {dg::sim::PartKind::kSaddle, dg::sim::PartKind::kCanister}) {
+    for (double sigma : {1.0, 5.0}) {
+      dg::test::PartScan s;
+      s.kind = kind;
+      s.sigma_um = sigma;
+      LONGS_EQUAL(1, fit_scan(s, 3, 5 * sigma * 1e-3).regions);
+    }
+  }
+}
