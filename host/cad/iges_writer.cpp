@@ -66,6 +66,9 @@ struct Entity {
   int type;
   std::string label;
   std::vector<std::string> parameters;
+  // Blank, subordinate, use, hierarchy: 00010000 for geometry another entity uses (physically
+  // dependent), 00010500 for a curve in a surface's parameter space.
+  std::string status = "00000000";
 };
 
 // The whole file for a list of independent geometry entities.
@@ -89,7 +92,7 @@ std::string document(const std::vector<Entity>& entities, double max_coordinate,
     const std::vector<std::string> lines = pack(e.parameters, 64);
     const int first_d = d + 1;
     directory += section_line(field(std::to_string(e.type)) + field(std::to_string(p + 1)) + field("0") + field("0") +
-                                  field("0") + field("0") + field("0") + field("0") + "00000000",
+                                  field("0") + field("0") + field("0") + field("0") + e.status,
                               'D', ++d);
     directory += section_line(field(std::to_string(e.type)) + field("0") + field("0") + field(std::to_string(lines.size())) +
                                   field("0") + field("") + field("") + field(e.label) + field("0"),
@@ -110,7 +113,9 @@ double largest_coordinate(const std::vector<Point3>& points, double so_far) {
 
 }  // namespace
 
-std::string iges_text(const BSplineSurface& s, const IgesOptions& options) {
+namespace {
+
+Entity surface_entity(const BSplineSurface& s) {
   std::string why;
   if (!is_valid(s, &why)) throw std::invalid_argument("cannot write this surface as IGES: " + why);
   // Entity 128: K1, K2, M1, M2, PROP1..5, knots, weights, control points (u index fastest), bounds.
@@ -132,7 +137,79 @@ std::string iges_text(const BSplineSurface& s, const IgesOptions& options) {
   p.push_back(iges_real(s.u_max()));
   p.push_back(iges_real(s.v_min()));
   p.push_back(iges_real(s.v_max()));
-  return document({e}, largest_coordinate(s.control, 0), options, "Bench digitizer: a B-spline surface fitted to measured points, mm");
+  return e;
+}
+
+// A closed polyline as entity 126 of degree 1: the first point repeated at the end, knots 0..n-1.
+Entity polyline_entity(const std::vector<Point3>& points, bool planar) {
+  const int n = static_cast<int>(points.size()) + 1;
+  Entity e{126, planar ? "PCURVE" : "TRIMCRV", {"126", std::to_string(n - 1), "1", planar ? "1" : "0", "1", "1", "0"}};
+  e.status = planar ? "00010500" : "00010000";
+  e.parameters.push_back("0.");
+  for (int k = 0; k < n; ++k) e.parameters.push_back(iges_real(k));
+  e.parameters.push_back(iges_real(n - 1));
+  for (int k = 0; k < n; ++k) e.parameters.push_back("1.");
+  for (int k = 0; k < n; ++k) {
+    const Point3& q = points[static_cast<size_t>(k % (n - 1))];
+    e.parameters.push_back(iges_real(q.x));
+    e.parameters.push_back(iges_real(q.y));
+    e.parameters.push_back(iges_real(q.z));
+  }
+  e.parameters.push_back("0.");
+  e.parameters.push_back(iges_real(n - 1));
+  for (const char* v : {"0.", "0.", "1."}) e.parameters.push_back(v);
+  return e;
+}
+
+}  // namespace
+
+std::string iges_text(const BSplineSurface& s, const IgesOptions& options) {
+  return document({surface_entity(s)}, largest_coordinate(s.control, 0), options,
+                  "Bench digitizer: a B-spline surface fitted to measured points, mm");
+}
+
+std::string iges_faces_text(const std::vector<TrimmedFace>& faces, const IgesOptions& options) {
+  if (faces.empty()) throw std::invalid_argument("no faces to write");
+  std::vector<Entity> entities;
+  double largest = 0;
+  auto de = [&]() { return std::to_string(2 * entities.size() + 1); };  // the next entity's directory line
+  for (const TrimmedFace& face : faces) {
+    if (face.loops.empty()) throw std::invalid_argument("a trimmed face without a boundary");
+    const std::string surface = de();
+    Entity se = surface_entity(face.surface);
+    se.status = "00010000";
+    entities.push_back(std::move(se));
+    largest = largest_coordinate(face.surface.control, largest);
+    std::vector<std::string> boundaries;
+    for (const TrimLoop& loop : face.loops) {
+      const TrimLoop fine = densified(loop, 0.25);
+      std::vector<Point3> in_parameters, on_surface;
+      for (const Point2& p : fine) {
+        double u, v;
+        table_to_parameters(face.surface, p.x, p.y, u, v);
+        in_parameters.push_back({u, v, 0});
+        on_surface.push_back(point_above(face.surface, p.x, p.y));
+      }
+      largest = largest_coordinate(on_surface, largest);
+      const std::string pcurve = de();
+      entities.push_back(polyline_entity(in_parameters, true));
+      const std::string curve = de();
+      entities.push_back(polyline_entity(on_surface, false));
+      boundaries.push_back(de());
+      // CRTN 0 (unspecified), the surface, the parameter-space curve, the model-space one, PREF 1.
+      Entity on{142, "BOUNDARY", {"142", "0", surface, pcurve, curve, "1"}};
+      on.status = "00010000";
+      entities.push_back(std::move(on));
+    }
+    Entity trimmed{144, "TRIMSRF", {"144", surface, "1", std::to_string(boundaries.size() - 1), boundaries[0]}};
+    for (size_t k = 1; k < boundaries.size(); ++k) trimmed.parameters.push_back(boundaries[k]);
+    entities.push_back(std::move(trimmed));
+  }
+  return document(entities, largest, options, "Bench digitizer: trimmed B-spline surfaces fitted to measured points, mm");
+}
+
+void write_iges_faces(const std::string& path, const std::vector<TrimmedFace>& faces, const IgesOptions& options) {
+  write_file_atomically(path, iges_faces_text(faces, options));
 }
 
 std::string iges_curves_text(const std::vector<BSplineCurve>& curves, const IgesOptions& options) {

@@ -6,6 +6,7 @@
 
 #include "host/geometry/bspline_curve.h"
 #include "host/geometry/bspline_surface.h"
+#include "host/geometry/trimmed_face.h"
 
 namespace dg::host {
 
@@ -23,6 +24,14 @@ struct IgesOptions {
 // for a surface that is_valid() rejects.
 std::string iges_text(const BSplineSurface& surface, const IgesOptions& options);
 void write_iges(const std::string& path, const BSplineSurface& surface, const IgesOptions& options);
+
+// Trimmed faces as entity 144 (IGES 5.3 section 4.34): each face's surface (128), and each of its
+// loops as a curve on that surface (142, section 4.32) made of the loop in the surface's parameter
+// space (126, planar, degree 1) and the same loop on the surface in model space (126, the surface
+// points above the loop's vertices, edges cut to 0.25 mm); the parameter-space curve is the
+// preferred one. The outer loop bounds the face, the others are holes.
+std::string iges_faces_text(const std::vector<TrimmedFace>& faces, const IgesOptions& options);
+void write_iges_faces(const std::string& path, const std::vector<TrimmedFace>& faces, const IgesOptions& options);
 
 // Curves as entity 126 (rational B-spline curve, all weights 1, marked polynomial and non-planar).
 std::string iges_curves_text(const std::vector<BSplineCurve>& curves, const IgesOptions& options);

@@ -123,14 +123,11 @@ int placement_instance(Instances& e) {
 
 }  // namespace
 
-std::string step_text(const BSplineSurface& input, const StepOptions& options) {
-  std::string why;
-  if (!is_valid(input, &why)) throw std::invalid_argument("cannot write this surface as STEP: " + why);
-  const BSplineSurface s = clamp_ends(input);
-  Instances e;
-  const Preamble pre = preamble(e, options);
-  // The surface: control_points_list[i][j], i along u.
-  std::vector<int> poles(s.control.size());
+namespace {
+
+// The surface: control_points_list[i][j], i along u. `poles` receives the control points' instances.
+int surface_instance(Instances& e, const BSplineSurface& s, std::vector<int>& poles) {
+  poles.assign(s.control.size(), 0);
   for (int i = 0; i < s.count_u; ++i)
     for (int j = 0; j < s.count_v; ++j) poles[static_cast<size_t>(i * s.count_v + j)] = point_instance(e, s.at(i, j));
   auto pole = [&](int i, int j) { return poles[static_cast<size_t>(i * s.count_v + j)]; };
@@ -146,6 +143,32 @@ std::string step_text(const BSplineSurface& input, const StepOptions& options) {
   knots_and_multiplicities(s.knots_v, kv, mv);
   const int surface = e.add("B_SPLINE_SURFACE_WITH_KNOTS(''," + std::to_string(s.degree_u) + "," + std::to_string(s.degree_v) + "," + net +
                             ",.UNSPECIFIED.,.F.,.F.,.F.," + mu + "," + mv + "," + ku + "," + kv + ",.UNSPECIFIED.)");
+  return surface;
+}
+
+// The shell of faces as a surface model, tied to the product.
+void shell_model(Instances& e, const Preamble& pre, const std::vector<int>& faces, const StepOptions& options) {
+  std::string list = "(";
+  for (size_t k = 0; k < faces.size(); ++k) list += (k ? "," : "") + ref(faces[k]);
+  const int shell = e.add("OPEN_SHELL(''," + list + "))");
+  const int model = e.add("SHELL_BASED_SURFACE_MODEL('',(" + ref(shell) + "))");
+  const int placement = placement_instance(e);
+  const int representation = e.add("MANIFOLD_SURFACE_SHAPE_REPRESENTATION(" + quoted(options.product) + ",(" + ref(model) + "," +
+                                   ref(placement) + ")," + ref(pre.context) + ")");
+  e.add("SHAPE_DEFINITION_REPRESENTATION(" + ref(pre.shape) + "," + ref(representation) + ")");
+}
+
+}  // namespace
+
+std::string step_text(const BSplineSurface& input, const StepOptions& options) {
+  std::string why;
+  if (!is_valid(input, &why)) throw std::invalid_argument("cannot write this surface as STEP: " + why);
+  const BSplineSurface s = clamp_ends(input);
+  Instances e;
+  const Preamble pre = preamble(e, options);
+  std::vector<int> poles;
+  const int surface = surface_instance(e, s, poles);
+  auto pole = [&](int i, int j) { return poles[static_cast<size_t>(i * s.count_v + j)]; };
   // The four edges: the first and last rows and columns of the clamped net, with its knots.
   auto edge_curve = [&](bool along_u, int fixed) {
     std::vector<int> ids;
@@ -171,13 +194,61 @@ std::string step_text(const BSplineSurface& input, const StepOptions& options) {
                          ref(oriented(top, false)) + "," + ref(oriented(left, false)) + "))");
   const int bound = e.add("FACE_OUTER_BOUND(''," + ref(loop) + ",.T.)");
   const int face = e.add("ADVANCED_FACE('',(" + ref(bound) + ")," + ref(surface) + ",.T.)");
-  const int shell = e.add("OPEN_SHELL('',(" + ref(face) + "))");
-  const int model = e.add("SHELL_BASED_SURFACE_MODEL('',(" + ref(shell) + "))");
-  const int placement = placement_instance(e);
-  const int representation = e.add("MANIFOLD_SURFACE_SHAPE_REPRESENTATION(" + quoted(options.product) + ",(" + ref(model) + "," +
-                                   ref(placement) + ")," + ref(pre.context) + ")");
-  e.add("SHAPE_DEFINITION_REPRESENTATION(" + ref(pre.shape) + "," + ref(representation) + ")");
+  shell_model(e, pre, {face}, options);
   return exchange_file(e, options, "B-spline surface fitted to measured points by the bench digitizer");
+}
+
+std::string step_faces_text(const std::vector<TrimmedFace>& faces, const StepOptions& options) {
+  if (faces.empty()) throw std::invalid_argument("no faces to write");
+  Instances e;
+  const Preamble pre = preamble(e, options);
+  std::vector<int> face_ids;
+  // Parameter-space curves live in a 2D context of their own.
+  const int plane = e.add("(GEOMETRIC_REPRESENTATION_CONTEXT(2)PARAMETRIC_REPRESENTATION_CONTEXT()REPRESENTATION_CONTEXT('2D SPACE',''))");
+  for (const TrimmedFace& f : faces) {
+    std::string why;
+    if (!is_valid(f.surface, &why)) throw std::invalid_argument("cannot write this surface as STEP: " + why);
+    if (f.loops.empty()) throw std::invalid_argument("a trimmed face without a boundary");
+    std::vector<int> poles;
+    const int surface = surface_instance(e, clamp_ends(f.surface), poles);
+    std::string bounds = "(";
+    for (size_t k = 0; k < f.loops.size(); ++k) {
+      // One closed edge per loop: a degree-1 curve through the surface points above the loop's
+      // vertices (edges cut to 0.25 mm), starting and ending at one vertex.
+      const TrimLoop fine = densified(f.loops[k], 0.25);
+      std::vector<int> points, uv_points;
+      for (const Point2& p : fine) {
+        points.push_back(point_instance(e, point_above(f.surface, p.x, p.y)));
+        double u, v;
+        table_to_parameters(f.surface, p.x, p.y, u, v);
+        uv_points.push_back(e.add("CARTESIAN_POINT('',(" + real(u) + "," + real(v) + "))"));
+      }
+      points.push_back(points.front());
+      uv_points.push_back(uv_points.front());
+      std::vector<double> knots{0.0};
+      for (size_t i = 0; i < points.size(); ++i) knots.push_back(static_cast<double>(i));
+      knots.push_back(static_cast<double>(points.size() - 1));
+      // The edge is the loop on the surface, given both ways: in space and in the surface's
+      // parameters (a surface curve with its pcurve), so a reader need not project one onto it.
+      const int space_curve = curve_instance(e, 1, points, knots);
+      const int uv_curve = curve_instance(e, 1, uv_points, knots);
+      const int uv_representation = e.add("DEFINITIONAL_REPRESENTATION('',(" + ref(uv_curve) + ")," + ref(plane) + ")");
+      const int pcurve = e.add("PCURVE(''," + ref(surface) + "," + ref(uv_representation) + ")");
+      const int curve = e.add("SURFACE_CURVE(''," + ref(space_curve) + ",(" + ref(pcurve) + "),.PCURVE_S1.)");
+      const int vertex = e.add("VERTEX_POINT(''," + ref(points.front()) + ")");
+      const int edge = e.add("EDGE_CURVE(''," + ref(vertex) + "," + ref(vertex) + "," + ref(curve) + ",.T.)");
+      const int oriented = e.add("ORIENTED_EDGE('',*,*," + ref(edge) + ",.T.)");
+      const int loop = e.add("EDGE_LOOP('',(" + ref(oriented) + "))");
+      bounds += (k ? "," : "") + ref(e.add(std::string(k == 0 ? "FACE_OUTER_BOUND" : "FACE_BOUND") + "(''," + ref(loop) + ",.T.)"));
+    }
+    face_ids.push_back(e.add("ADVANCED_FACE(''," + bounds + ")," + ref(surface) + ",.T.)"));
+  }
+  shell_model(e, pre, face_ids, options);
+  return exchange_file(e, options, "trimmed B-spline surfaces fitted to measured points by the bench digitizer");
+}
+
+void write_step_faces(const std::string& path, const std::vector<TrimmedFace>& faces, const StepOptions& options) {
+  write_file_atomically(path, step_faces_text(faces, options));
 }
 
 std::string step_curves_text(const std::vector<BSplineCurve>& curves, const StepOptions& options) {

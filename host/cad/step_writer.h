@@ -7,6 +7,7 @@
 
 #include "host/geometry/bspline_curve.h"
 #include "host/geometry/bspline_surface.h"
+#include "host/geometry/trimmed_face.h"
 
 namespace dg::host {
 
@@ -23,6 +24,12 @@ std::string step_text(const BSplineSurface& surface, const StepOptions& options)
 void write_step(const std::string& path, const BSplineSurface& surface, const StepOptions& options);
 
 // Curves as B_SPLINE_CURVE_WITH_KNOTS in a GEOMETRIC_CURVE_SET (a wireframe representation).
+// Trimmed faces: an open shell of advanced faces (a shell-based surface model, AP214), each face's
+// surface bounded by its loops, each loop one closed edge on the surface (a degree-1 curve through
+// the surface points above the loop's vertices, edges cut to 0.25 mm).
+std::string step_faces_text(const std::vector<TrimmedFace>& faces, const StepOptions& options);
+void write_step_faces(const std::string& path, const std::vector<TrimmedFace>& faces, const StepOptions& options);
+
 std::string step_curves_text(const std::vector<BSplineCurve>& curves, const StepOptions& options);
 void write_step_curves(const std::string& path, const std::vector<BSplineCurve>& curves, const StepOptions& options);
 

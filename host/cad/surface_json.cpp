@@ -20,6 +20,21 @@ constexpr int kVersion = 1;
 
 nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
+nlohmann::json distance_json(const DistanceStats& d) {
+  return {{"kind", "orthogonal"}, {"count", d.count}, {"mean", d.mean}, {"median", d.median}, {"stddev", d.stddev},
+          {"rms", d.rms},         {"max", d.max},     {"min", d.min},   {"max_abs", d.max_abs}};
+}
+
+void put_surface(nlohmann::json& j, const BSplineSurface& s) {
+  j["degree"] = {s.degree_u, s.degree_v};
+  j["control_count"] = {s.count_u, s.count_v};
+  j["knots_u"] = s.knots_u;
+  j["knots_v"] = s.knots_v;
+  nlohmann::json control = nlohmann::json::array();
+  for (const auto& p : s.control) control.push_back({p.x, p.y, p.z});
+  j["control_points"] = std::move(control);
+}
+
 }  // namespace
 
 std::string surface_json_text(const FittedSurface& f) {
@@ -31,21 +46,29 @@ std::string surface_json_text(const FittedSurface& f) {
   j["method"] = f.method;
   j["parameterization"] = f.parameterization;
   j["height_field"] = f.height_field;
-  j["degree"] = {f.surface.degree_u, f.surface.degree_v};
-  j["control_count"] = {f.surface.count_u, f.surface.count_v};
-  j["knots_u"] = f.surface.knots_u;
-  j["knots_v"] = f.surface.knots_v;
-  nlohmann::json control = nlohmann::json::array();
-  for (const auto& p : f.surface.control) control.push_back({p.x, p.y, p.z});
-  j["control_points"] = std::move(control);
+  if (f.faces.empty()) {
+    put_surface(j, f.surface);
+  } else {
+    nlohmann::json faces = nlohmann::json::array();
+    for (const TrimmedFace& face : f.faces) {
+      nlohmann::json one;
+      put_surface(one, face.surface);
+      nlohmann::json loops = nlohmann::json::array();
+      for (const TrimLoop& loop : face.loops) {
+        nlohmann::json vertices = nlohmann::json::array();
+        for (const Point2& p : loop) vertices.push_back({p.x, p.y});
+        loops.push_back(std::move(vertices));
+      }
+      one["loops"] = std::move(loops);
+      if (f.has_fit) one["distance"] = distance_json(face.distance);
+      faces.push_back(std::move(one));
+    }
+    j["faces"] = std::move(faces);
+  }
   if (f.has_fit) {
     nlohmann::json fit;
     fit["source"] = f.source;
-    fit["distance"] = {{"kind", "orthogonal"},          {"count", f.distance.count},
-                       {"mean", f.distance.mean},       {"median", f.distance.median},
-                       {"stddev", f.distance.stddev},   {"rms", f.distance.rms},
-                       {"max", f.distance.max},         {"min", f.distance.min},
-                       {"max_abs", f.distance.max_abs}};
+    fit["distance"] = distance_json(f.distance);
     if (f.tolerance_mm > 0) {
       fit["tolerance_mm"] = f.tolerance_mm;
       fit["tolerance_kept"] = f.tolerance_kept;
@@ -103,6 +126,62 @@ std::vector<int> whole_pair(const nlohmann::json& v, const std::string& name, co
   return {static_cast<int>(whole(v[0], name, field, lo, hi)), static_cast<int>(whole(v[1], name, field, lo, hi))};
 }
 
+BSplineSurface get_surface(const nlohmann::json& j, const std::string& name) {
+  BSplineSurface s;
+  const auto degree = whole_pair(j.at("degree"), name, "degree", 1, 15);
+  const auto count = whole_pair(j.at("control_count"), name, "control_count", 1, 1000000);
+  s.degree_u = degree[0];
+  s.degree_v = degree[1];
+  s.count_u = count[0];
+  s.count_v = count[1];
+  s.knots_u = j.at("knots_u").get<std::vector<double>>();
+  s.knots_v = j.at("knots_v").get<std::vector<double>>();
+  const auto& control = j.at("control_points");
+  if (!control.is_array()) throw std::runtime_error(name + ": \"control_points\" is not an array");
+  for (size_t i = 0; i < control.size(); ++i) {
+    const auto p = control[i].get<std::vector<double>>();
+    if (p.size() != 3) throw std::runtime_error(name + ": control point " + std::to_string(i) + " does not have 3 coordinates");
+    s.control.push_back(Point3{p[0], p[1], p[2]});
+  }
+  std::string why;
+  if (!is_valid(s, &why)) throw std::runtime_error(name + ": " + why);
+  return s;
+}
+
+DistanceStats get_distance(const nlohmann::json& d, const std::string& name) {
+  DistanceStats out;
+  out.count = static_cast<size_t>(whole(d.at("count"), name, "count", 0, 1LL << 48));
+  out.mean = d.at("mean").get<double>();
+  out.median = d.at("median").get<double>();
+  out.stddev = d.at("stddev").get<double>();
+  out.rms = d.at("rms").get<double>();
+  out.max = d.at("max").get<double>();
+  out.min = d.at("min").get<double>();
+  out.max_abs = d.at("max_abs").get<double>();
+  return out;
+}
+
+// A trimmed face's loops: the outer one counter-clockwise, holes clockwise, all inside the
+// surface's box (a height field's parameters are read from table XY, and a loop beyond the box
+// would ask for the surface where it is not defined).
+void check_face(const TrimmedFace& face, const std::string& name) {
+  const Point3& first = face.surface.at(0, 0);
+  const Point3& last = face.surface.at(face.surface.count_u - 1, face.surface.count_v - 1);
+  const double x0 = std::min(first.x, last.x), x1 = std::max(first.x, last.x);
+  const double y0 = std::min(first.y, last.y), y1 = std::max(first.y, last.y);
+  const double slack = 1e-6 * (1 + (x1 - x0) + (y1 - y0));
+  for (size_t k = 0; k < face.loops.size(); ++k) {
+    const double area = twice_signed_area(face.loops[k]);
+    if (k == 0 && !(area > 0)) throw std::runtime_error(name + ": the outer loop must run counter-clockwise");
+    if (k > 0 && !(area < 0)) throw std::runtime_error(name + ": loop " + std::to_string(k + 1) + " (a hole) must run clockwise");
+    for (const Point2& p : face.loops[k]) {
+      if (p.x < x0 - slack || p.x > x1 + slack || p.y < y0 - slack || p.y > y1 + slack) {
+        throw std::runtime_error(name + ": a loop vertex lies outside the face's surface");
+      }
+    }
+  }
+}
+
 }  // namespace
 
 FittedSurface parse_surface_json(const std::string& text, const std::string& name) {
@@ -139,35 +218,42 @@ FittedSurface parse_surface_json(const std::string& text, const std::string& nam
     one_of("method", f.method, {"lsq", "ips", "normals", "superquadric", "device"});
     one_of("parameterization", f.parameterization, {"xy", "uniform", "chord", "centripetal", "axis"});
     f.height_field = j.value("height_field", false);
-    const auto degree = whole_pair(j.at("degree"), name, "degree", 1, 15);
-    const auto count = whole_pair(j.at("control_count"), name, "control_count", 1, 1000000);
-    if (degree.size() != 2 || count.size() != 2) throw fail("\"degree\" and \"control_count\" need two numbers");
-    f.surface.degree_u = degree[0];
-    f.surface.degree_v = degree[1];
-    f.surface.count_u = count[0];
-    f.surface.count_v = count[1];
-    f.surface.knots_u = j.at("knots_u").get<std::vector<double>>();
-    f.surface.knots_v = j.at("knots_v").get<std::vector<double>>();
-    const auto& control = j.at("control_points");
-    if (!control.is_array()) throw fail("\"control_points\" is not an array");
-    for (size_t i = 0; i < control.size(); ++i) {
-      const auto p = control[i].get<std::vector<double>>();
-      if (p.size() != 3) throw fail("control point " + std::to_string(i) + " does not have 3 coordinates");
-      f.surface.control.push_back(Point3{p[0], p[1], p[2]});
+    if (j.contains("faces")) {
+      const auto& faces = j.at("faces");
+      if (!faces.is_array() || faces.empty()) throw fail("\"faces\" must be a non-empty array");
+      if (!f.height_field || f.parameterization != "xy") throw fail("trimmed faces are height fields over table XY");
+      for (size_t k = 0; k < faces.size(); ++k) {
+        const std::string where = name + ": face " + std::to_string(k + 1);
+        TrimmedFace face;
+        face.surface = get_surface(faces[k], where);
+        const auto& loops = faces[k].at("loops");
+        if (!loops.is_array() || loops.empty()) throw fail("face " + std::to_string(k + 1) + " has no \"loops\"");
+        for (const auto& loop : loops) {
+          TrimLoop l;
+          if (!loop.is_array()) throw fail("face " + std::to_string(k + 1) + ": a loop is not an array");
+          for (const auto& v : loop) {
+            const auto xy = v.get<std::vector<double>>();
+            if (xy.size() != 2 || !std::isfinite(xy[0]) || !std::isfinite(xy[1])) {
+              throw fail("face " + std::to_string(k + 1) + ": a loop vertex is not two finite numbers");
+            }
+            l.push_back({xy[0], xy[1]});
+          }
+          if (l.size() < 3) throw fail("face " + std::to_string(k + 1) + ": a loop has fewer than 3 vertices");
+          face.loops.push_back(std::move(l));
+        }
+        check_face(face, where);
+        if (faces[k].contains("distance")) face.distance = get_distance(faces[k].at("distance"), where);
+        face.points = face.distance.count;
+        f.faces.push_back(std::move(face));
+      }
+    } else {
+      f.surface = get_surface(j, name);
     }
     if (j.contains("fit")) {
       const auto& fit = j["fit"];
       f.has_fit = true;
       f.source = fit.value("source", "");
-      const auto& d = fit.at("distance");
-      f.distance.count = static_cast<size_t>(whole(d.at("count"), name, "count", 0, 1LL << 48));
-      f.distance.mean = d.at("mean").get<double>();
-      f.distance.median = d.at("median").get<double>();
-      f.distance.stddev = d.at("stddev").get<double>();
-      f.distance.rms = d.at("rms").get<double>();
-      f.distance.max = d.at("max").get<double>();
-      f.distance.min = d.at("min").get<double>();
-      f.distance.max_abs = d.at("max_abs").get<double>();
+      f.distance = get_distance(fit.at("distance"), name);
       f.tolerance_mm = fit.value("tolerance_mm", 0.0);
       f.tolerance_kept = fit.value("tolerance_kept", false);
       f.iterations = fit.contains("iterations") ? static_cast<int>(whole(fit.at("iterations"), name, "iterations", 0, 1000000)) : 0;
@@ -210,8 +296,6 @@ FittedSurface parse_surface_json(const std::string& text, const std::string& nam
   } catch (const nlohmann::json::exception& e) {
     throw fail(std::string("missing or mistyped field: ") + e.what());
   }
-  std::string why;
-  if (!is_valid(f.surface, &why)) throw fail(why);
   return f;
 }
 

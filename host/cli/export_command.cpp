@@ -1,6 +1,8 @@
 // Export: points keep their nanometre values; surfaces go to CAD or a mesh, chosen by the extension.
 #include "host/cli/export_command.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <ctime>
 #include <stdexcept>
@@ -18,12 +20,90 @@
 namespace dg::host {
 namespace {
 
+// Curves to IGES (entity 126) or STEP (a curve set).
+void write_curves(const std::string& output, bool iges, const std::vector<BSplineCurve>& curves) {
+  if (iges) {
+    IgesOptions options;
+    options.file_name = base_name(output);
+    write_iges_curves(output, curves, options);
+  } else {
+    StepOptions options;
+    options.file_name = base_name(output);
+    write_step_curves(output, curves, options);
+  }
+}
+
+std::string utc_stamp(const char* format) {
+  const std::time_t now = std::time(nullptr);
+  char stamp[32];
+  std::strftime(stamp, sizeof stamp, format, std::gmtime(&now));
+  return stamp;
+}
+
+// Trimmed faces (a scan split at creases and steps): IGES entity 144, a STEP shell of advanced
+// faces, a mesh of the triangles inside the faces, or the faces' boundaries as curves.
+int export_faces(const FittedSurface& surface, const std::string& output, FileFormat format, double chord_mm, bool edges) {
+  const bool iges = format == FileFormat::kIges, step = format == FileFormat::kStep;
+  if (format == FileFormat::kStl || format == FileFormat::kObj || format == FileFormat::kPly) {
+    if (edges) throw std::invalid_argument("--edges writes curves: give an .igs or .stp output");
+    // Triangles of a 200th of the part's size in XY (0.1 mm at least): the mesh follows each trim to that.
+    double extent = 0;
+    for (const TrimmedFace& f : surface.faces) {
+      const Point3& a = f.surface.at(0, 0);
+      const Point3& b = f.surface.at(f.surface.count_u - 1, f.surface.count_v - 1);
+      extent = std::max({extent, std::fabs(b.x - a.x), std::fabs(b.y - a.y)});
+    }
+    const Mesh mesh = tessellate_faces(surface.faces, chord_mm, std::max(0.1, extent / 200));
+    write_mesh(output, mesh);
+    std::printf("wrote %zu triangles of %zu trimmed faces (chord error %.4f mm, asked %.4f) to %s\n", mesh.triangles.size(),
+                surface.faces.size(), mesh.chord_error_mm, chord_mm, output.c_str());
+    return 0;
+  }
+  if (!iges && !step) {
+    throw std::invalid_argument("a surface exports to .igs/.iges, .stp/.step, .stl, .obj or .ply (got " + output + ")");
+  }
+  if (edges) {
+    // Each face's loops on its surface, as degree-1 curves through the points above their vertices.
+    std::vector<BSplineCurve> curves;
+    for (const TrimmedFace& f : surface.faces) {
+      for (const TrimLoop& loop : f.loops) {
+        BSplineCurve c;
+        c.degree = 1;
+        for (const Point2& p : densified(loop, 0.25)) c.control.push_back(point_above(f.surface, p.x, p.y));
+        c.control.push_back(c.control.front());
+        c.knots.push_back(0);
+        for (size_t k = 0; k < c.control.size(); ++k) c.knots.push_back(static_cast<double>(k));
+        c.knots.push_back(static_cast<double>(c.control.size() - 1));
+        curves.push_back(std::move(c));
+      }
+    }
+    write_curves(output, iges, curves);
+    std::printf("wrote the %zu boundaries of %zu trimmed faces as curves to %s\n", curves.size(), surface.faces.size(),
+                output.c_str());
+    return 0;
+  }
+  if (iges) {
+    IgesOptions options;
+    options.file_name = base_name(output);
+    options.timestamp = utc_stamp("%Y%m%d.%H%M%S");
+    write_iges_faces(output, surface.faces, options);
+  } else {
+    StepOptions options;
+    options.file_name = base_name(output);
+    options.timestamp = utc_stamp("%Y-%m-%dT%H:%M:%S");
+    write_step_faces(output, surface.faces, options);
+  }
+  std::printf("wrote %zu trimmed faces to %s\n", surface.faces.size(), output.c_str());
+  return 0;
+}
+
 // A surface file to CAD (IGES 5.3 entity 128, STEP AP214) or a mesh (STL, OBJ, PLY), in millimetres.
 int run_export_surface(const std::string& input, const std::string& output, double chord_mm, bool edges) {
   const FileFormat format = file_format(output);
   const FittedSurface surface = read_surface_json(input);
   const bool iges = format == FileFormat::kIges;
   const bool step = format == FileFormat::kStep;
+  if (!surface.faces.empty()) return export_faces(surface, output, format, chord_mm, edges);
   if (format == FileFormat::kStl || format == FileFormat::kObj || format == FileFormat::kPly) {
     const Mesh mesh = tessellate(surface.surface, chord_mm);
     write_mesh(output, mesh);
@@ -37,15 +117,7 @@ int run_export_surface(const std::string& input, const std::string& output, doub
   if (edges) {
     // The four edges as curves: IGES entity 126 or a STEP curve set, for trimming or sketching in CAD.
     const std::vector<BSplineCurve> curves = boundary_curves(clamp_ends(surface.surface));
-    if (iges) {
-      IgesOptions options;
-      options.file_name = base_name(output);
-      write_iges_curves(output, curves, options);
-    } else {
-      StepOptions options;
-      options.file_name = base_name(output);
-      write_step_curves(output, curves, options);
-    }
+    write_curves(output, iges, curves);
     std::printf("wrote the surface's 4 edges as B-spline curves to %s\n", output.c_str());
     return 0;
   }

@@ -18,6 +18,7 @@
 #include "host/fit/tolerance_fit.h"
 #include "host/fit/fit_validation.h"
 #include "host/fit/orthogonal_distances.h"
+#include "host/fit/regions.h"
 
 namespace dg::host {
 
@@ -193,6 +194,43 @@ int run_fit_hermite(const FitArgs& a, const PointCloud& cloud) {
   return 0;
 }
 
+// The trimmed faces of a scan split into regions: written, and reported face by face.
+int finish_regions(const FitArgs& a, const PointCloud& cloud, FittedSurface out, RegionFit r) {
+  out.faces = std::move(r.faces);
+  out.tolerance_mm = a.tolerance_mm;
+  out.tolerance_kept = r.kept;
+  out.noise_sigma_mm = r.noise_sigma_mm;
+  out.validation = r.validation;
+  out.distance = distance_stats(r.distances);
+  write_surface_json(a.output, out);
+  if (!a.quiet) {
+    std::printf("%d regions between creases and steps (%zu of %zu points on a crease or step), %zu trimmed faces\n",
+                r.regions, r.crease_points, cloud.points.size(), out.faces.size());
+    for (size_t k = 0; k < out.faces.size(); ++k) {
+      const TrimmedFace& f = out.faces[k];
+      std::printf("  face %zu: degree %d x %d, %d x %d control points, %zu points, max distance %.4f mm, %zu loop%s\n", k + 1,
+                  f.surface.degree_u, f.surface.degree_v, f.surface.count_u, f.surface.count_v, f.points, f.distance.max_abs,
+                  f.loops.size(), f.loops.size() == 1 ? "" : "s");
+    }
+    if (r.unassigned_points > 0) {
+      std::printf("  %zu points lie on no region's surface within the tolerance (at the creases); each is judged on the "
+                  "face above it\n", r.unassigned_points);
+    }
+    std::printf("orthogonal distance to the face above each of %zu points: mean %.4f rms %.4f max %.4f min %.4f mm\n",
+                out.distance.count, out.distance.mean, out.distance.rms, out.distance.max, out.distance.min);
+    if (out.noise_sigma_mm > 0) std::printf("estimated noise sigma %.4f mm\n", out.noise_sigma_mm);
+    print_validation(out);
+    std::printf("standard uncertainty of the surface: not computed for trimmed faces yet\n");
+    std::printf("tolerance %.4f mm %s\n", a.tolerance_mm, r.kept ? "kept" : "NOT kept");
+    std::printf("wrote %s\n", a.output.c_str());
+  }
+  if (!r.kept) {
+    std::fprintf(stderr, "digitizer: tolerance refused: %s\n", r.reason.c_str());
+    return kExitToleranceRefused;
+  }
+  return 0;
+}
+
 }  // namespace
 
 const char* model_name(SurfaceModel model) {
@@ -225,6 +263,8 @@ CLI::App* add_fit_command(CLI::App& app, FitArgs& a) {
       ->check(CLI::PositiveNumber);
   cmd->add_flag("--ignore-sigma", a.ignore_sigma, "do not weight points by 1/sigma^2 from a sigma column");
   cmd->add_flag("--no-creases", a.no_creases, "B-splines: no multiple knots at creases and steps found across the scan");
+  cmd->add_flag("--no-regions", a.no_regions,
+                "with --tolerance: fit one surface even where creases and steps split the scan into regions");
   cmd->add_flag("-q,--quiet", a.quiet, "print nothing but errors");
   return cmd;
 }
@@ -258,6 +298,15 @@ int run_fit(const FitArgs& a) {
     nu = nv = 4;
   }
   const int degree = a.model == SurfaceModel::kBezier ? 3 : a.degree;
+  // A scan that creases and steps split into regions comes back as trimmed faces, one per region.
+  if (a.tolerance_mm > 0 && a.model == SurfaceModel::kBSpline && !a.no_regions && params.kind == Parameterization::kTableXy &&
+      a.ctrl.empty()) {
+    RegionOptions options;
+    options.tolerance.tolerance_mm = a.tolerance_mm;
+    options.tolerance.degree_u = options.tolerance.degree_v = degree;
+    RegionFit regions = fit_regions(cloud, w, options);
+    if (regions.regions >= 2) return finish_regions(a, cloud, std::move(out), std::move(regions));
+  }
   // Koivunen and Bajcsy 1992, section 6: C0 knots where a crease or step runs across the scan. A Bezier patch has
   // no interior knots to place.
   Creases creases;

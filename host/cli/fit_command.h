@@ -20,6 +20,7 @@ struct FitArgs {
   double tolerance_mm = 0;        // 0: fit the given net once
   bool ignore_sigma = false;
   bool no_creases = false;        // B-splines: do not put multiple knots at detected creases
+  bool no_regions = false;        // with a tolerance: one surface even where creases split the scan
   bool quiet = false;
 };
 

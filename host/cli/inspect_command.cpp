@@ -108,6 +108,9 @@ int run_inspect(const InspectArgs& a) {
     surface = read_surface_json(a.surface);
   }
   std::string alignment;
+  if (a.align && !surface.faces.empty()) {
+    throw std::invalid_argument("--align: aligning to trimmed faces is not supported yet; align to a single-surface fit");
+  }
   if (a.align) {
     const Alignment fit = align_to_surface(cloud.points, SurfaceLocator(surface.surface));
     for (Point3& p : cloud.points) p = fit.transform.apply(p);
@@ -121,7 +124,8 @@ int run_inspect(const InspectArgs& a) {
   }
   std::vector<double> bands = a.bands_mm;
   std::sort(bands.begin(), bands.end());
-  const Inspection r = inspect(cloud.points, surface.surface, bands);
+  const Inspection r =
+      surface.faces.empty() ? inspect(cloud.points, surface.surface, bands) : inspect_faces(cloud.points, surface.faces, bands);
   if (!a.deviations_csv.empty()) {
     std::string text = "x,y,z,deviation\n";
     char line[160];
@@ -138,8 +142,13 @@ int run_inspect(const InspectArgs& a) {
   }
   const DistanceStats& s = r.stats;
   if (!alignment.empty()) std::printf("%s\n", alignment.c_str());
-  std::printf("%zu points against %s (%s, %d x %d control points)\n", s.count, a.surface.c_str(), surface.model.c_str(),
-              surface.surface.count_u, surface.surface.count_v);
+  if (surface.faces.empty()) {
+    std::printf("%zu points against %s (%s, %d x %d control points)\n", s.count, a.surface.c_str(), surface.model.c_str(),
+                surface.surface.count_u, surface.surface.count_v);
+  } else {
+    std::printf("%zu points against %s (%zu trimmed %s faces; each point measured to the face above it)\n", s.count,
+                a.surface.c_str(), surface.faces.size(), surface.model.c_str());
+  }
   std::printf("orthogonal deviation: mean %.4f median %.4f std %.4f rms %.4f max %.4f min %.4f mm\n", s.mean, s.median,
               s.stddev, s.rms, s.max, s.min);
   for (const Band& b : r.bands) std::printf("within %.4f mm: %zu points (%.1f %%)\n", b.limit_mm, b.count, 100.0 * b.share);

@@ -474,6 +474,7 @@ RegionFit fit_regions(const PointCloud& cloud, const std::vector<double>* weight
 
   // 7. The contract on the whole: every point within the tolerance of the face above it.
   std::vector<std::vector<double>> face_distances(out.faces.size());
+  out.distances.assign(n, 0.0);
   size_t worst_point = 0;
   for (size_t i = 0; i < n; ++i) {
     int face = -1;
@@ -496,12 +497,30 @@ RegionFit fit_regions(const PointCloud& cloud, const std::vector<double>* weight
     double d = pts[i].z - s.evaluate(u, v).z;
     if (std::fabs(d) > 0.5 * tol) d = closest_point(s, pts[i], u, v).distance;
     face_distances[static_cast<size_t>(face)].push_back(d);
+    out.distances[i] = d;
     if (std::fabs(d) > out.max_distance_mm) out.max_distance_mm = std::fabs(d), worst_point = i;
   }
   for (size_t f = 0; f < out.faces.size(); ++f) {
     out.faces[f].distance = distance_stats(face_distances[f]);
     out.faces[f].points = face_distances[f].size();
   }
+  // The regions' validations as one: every fold of every region, the worst of each figure.
+  FitValidation& v = out.validation;
+  double held_sq = 0;
+  for (const Region& r : regions) {
+    const FitValidation& rv = r.report.validation;
+    if (!rv.checked) continue;
+    v.checked = true;
+    v.folds = std::max(v.folds, rv.folds);
+    held_sq += rv.held_out_rms_mm * rv.held_out_rms_mm * static_cast<double>(rv.held_out_points);
+    v.held_out_points += rv.held_out_points;
+    if (rv.held_out_max_mm >= v.held_out_max_mm) v.held_out_max_mm = rv.held_out_max_mm, v.held_out_worst = rv.held_out_worst;
+    v.neighbour_checks += rv.neighbour_checks;
+    if (rv.range_excess_max_mm >= v.range_excess_max_mm) v.range_excess_max_mm = rv.range_excess_max_mm, v.range_worst = rv.range_worst;
+    if (v.problem.empty()) v.problem = rv.problem;
+  }
+  if (v.held_out_points > 0) v.held_out_rms_mm = std::sqrt(held_sq / static_cast<double>(v.held_out_points));
+  v.passed = v.checked && v.problem.empty();
   for (size_t id = 0; id < rc; ++id) {
     if (!regions[id].report.kept) {
       out.reason = "region " + std::to_string(id + 1) + " (" + std::to_string(regions[id].members.size()) +

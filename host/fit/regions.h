@@ -37,6 +37,8 @@ struct RegionFit {
   bool kept = false;
   std::string reason;                 // why not, when not kept
   double max_distance_mm = 0;         // every point to the face above it
+  std::vector<double> distances;      // per point, signed, to the face above it
+  FitValidation validation;           // the regions' checks between the samples, summed
   double noise_sigma_mm = 0;
 };
 

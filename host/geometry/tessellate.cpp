@@ -2,6 +2,8 @@
 #include "host/geometry/tessellate.h"
 
 #include <algorithm>
+#include <array>
+#include <cstdint>
 #include <cmath>
 #include <stdexcept>
 
@@ -81,6 +83,77 @@ Mesh tessellate(const BSplineSurface& s, double chord_mm, size_t max_triangles) 
     if (worst_u >= worst_v) per_u *= 2;
     else per_v *= 2;
   }
+}
+
+namespace {
+
+// A uniform grid of n_u x n_v points over a face's surface, and the largest deviation of the
+// surface from its triangles at the cells' centres.
+Mesh uniform_grid(const BSplineSurface& s, int nu, int nv) {
+  Mesh mesh;
+  mesh.vertices.resize(static_cast<size_t>(nu) * nv);
+  auto u_at = [&](int i) { return s.u_min() + (s.u_max() - s.u_min()) * i / (nu - 1); };
+  auto v_at = [&](int j) { return s.v_min() + (s.v_max() - s.v_min()) * j / (nv - 1); };
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nv; ++j) mesh.vertices[static_cast<size_t>(i) * nv + j] = s.evaluate(u_at(i), v_at(j));
+  for (int i = 0; i + 1 < nu; ++i) {
+    for (int j = 0; j + 1 < nv; ++j) {
+      const uint32_t a = static_cast<uint32_t>(i * nv + j), b = static_cast<uint32_t>((i + 1) * nv + j),
+                     c = static_cast<uint32_t>((i + 1) * nv + j + 1), d = static_cast<uint32_t>(i * nv + j + 1);
+      const Point3 centre = s.evaluate(0.5 * (u_at(i) + u_at(i + 1)), 0.5 * (v_at(j) + v_at(j + 1)));
+      const Point3 &pa = mesh.vertices[a], &pb = mesh.vertices[b], &pc = mesh.vertices[c], &pd = mesh.vertices[d];
+      mesh.chord_error_mm = std::max(mesh.chord_error_mm, std::min(distance_to_triangle(centre, pa, pb, pc),
+                                                                   distance_to_triangle(centre, pa, pc, pd)));
+      mesh.triangles.push_back({a, b, c});
+      mesh.triangles.push_back({a, c, d});
+    }
+  }
+  return mesh;
+}
+
+}  // namespace
+
+Mesh tessellate_faces(const std::vector<TrimmedFace>& faces, double chord_mm, double cell_mm, size_t max_triangles) {
+  if (!(chord_mm > 0)) throw std::invalid_argument("the chord tolerance must be a positive number of mm");
+  Mesh out;
+  for (const TrimmedFace& face : faces) {
+    // A uniform grid no coarser than cell_mm in XY, halved until within the chord tolerance.
+    const BSplineSurface& s = face.surface;
+    const double width = std::fabs(s.at(s.count_u - 1, 0).x - s.at(0, 0).x);
+    const double depth = std::fabs(s.at(0, s.count_v - 1).y - s.at(0, 0).y);
+    int nu = std::max(2, static_cast<int>(std::ceil(width / cell_mm)) + 1);
+    int nv = std::max(2, static_cast<int>(std::ceil(depth / cell_mm)) + 1);
+    Mesh mesh;
+    for (;;) {
+      if (2.0 * (nu - 1) * (nv - 1) > static_cast<double>(max_triangles)) {
+        throw std::invalid_argument("the faces need more than " + std::to_string(max_triangles) + " triangles");
+      }
+      mesh = uniform_grid(s, nu, nv);
+      if (mesh.chord_error_mm <= chord_mm) break;
+      nu = 2 * nu - 1;
+      nv = 2 * nv - 1;
+    }
+    std::vector<uint32_t> index(mesh.vertices.size(), UINT32_MAX);
+    for (const auto& t : mesh.triangles) {
+      const Point3 &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
+      if (!inside_face(face, (a.x + b.x + c.x) / 3, (a.y + b.y + c.y) / 3)) continue;
+      std::array<uint32_t, 3> kept{};
+      for (int k = 0; k < 3; ++k) {
+        uint32_t& slot = index[t[static_cast<size_t>(k)]];
+        if (slot == UINT32_MAX) {
+          slot = static_cast<uint32_t>(out.vertices.size());
+          out.vertices.push_back(mesh.vertices[t[static_cast<size_t>(k)]]);
+        }
+        kept[static_cast<size_t>(k)] = slot;
+      }
+      out.triangles.push_back(kept);
+    }
+    if (out.triangles.size() > max_triangles) {
+      throw std::invalid_argument("the faces need more than " + std::to_string(max_triangles) + " triangles");
+    }
+    out.chord_error_mm = std::max(out.chord_error_mm, mesh.chord_error_mm);
+  }
+  return out;
 }
 
 }  // namespace dg::host

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "host/geometry/bspline_surface.h"
+#include "host/geometry/trimmed_face.h"
 
 namespace dg::host {
 
@@ -22,5 +23,12 @@ struct Mesh {
 double distance_to_triangle(const Point3& p, const Point3& a, const Point3& b, const Point3& c);
 
 Mesh tessellate(const BSplineSurface& surface, double chord_mm, size_t max_triangles = 20000000);
+
+// Trimmed faces in one mesh: each face's surface on a uniform grid no coarser than `cell_mm` in XY,
+// halved until within `chord_mm` at the cells' centres, keeping the triangles whose centre lies
+// inside the face. Along a trim the
+// mesh's edge follows the boundary to within one triangle; it is not cut exactly along it.
+Mesh tessellate_faces(const std::vector<TrimmedFace>& faces, double chord_mm, double cell_mm,
+                      size_t max_triangles = 20000000);
 
 }  // namespace dg::host

@@ -1,6 +1,9 @@
 // Point-in-polygon and parameter lookup for trimmed height-field faces.
 #include "host/geometry/trimmed_face.h"
 
+#include <algorithm>
+#include <cmath>
+
 namespace dg::host {
 
 double twice_signed_area(const TrimLoop& loop) {
@@ -40,6 +43,27 @@ void table_to_parameters(const BSplineSurface& s, double x, double y, double& u,
   const double tv = last.y != first.y ? (y - first.y) / (last.y - first.y) : 0.0;
   u = s.u_min() + tu * (s.u_max() - s.u_min());
   v = s.v_min() + tv * (s.v_max() - s.v_min());
+}
+
+Point3 point_above(const BSplineSurface& surface, double x, double y) {
+  double u, v;
+  table_to_parameters(surface, x, y, u, v);
+  return surface.evaluate(u, v);
+}
+
+TrimLoop densified(const TrimLoop& loop, double max_step_mm) {
+  TrimLoop out;
+  for (size_t i = 0, n = loop.size(); i < n; ++i) {
+    const Point2& a = loop[i];
+    const Point2& b = loop[(i + 1) % n];
+    const double length = std::hypot(b.x - a.x, b.y - a.y);
+    const int pieces = std::max(1, static_cast<int>(std::ceil(length / max_step_mm)));
+    for (int k = 0; k < pieces; ++k) {
+      const double t = static_cast<double>(k) / pieces;
+      out.push_back({a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)});
+    }
+  }
+  return out;
 }
 
 }  // namespace dg::host

@@ -33,4 +33,10 @@ bool inside_face(const TrimmedFace& face, double x, double y);
 // are affine in (u, v) (control points at the Greville abscissae), read from its corner points.
 void table_to_parameters(const BSplineSurface& surface, double x, double y, double& u, double& v);
 
+// The surface point above table point (x, y).
+Point3 point_above(const BSplineSurface& surface, double x, double y);
+// The loop with every edge cut into pieces no longer than `max_step_mm`, so a polyline through the
+// surface points above its vertices stays on the surface (a straight edge in XY is a curve on it).
+TrimLoop densified(const TrimLoop& loop, double max_step_mm);
+
 }  // namespace dg::host

@@ -127,10 +127,20 @@ std::string html_report(const ReportInputs& in) {
   }
   if (in.surface) {
     const FittedSurface& f = *in.surface;
-    h += "<h2>The surface</h2>\n<table>\n" + row("model", f.model) + row("method", f.method) +
-         row("degree", std::to_string(f.surface.degree_u) + " x " + std::to_string(f.surface.degree_v)) +
-         row("control points", std::to_string(f.surface.count_u) + " x " + std::to_string(f.surface.count_v)) +
-         row("parameterization", f.parameterization);
+    h += "<h2>The surface</h2>\n<table>\n" + row("model", f.model) + row("method", f.method);
+    if (f.faces.empty()) {
+      h += row("degree", std::to_string(f.surface.degree_u) + " x " + std::to_string(f.surface.degree_v)) +
+           row("control points", std::to_string(f.surface.count_u) + " x " + std::to_string(f.surface.count_v));
+    } else {
+      // One row per trimmed face: the regions between the part's creases and steps.
+      for (size_t k = 0; k < f.faces.size(); ++k) {
+        const BSplineSurface& s = f.faces[k].surface;
+        h += row("face " + std::to_string(k + 1), "degree " + std::to_string(s.degree_u) + " x " + std::to_string(s.degree_v) +
+                                                     ", " + std::to_string(s.count_u) + " x " + std::to_string(s.count_v) +
+                                                     " control points, " + std::to_string(f.faces[k].loops.size()) + " loop(s)");
+      }
+    }
+    h += row("parameterization", f.parameterization);
     if (f.tolerance_mm > 0) {
       h += row("tolerance", number(f.tolerance_mm) + " mm, " + (f.tolerance_kept ? "kept" : "NOT kept"));
     }

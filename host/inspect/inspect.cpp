@@ -10,15 +10,18 @@
 
 namespace dg::host {
 
-Inspection inspect(const std::vector<Point3>& points, const BSplineSurface& surface, const std::vector<double>& bands_mm) {
+namespace {
+
+// Every point's closest point by `closest(p)`, checked finite, with the statistics and bands.
+template <class Closest>
+Inspection measure(const std::vector<Point3>& points, Closest closest, const std::vector<double>& bands_mm) {
   Inspection out;
   if (points.empty()) throw std::invalid_argument("there are no points to inspect");
-  const SurfaceLocator locator(surface);
   out.points.reserve(points.size());
   std::vector<double> distances;
   distances.reserve(points.size());
   for (const Point3& p : points) {
-    const Closest c = locator.closest(p);
+    const dg::host::Closest c = closest(p);
     // A coordinate near the limits of a double (1e308) makes the distance overflow: no statistic
     // is printed from it.
     if (!std::isfinite(c.distance) || !std::isfinite(c.point.x + c.point.y + c.point.z)) {
@@ -35,10 +38,40 @@ Inspection inspect(const std::vector<Point3>& points, const BSplineSurface& surf
     Band band;
     band.limit_mm = limit;
     for (double d : distances) band.count += std::fabs(d) <= limit;
-    band.share = points.empty() ? 0.0 : static_cast<double>(band.count) / static_cast<double>(points.size());
+    band.share = static_cast<double>(band.count) / static_cast<double>(points.size());
     out.bands.push_back(band);
   }
   return out;
+}
+
+}  // namespace
+
+Inspection inspect(const std::vector<Point3>& points, const BSplineSurface& surface, const std::vector<double>& bands_mm) {
+  if (points.empty()) throw std::invalid_argument("there are no points to inspect");
+  const SurfaceLocator locator(surface);
+  return measure(points, [&](const Point3& p) { return locator.closest(p); }, bands_mm);
+}
+
+Inspection inspect_faces(const std::vector<Point3>& points, const std::vector<TrimmedFace>& faces,
+                         const std::vector<double>& bands_mm) {
+  if (points.empty()) throw std::invalid_argument("there are no points to inspect");
+  if (faces.empty()) throw std::invalid_argument("there are no faces to inspect against");
+  std::vector<SurfaceLocator> locators;
+  for (const TrimmedFace& f : faces) locators.emplace_back(f.surface);
+  return measure(
+      points,
+      [&](const Point3& p) {
+        for (size_t k = 0; k < faces.size(); ++k) {
+          if (inside_face(faces[k], p.x, p.y)) return locators[k].closest(p);
+        }
+        dg::host::Closest best = locators[0].closest(p);
+        for (size_t k = 1; k < faces.size(); ++k) {
+          const dg::host::Closest c = locators[k].closest(p);
+          if (std::fabs(c.distance) < std::fabs(best.distance)) best = c;
+        }
+        return best;
+      },
+      bands_mm);
 }
 
 }  // namespace dg::host

@@ -5,6 +5,7 @@
 
 #include "host/geometry/bspline_surface.h"
 #include "host/geometry/distance_stats.h"
+#include "host/geometry/trimmed_face.h"
 
 namespace dg::host {
 
@@ -29,5 +30,10 @@ struct Inspection {
 // Every point's closest point by SurfaceLocator; `bands_mm` in ascending order. Throws
 // std::invalid_argument for no points, or a point whose distance is not finite (naming it).
 Inspection inspect(const std::vector<Point3>& points, const BSplineSurface& surface, const std::vector<double>& bands_mm);
+
+// The same against trimmed faces: each point is measured to the face whose loops hold its XY, or,
+// beyond every face, to the nearest face.
+Inspection inspect_faces(const std::vector<Point3>& points, const std::vector<TrimmedFace>& faces,
+                         const std::vector<double>& bands_mm);
 
 }  // namespace dg::host

@@ -4,6 +4,7 @@
 
 #include <CppUTest/TestHarness.h>
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -104,4 +105,66 @@ TEST(SurfaceJson, AFloatWhereAWholeNumberBelongsIsRefused) {
   const size_t end = text.find(']', at);
   text.replace(at, end - at, "2.2e59, 5");
   STRCMP_CONTAINS("\"control_count\" must be a whole number", error_of(text).c_str());
+}
+
+namespace {
+
+// Two trimmed faces over the sample surface's box: a square with a square hole, and the hole.
+FittedSurface with_faces() {
+  FittedSurface f = fitted();
+  const BSplineSurface s = dg::test::clamped_sample();
+  const Point3& a = s.at(0, 0);
+  const Point3& b = s.at(s.count_u - 1, s.count_v - 1);
+  const double x0 = a.x, x1 = b.x, y0 = a.y, y1 = b.y, mx = 0.5 * (x0 + x1), my = 0.5 * (y0 + y1);
+  const double hx = 0.25 * (x1 - x0), hy = 0.25 * (y1 - y0);
+  TrimmedFace outer;
+  outer.surface = s;
+  outer.loops = {{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}, {{mx - hx, my - hy}, {mx - hx, my + hy}, {mx + hx, my + hy}, {mx + hx, my - hy}}};
+  TrimmedFace inner;
+  inner.surface = s;
+  inner.loops = {{{mx - hx, my - hy}, {mx + hx, my - hy}, {mx + hx, my + hy}, {mx - hx, my + hy}}};
+  f.faces = {outer, inner};
+  f.surface = BSplineSurface{};
+  return f;
+}
+
+}  // namespace
+
+TEST(SurfaceJson, TrimmedFacesReadBackWithTheirLoops) {
+  const FittedSurface f = with_faces();
+  const FittedSurface back = parse_surface_json(surface_json_text(f), "SURF.json");
+  LONGS_EQUAL(2, back.faces.size());
+  for (size_t k = 0; k < 2; ++k) {
+    LONGS_EQUAL(f.faces[k].loops.size(), back.faces[k].loops.size());
+    for (size_t l = 0; l < f.faces[k].loops.size(); ++l) {
+      for (size_t v = 0; v < f.faces[k].loops[l].size(); ++v) {
+        DOUBLES_EQUAL(f.faces[k].loops[l][v].x, back.faces[k].loops[l][v].x, 0);
+        DOUBLES_EQUAL(f.faces[k].loops[l][v].y, back.faces[k].loops[l][v].y, 0);
+      }
+    }
+    LONGS_EQUAL(f.faces[k].surface.control.size(), back.faces[k].surface.control.size());
+  }
+  CHECK(inside_face(back.faces[0], f.faces[0].loops[0][0].x + 1e-3, f.faces[0].loops[0][0].y + 1e-3));
+}
+
+TEST(SurfaceJson, AFaceWhoseOuterLoopRunsClockwiseIsRefused) {
+  FittedSurface f = with_faces();
+  std::reverse(f.faces[1].loops[0].begin(), f.faces[1].loops[0].end());
+  try {
+    parse_surface_json(surface_json_text(f), "SURF.json");
+    FAIL("a clockwise outer loop was accepted");
+  } catch (const std::runtime_error& e) {
+    STRCMP_CONTAINS("counter-clockwise", e.what());
+  }
+}
+
+TEST(SurfaceJson, ALoopBeyondItsSurfaceIsRefused) {
+  FittedSurface f = with_faces();
+  f.faces[1].loops[0][1].x += 1000;
+  try {
+    parse_surface_json(surface_json_text(f), "SURF.json");
+    FAIL("a loop outside its surface was accepted");
+  } catch (const std::runtime_error& e) {
+    STRCMP_CONTAINS("outside the face's surface", e.what());
+  }
 }
