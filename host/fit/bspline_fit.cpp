@@ -184,7 +184,7 @@ NormalSystem assemble(const std::vector<Point3>& points, const Parameters& param
   std::vector<char> outside;
   size_t fitted = unknowns;
   if (spec.fill_outside) {
-    outside = outside_control_points(s.knots_u, s.degree_u, s.knots_v, s.degree_v, params.uv);
+    outside = outside_control_points(s.knots_u, s.degree_u, s.knots_v, s.degree_v, params.uv, spec.outside_below);
     fitted = static_cast<size_t>(std::count(outside.begin(), outside.end(), 0));
   }
   if (points.size() < fitted) {

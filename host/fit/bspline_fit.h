@@ -11,12 +11,15 @@ namespace dg::host {
 struct LsqSpec {
   int degree_u = 3, degree_v = 3;
   std::vector<double> knots_u, knots_v;  // clamped, on [0, 1]
-  // For a region's trimmed surface (host/fit/regions.h): control points whose support holds no point
-  // (outside_control_points) are not refused but placed by a membrane between neighbouring control
+  // For a region's trimmed surface (host/fit/regions.h): control points whose basis reaches no more
+  // than 1 % at any point (outside_control_points) are not refused but placed by a membrane between neighbouring control
   // points (weight 1e-8 of the largest diagonal entry, so the fitted ones move by far less than a
   // nanometre). They shape the surface only beyond the region's points, where the trim cuts it off.
   // The other control points must still each have a point of their own (the tensor matching).
   bool fill_outside = false;
+  // The basis value below which a control point counts as outside (knot_support.h's
+  // outside_control_points); 0 fits every control point that any point touches.
+  double outside_below = 0.01;
 };
 
 // Solves Koivunen and Bajcsy 1992, eq. 8, C^T C B = C^T S, without forming C: each point adds the outer product of

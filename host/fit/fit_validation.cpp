@@ -207,8 +207,9 @@ std::string FoldSupport::problem(const std::vector<double>& knots_u, int degree_
                                  int degree_v) const {
   for (size_t f = 0; f < sites_u_.size(); ++f) {
     if (fill_outside_) {
-      const std::vector<char> outside = outside_control_points(knots_u, degree_u, knots_v, degree_v, kept_[f]);
-      const auto [i, j] = unmatched_control_point(knots_u, degree_u, knots_v, degree_v, kept_[f], 0.01, &outside);
+      const std::vector<char> outside =
+          outside_control_points(knots_u, degree_u, knots_v, degree_v, kept_[f], kRegionMinProduct);
+      const auto [i, j] = unmatched_control_point(knots_u, degree_u, knots_v, degree_v, kept_[f], kRegionMinProduct, &outside);
       if (i < 0) continue;
       return "with validation fold " + std::to_string(f + 1) + " of " + std::to_string(sites_u_.size()) +
              " held out, the remaining points of the region cannot determine control point (" + std::to_string(i) +

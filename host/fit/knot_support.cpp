@@ -164,7 +164,8 @@ std::pair<int, int> unmatched_control_point(const std::vector<double>& knots_u, 
 }
 
 std::vector<char> outside_control_points(const std::vector<double>& knots_u, int degree_u,
-                                         const std::vector<double>& knots_v, int degree_v, const std::vector<UV>& uv) {
+                                         const std::vector<double>& knots_v, int degree_v, const std::vector<UV>& uv,
+                                         double min_product) {
   const int count_u = static_cast<int>(knots_u.size()) - degree_u - 1;
   const int count_v = static_cast<int>(knots_v.size()) - degree_v - 1;
   if (count_u <= 0 || count_v <= 0 || degree_u >= 8 || degree_v >= 8) return {};
@@ -177,7 +178,7 @@ std::vector<char> outside_control_points(const std::vector<double>& knots_u, int
     fit::bspline_basis(sv, degree_v, p.v, knots_v.data(), nv);
     for (int a = 0; a <= degree_u; ++a) {
       for (int b = 0; b <= degree_v; ++b) {
-        if (nu[a] * nv[b] > 0) outside[static_cast<size_t>(su - degree_u + a) * count_v + (sv - degree_v + b)] = 0;
+        if (nu[a] * nv[b] > min_product) outside[static_cast<size_t>(su - degree_u + a) * count_v + (sv - degree_v + b)] = 0;
       }
     }
   }

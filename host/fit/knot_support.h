@@ -54,8 +54,14 @@ std::pair<int, int> unmatched_control_point(const std::vector<double>& knots_u, 
 // holds no point at all, flagged by index i * count_v + j. They lie beyond the region, where its
 // trimmed surface is not used; the fit places them (bspline_fit.h's fill_outside) instead of
 // refusing the net.
+// With `min_product` > 0 a control point whose basis reaches at most that at every point counts as
+// outside too: a sliver of support determines it too weakly to fit.
 std::vector<char> outside_control_points(const std::vector<double>& knots_u, int degree_u,
-                                         const std::vector<double>& knots_v, int degree_v, const std::vector<UV>& uv);
+                                         const std::vector<double>& knots_v, int degree_v, const std::vector<UV>& uv,
+                                         double min_product = 0.0);
+
+// The margin region fits use: a control point is fitted only where its basis reaches 1 % somewhere.
+constexpr double kRegionMinProduct = 0.01;
 
 // The same check for both directions of a net, with the reason in words ("" when it holds): how
 // many sites there are, how many control points were asked, and where the support is empty.

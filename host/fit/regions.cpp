@@ -20,6 +20,7 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr size_t kJoined = 5;
+constexpr double kBoundaryShare = 0.9;
 
 std::string mm_text(double mm) {
   char text[32];
@@ -85,6 +86,31 @@ void fit_region(const PointCloud& cloud, const std::vector<double>* weights, con
                          std::clamp((p.y - r.box.y0) / (r.box.y1 - r.box.y0), 0.0, 1.0)});
   }
   r.report.points = r.members.size();
+  // The simplest surface that keeps the tolerance: a single bilinear, then biquadratic patch is
+  // tried before the refined net of the asked degree. A flat piece of base plate stays a plane,
+  // which extrapolates to its trim far better than a curved patch fitted to its noise.
+  for (int degree = 1; degree < options.tolerance.degree_u; ++degree) {
+    if (r.members.size() < static_cast<size_t>(3 * (degree + 1) * (degree + 1))) break;
+    ToleranceOptions o = options.tolerance;
+    o.degree_u = o.degree_v = degree;
+    o.start_count_u = o.start_count_v = 0;
+    o.extra_knots_u.clear();
+    o.extra_knots_v.clear();
+    o.fill_outside = true;
+    o.max_iterations = 1;
+    try {
+      ToleranceResult t = fit_to_tolerance(sub, params, weights ? &sub_weights : nullptr, o);
+      if (!t.kept) continue;
+      r.surface = std::move(t.surface);
+      r.fitted = true;
+      r.report.kept = true;
+      r.report.reason.clear();
+      r.report.validation = t.validation;
+      return;
+    } catch (const FitError&) {
+      // Not determined at this degree: the next one decides.
+    }
+  }
   // A small region cannot carry a cubic net: the degree drops until its points determine one.
   std::string last_error = "too few points";
   for (int degree = options.tolerance.degree_u; degree >= 1; --degree) {
@@ -110,6 +136,88 @@ void fit_region(const PointCloud& cloud, const std::vector<double>* weights, con
   r.fitted = false;
   r.report.kept = false;
   r.report.reason = "its " + std::to_string(r.members.size()) + " points cannot carry a surface: " + last_error;
+}
+
+// The surface near a region's trim rests on its outermost points. They are held out in two folds
+// (alternate points along the boundary, so each refit keeps the other half and the net stays
+// determined there) and must be predicted within the tolerance; a region that fails is not kept.
+void check_boundary(const PointCloud& cloud, const std::vector<double>* weights, const std::vector<std::vector<size_t>>& near,
+                    const std::vector<int>& owner, double step, double tol, int id, Region& r) {
+  std::vector<size_t> outer;
+  std::vector<char> is_outer(r.members.size(), 0);
+  for (size_t m = 0; m < r.members.size(); ++m) {
+    const size_t i = r.members[m];
+    for (size_t j : near[i]) {
+      const Point3& a = cloud.points[i];
+      const Point3& b = cloud.points[j];
+      if (owner[j] != id && std::hypot(a.x - b.x, a.y - b.y) <= 1.5 * step) is_outer[m] = 1;
+    }
+  }
+  LsqSpec spec;
+  spec.degree_u = r.surface.degree_u;
+  spec.degree_v = r.surface.degree_v;
+  spec.knots_u = r.surface.knots_u;
+  spec.knots_v = r.surface.knots_v;
+  spec.fill_outside = true;
+  double worst = 0;
+  size_t worst_i = 0, held = 0;
+  for (int fold = 0; fold < 2; ++fold) {
+    std::vector<Point3> kept;
+    std::vector<double> kept_weights;
+    std::vector<size_t> out;
+    Parameters params;
+    params.kind = Parameterization::kTableXy;
+    params.x_min = r.box.x0;
+    params.x_max = r.box.x1;
+    params.y_min = r.box.y0;
+    params.y_max = r.box.y1;
+    for (size_t m = 0; m < r.members.size(); ++m) {
+      const size_t i = r.members[m];
+      const Point3& p = cloud.points[i];
+      // Alternate points: the parity of the grid position along the boundary.
+      const long parity = (std::lround(p.x / step) + std::lround(p.y / step)) & 1;
+      if (is_outer[m] && parity == fold) {
+        out.push_back(i);
+        continue;
+      }
+      kept.push_back(p);
+      if (weights) kept_weights.push_back((*weights)[i]);
+      params.uv.push_back({std::clamp((p.x - r.box.x0) / (r.box.x1 - r.box.x0), 0.0, 1.0),
+                           std::clamp((p.y - r.box.y0) / (r.box.y1 - r.box.y0), 0.0, 1.0)});
+    }
+    if (out.empty()) continue;
+    BSplineSurface refit;
+    try {
+      refit = fit_least_squares(kept, params, weights ? &kept_weights : nullptr, spec);
+    } catch (const FitError& e) {
+      r.report.kept = false;
+      r.report.reason = "its surface cannot be checked at its boundary: without half of its " +
+                        std::to_string(std::count(is_outer.begin(), is_outer.end(), 1)) + " outermost points " + e.what();
+      return;
+    }
+    for (size_t i : out) {
+      const Point3& p = cloud.points[i];
+      double u, v;
+      table_to_parameters(refit, p.x, p.y, u, v);
+      double d = std::fabs(p.z - refit.evaluate(u, v).z);
+      if (d > tol) d = std::fabs(closest_point(refit, p, u, v).distance);
+      if (d >= worst) worst = d, worst_i = i;
+      ++held;
+    }
+  }
+  r.report.boundary_points = held;
+  r.report.boundary_max_mm = worst;
+  // The trim lies up to a step beyond these points, where the surface is extrapolated: a tenth of
+  // the tolerance is held back for that (a margin found on the simulated dome, not a bound).
+  if (worst > kBoundaryShare * tol) {
+    const Point3& p = cloud.points[worst_i];
+    char where[96];
+    std::snprintf(where, sizeof where, "(%.3f, %.3f, %.3f)", p.x, p.y, p.z);
+    r.report.kept = false;
+    r.report.reason = "its surface is not trusted at its boundary: fitted without it, the outermost point " +
+                      std::string(where) + " is missed by " + mm_text(worst) + " > 0.9 x tolerance " + mm_text(tol) +
+                      " (scan finer across the crease or give a larger tolerance)";
+  }
 }
 
 // Points in buckets of a square grid over the scan, for nearest-point searches.
@@ -306,6 +414,9 @@ RegionFit fit_regions(const PointCloud& cloud, const std::vector<double>* weight
     regions[id].report.core_points = regions[id].core.size();
   }
   out.unassigned_points = static_cast<size_t>(std::count(owner.begin(), owner.end(), -1));
+  for (size_t id = 0; id < regions.size(); ++id) {
+    if (regions[id].fitted && regions[id].report.kept) check_boundary(cloud, weights, near, owner, step, tol, static_cast<int>(id), regions[id]);
+  }
   for (const Region& r : regions) out.reports.push_back(r.report);
   for (size_t id = 0; id < regions.size(); ++id) {
     if (!regions[id].fitted) {

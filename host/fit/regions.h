@@ -25,6 +25,10 @@ struct RegionReport {
   bool kept = false;
   std::string reason;        // the region's own refusal
   FitValidation validation;
+  // The extrapolation to the trim: the points beside another region or a crease, predicted by the
+  // region's net fitted without them.
+  size_t boundary_points = 0;
+  double boundary_max_mm = 0;
 };
 
 struct RegionFit {
@@ -50,8 +54,9 @@ struct RegionFit {
 // crease points join the region whose surface passes nearest (within the tolerance), and the
 // regions are fitted again. Where two surfaces cross the boundary is their intersection, else
 // (a step) the line midway between their points. Kept when every region kept the tolerance and
-// passed its validation between the samples, and every point lies within the tolerance of the face
-// above it. Fewer than two regions: `regions` says so and the caller fits one surface.
+// passed its validation between the samples, predicts its own outermost points within the
+// tolerance when fitted without them (the surface is extrapolated from them to the trim), and
+// every point lies within the tolerance of the face above it. Fewer than two regions: `regions` says so and the caller fits one surface.
 RegionFit fit_regions(const PointCloud& cloud, const std::vector<double>* weights, const RegionOptions& options);
 
 }  // namespace dg::host
