@@ -63,6 +63,17 @@ double scan_step(const std::vector<Point3>& points, const std::vector<std::vecto
   return d[d.size() / 2];
 }
 
+// A region's fit: the asked tolerance at `degree`, from one patch, control points beyond its points placed.
+ToleranceOptions region_options(const RegionOptions& options, int degree) {
+  ToleranceOptions o = options.tolerance;
+  o.degree_u = o.degree_v = degree;
+  o.start_count_u = o.start_count_v = 0;
+  o.extra_knots_u.clear();
+  o.extra_knots_v.clear();
+  o.fill_outside = true;
+  return o;
+}
+
 // Fits one region's points over its box; the region's report says what became of it.
 void fit_region(const PointCloud& cloud, const std::vector<double>* weights, const RegionOptions& options, Region& r) {
   PointCloud sub;
@@ -91,12 +102,7 @@ void fit_region(const PointCloud& cloud, const std::vector<double>* weights, con
   // which extrapolates to its trim far better than a curved patch fitted to its noise.
   for (int degree = 1; degree < options.tolerance.degree_u; ++degree) {
     if (r.members.size() < static_cast<size_t>(3 * (degree + 1) * (degree + 1))) break;
-    ToleranceOptions o = options.tolerance;
-    o.degree_u = o.degree_v = degree;
-    o.start_count_u = o.start_count_v = 0;
-    o.extra_knots_u.clear();
-    o.extra_knots_v.clear();
-    o.fill_outside = true;
+    ToleranceOptions o = region_options(options, degree);
     o.max_iterations = 1;
     try {
       ToleranceResult t = fit_to_tolerance(sub, params, weights ? &sub_weights : nullptr, o);
@@ -115,12 +121,7 @@ void fit_region(const PointCloud& cloud, const std::vector<double>* weights, con
   std::string last_error = "too few points";
   for (int degree = options.tolerance.degree_u; degree >= 1; --degree) {
     if (r.members.size() < static_cast<size_t>(3 * (degree + 1) * (degree + 1)) && degree > 1) continue;
-    ToleranceOptions o = options.tolerance;
-    o.degree_u = o.degree_v = degree;
-    o.start_count_u = o.start_count_v = 0;
-    o.extra_knots_u.clear();
-    o.extra_knots_v.clear();
-    o.fill_outside = true;
+    const ToleranceOptions o = region_options(options, degree);
     try {
       ToleranceResult t = fit_to_tolerance(sub, params, weights ? &sub_weights : nullptr, o);
       r.surface = std::move(t.surface);
