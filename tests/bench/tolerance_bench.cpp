@@ -6,6 +6,7 @@
 
 #include "host/fit/fit_error.h"
 #include "host/fit/noise_estimate.h"
+#include "host/fit/regions.h"
 #include "host/fit/tolerance_fit.h"
 #include "tests/support/part_scan.h"
 
@@ -47,6 +48,27 @@ int main() {
                     o.tolerance_mm, r.kept ? "kept" : "refused", truth, r.rms_mm / (sigma_um * 1e-3), net, seconds,
                     r.kept ? "" : r.reason.c_str());
       }
+    }
+  }
+  // The dome as trimmed faces: regions between its rim and base plate (fit's default for a creased scan).
+  std::printf("\n%-9s %5s %7s %-8s %9s %8s %7s %7s %s\n", "regions", "noise", "tol", "result", "true-max", "faces",
+              "points", "time", "reason");
+  for (double sigma_um : {1.0, 2.0, 5.0}) {
+    for (double factor : {2.0, 3.0, 5.0, 10.0, 25.0}) {
+      dg::test::PartScan s;
+      s.kind = dg::sim::PartKind::kDome;
+      s.sigma_um = sigma_um;
+      const PointCloud c = dg::test::scan_part(s, 3);
+      RegionOptions o;
+      o.tolerance.tolerance_mm = factor * sigma_um * 1e-3;
+      const auto t0 = std::chrono::steady_clock::now();
+      const RegionFit r = fit_regions(c, nullptr, o);
+      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      int uncovered = 0;
+      const double truth = r.faces.empty() ? 0.0 : dg::test::max_error_against_part(r.faces, s, 4, nullptr, &uncovered);
+      if (r.kept && (truth > o.tolerance.tolerance_mm || uncovered > 0)) ++false_kept;
+      std::printf("%-9s %5.1f %7.4f %-8s %9.4f %8zu %7zu %6.2fs %.90s\n", "dome", sigma_um, o.tolerance.tolerance_mm,
+                  r.kept ? "kept" : "refused", truth, r.faces.size(), c.points.size(), seconds, r.kept ? "" : r.reason.c_str());
     }
   }
   std::printf("kept but farther than the tolerance from the true part somewhere: %d\n", false_kept);
