@@ -137,6 +137,20 @@ BSplineSurface parse_iges_surface(const std::string& text, const std::string& na
   const double to_mm = mm_per_unit(g, g_where);
 
   if (s.directory.size() % 2 != 0) throw IgesError(name + ": the directory section has an odd number of lines");
+  // One untrimmed surface is what this reader returns: a file of trimmed or several surfaces would
+  // be measured against the wrong shape, so it is refused instead.
+  int surfaces = 0;
+  for (size_t d = 0; d < s.directory.size(); d += 2) {
+    const std::string where = name + ":" + std::to_string(s.directory[d].number);
+    const long type = integer(s.directory[d].data.substr(0, 8), where, "entity type");
+    if (type == 143 || type == 144) {
+      throw IgesError(where + ": a trimmed surface (entity " + std::to_string(type) +
+                      ") is not read here; inspect against the SURF.json the faces were exported from");
+    }
+    if (type == 128 && ++surfaces > 1) {
+      throw IgesError(where + ": the file holds more than one surface (entity 128); one untrimmed surface is read");
+    }
+  }
   for (size_t d = 0; d < s.directory.size(); d += 2) {
     const Line& first = s.directory[d];
     const std::string where = name + ":" + std::to_string(first.number);

@@ -231,6 +231,15 @@ BSplineSurface parse_step_surface(const std::string& original, const std::string
     if (!instances.emplace(id, std::move(inst)).second) throw StepError(where + ": the instance number is used twice");
   }
   const double to_mm = mm_per_unit(instances);
+  // One untrimmed surface is what this reader returns: several (trimmed faces) would be measured
+  // against the wrong shape, so they are refused instead.
+  size_t surfaces = 0;
+  for (const auto& [id, inst] : instances) surfaces += inst.type == "B_SPLINE_SURFACE_WITH_KNOTS";
+  if (surfaces > 1) {
+    throw StepError(name + ": the file holds " + std::to_string(surfaces) +
+                    " B-spline surfaces (trimmed faces?); one untrimmed surface is read: inspect against the SURF.json "
+                    "the faces were exported from");
+  }
   for (const auto& [id, inst] : instances) {
     if (inst.type != "B_SPLINE_SURFACE_WITH_KNOTS") continue;
     const std::string where = name + " #" + std::to_string(id);
