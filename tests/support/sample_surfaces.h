@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "host/geometry/bspline_surface.h"
+#include "host/geometry/trimmed_face.h"
 
 namespace dg::test {
 
@@ -56,6 +57,16 @@ inline host::BSplineSurface bezier_sample() {
     for (int j = 0; j < 4; ++j) s.control.push_back({12.0 * i, 10.0 * j, 4.0 + ((i == 1 || i == 2) && (j == 1 || j == 2) ? 3.0 : 0.5 * i)});
   }
   return s;
+}
+
+// The clamped sample as a face trimmed to the triangle below its diagonal.
+inline host::TrimmedFace trimmed_sample() {
+  host::TrimmedFace face;
+  face.surface = clamped_sample();
+  const host::Point3& a = face.surface.at(0, 0);
+  const host::Point3& b = face.surface.at(face.surface.count_u - 1, face.surface.count_v - 1);
+  face.loops = {{{a.x, a.y}, {b.x, a.y}, {b.x, b.y}}};
+  return face;
 }
 
 }  // namespace dg::test
