@@ -61,6 +61,13 @@ std::string surface_json_text(const FittedSurface& f) {
       }
       one["loops"] = std::move(loops);
       if (f.has_fit) one["distance"] = distance_json(face.distance);
+      if (face.has_uncertainty) {
+        one["uncertainty"] = {{"kind", "standard uncertainty of the face, from the points' noise (k = 1), over the face"},
+                              {"sigma_mm", finite_or_null(face.u_sigma_mm)},
+                              {"coverage_factor", 2},
+                              {"max_mm", finite_or_null(face.u_max_mm)},
+                              {"mean_mm", finite_or_null(face.u_mean_mm)}};
+      }
       faces.push_back(std::move(one));
     }
     j["faces"] = std::move(faces);
@@ -244,6 +251,18 @@ FittedSurface parse_surface_json(const std::string& text, const std::string& nam
         check_face(face, where);
         if (faces[k].contains("distance")) face.distance = get_distance(faces[k].at("distance"), where);
         face.points = face.distance.count;
+        if (faces[k].contains("uncertainty")) {
+          const auto& u = faces[k].at("uncertainty");
+          face.has_uncertainty = true;
+          face.u_sigma_mm = u.at("sigma_mm").get<double>();
+          face.u_max_mm = u.at("max_mm").get<double>();
+          face.u_mean_mm = u.at("mean_mm").get<double>();
+          for (double value : {face.u_sigma_mm, face.u_max_mm, face.u_mean_mm}) {
+            if (!(value >= 0) || !std::isfinite(value)) {
+              throw fail("face " + std::to_string(k + 1) + ": \"uncertainty\" holds a value that is not a finite, non-negative number");
+            }
+          }
+        }
         f.faces.push_back(std::move(face));
       }
     } else {

@@ -22,6 +22,35 @@ namespace {
 
 constexpr int kMaxBasis = fit::kMaxDegree + 1;
 
+// The (degree_u + 1) x (degree_v + 1) basis products at (u, v) into c, row by row, and the first
+// control point they weigh: cell.u, cell.v are the knot spans' first control point in u and v.
+struct Cell {
+  int u, v;
+};
+Cell tensor_basis(const BSplineSurface& s, double u, double v, double* c) {
+  const int su = fit::find_span(s.count_u, s.degree_u, u, s.knots_u.data());
+  const int sv = fit::find_span(s.count_v, s.degree_v, v, s.knots_v.data());
+  double nu[kMaxBasis], nv[kMaxBasis];
+  fit::bspline_basis(su, s.degree_u, u, s.knots_u.data(), nu);
+  fit::bspline_basis(sv, s.degree_v, v, s.knots_v.data(), nv);
+  const int pv = s.degree_v + 1;
+  for (int a = 0; a <= s.degree_u; ++a) {
+    for (int b = 0; b < pv; ++b) c[a * pv + b] = nu[a] * nv[b];
+  }
+  return {su - s.degree_u, sv - s.degree_v};
+}
+
+// The coefficients' weights in S(u, v) as a vector over the whole net.
+void node_basis(const BSplineSurface& s, double u, double v, Eigen::VectorXd& b) {
+  double c[kMaxBasis * kMaxBasis];
+  const Cell cell = tensor_basis(s, u, v, c);
+  const int pv = s.degree_v + 1;
+  b.setZero();
+  for (int a = 0; a <= s.degree_u; ++a) {
+    for (int e = 0; e < pv; ++e) b((cell.u + a) * s.count_v + cell.v + e) = c[a * pv + e];
+  }
+}
+
 // Every row and column of control points needs points in its support, or nothing determines it.
 void check_support(const std::vector<double>& knots, int degree, int count, const std::vector<UV>& uv, bool along_u,
                    const Parameters& params) {
@@ -215,20 +244,12 @@ NormalSystem assemble(const std::vector<Point3>& points, const Parameters& param
   const size_t block_size = static_cast<size_t>(m) * (m + 1) / 2 + static_cast<size_t>(m) * 3;
   std::vector<double> blocks(static_cast<size_t>(cells_u) * cells_v * block_size, 0.0);
   for (size_t k = 0; k < points.size(); ++k) {
-    const double u = params.uv[k].u, v = params.uv[k].v;
-    const int su = fit::find_span(s.count_u, s.degree_u, u, s.knots_u.data());
-    const int sv = fit::find_span(s.count_v, s.degree_v, v, s.knots_v.data());
-    double nu[kMaxBasis], nv[kMaxBasis];
-    fit::bspline_basis(su, s.degree_u, u, s.knots_u.data(), nu);
-    fit::bspline_basis(sv, s.degree_v, v, s.knots_v.data(), nv);
     const double w = weights ? (*weights)[k] : 1.0;
     double c[kMaxBasis * kMaxBasis];
-    for (int a = 0; a < pu; ++a) {
-      for (int b = 0; b < pv; ++b) c[a * pv + b] = nu[a] * nv[b];
-    }
+    const Cell cell = tensor_basis(s, params.uv[k].u, params.uv[k].v, c);
     const Point3& p = points[k];
     const double value[3] = {height_field ? p.z : p.x, p.y, p.z};
-    double* row = &blocks[(static_cast<size_t>(su - s.degree_u) * cells_v + (sv - s.degree_v)) * block_size];
+    double* row = &blocks[(static_cast<size_t>(cell.u) * cells_v + cell.v) * block_size];
     double* block_rhs = row + static_cast<size_t>(m) * (m + 1) / 2;
     for (int a = 0; a < m; ++a) {
       const double wc = w * c[a];
@@ -321,6 +342,7 @@ BSplineSurface fit_least_squares(const std::vector<Point3>& points, const Parame
   return s;
 }
 
+
 SurfaceUncertainty fit_uncertainty(const std::vector<Point3>& points, const Parameters& params,
                                    const std::vector<double>* weights, const BSplineSurface& surface, double sigma_mm,
                                    int grid) {
@@ -345,15 +367,7 @@ SurfaceUncertainty fit_uncertainty(const std::vector<Point3>& points, const Para
   for (int r = 0; r < out.rows; ++r) {
     for (int c = 0; c < out.cols; ++c) {
       const double u = static_cast<double>(c) / (out.cols - 1), v = static_cast<double>(r) / (out.rows - 1);
-      const int su = fit::find_span(s.count_u, s.degree_u, u, s.knots_u.data());
-      const int sv = fit::find_span(s.count_v, s.degree_v, v, s.knots_v.data());
-      double nu[kMaxBasis], nv[kMaxBasis];
-      fit::bspline_basis(su, s.degree_u, u, s.knots_u.data(), nu);
-      fit::bspline_basis(sv, s.degree_v, v, s.knots_v.data(), nv);
-      b.setZero();
-      for (int a = 0; a <= s.degree_u; ++a) {
-        for (int e = 0; e <= s.degree_v; ++e) b((su - s.degree_u + a) * s.count_v + (sv - s.degree_v + e)) = nu[a] * nv[e];
-      }
+      node_basis(s, u, v, b);
       // Var S(u, v) = b^T Cov(x) b with x = T y and Cov(y) = scale (T^T A T)^-1.
       const Eigen::VectorXd reduced = system.eliminate ? Eigen::VectorXd(system.map.transpose() * b) : b;
       const Eigen::VectorXd solved = system.solver->solve(reduced);
@@ -365,6 +379,62 @@ SurfaceUncertainty fit_uncertainty(const std::vector<Point3>& points, const Para
     }
   }
   out.mean_mm = sum / static_cast<double>(out.u_mm.size());
+  return out;
+}
+
+SurfaceUncertainty region_fit_uncertainty(const std::vector<Point3>& points, const Parameters& params,
+                                          const std::vector<double>* weights, const BSplineSurface& surface,
+                                          double sigma_mm, int grid, const std::function<bool(double, double)>& counts) {
+  LsqSpec spec;
+  spec.degree_u = surface.degree_u;
+  spec.degree_v = surface.degree_v;
+  spec.knots_u = surface.knots_u;
+  spec.knots_v = surface.knots_v;
+  spec.fill_outside = true;
+  NormalSystem system = assemble(points, params, weights, spec);
+  const BSplineSurface& s = system.shape;
+  if (system.eliminate) throw FitError("a region's net has no ramps to eliminate");
+  // Each point's basis values and the unknowns they touch, once.
+  const int pu = s.degree_u + 1, pv = s.degree_v + 1, m = pu * pv;
+  std::vector<int> first(points.size());
+  std::vector<double> basis(points.size() * static_cast<size_t>(m));
+  for (size_t k = 0; k < points.size(); ++k) {
+    const Cell cell = tensor_basis(s, params.uv[k].u, params.uv[k].v, &basis[k * static_cast<size_t>(m)]);
+    first[k] = cell.u * s.count_v + cell.v;
+  }
+  SurfaceUncertainty out;
+  out.computed = true;
+  out.sigma_mm = sigma_mm;
+  out.rows = out.cols = std::max(2, grid);
+  out.u_mm.assign(static_cast<size_t>(out.rows) * out.cols, 0.0);
+  const int n = s.count_u * s.count_v;
+  const double scale = weights ? 1.0 : sigma_mm * sigma_mm;
+  Eigen::VectorXd b(n);
+  double sum = 0;
+  size_t counted = 0;
+  for (int r = 0; r < out.rows; ++r) {
+    for (int c = 0; c < out.cols; ++c) {
+      const double u = static_cast<double>(c) / (out.cols - 1), v = static_cast<double>(r) / (out.rows - 1);
+      if (!counts(u, v)) continue;
+      node_basis(s, u, v, b);
+      // Var S = b^T K^-1 (C^T W C) K^-1 b = sum over points of w_k (c_k . y)^2 with y = K^-1 b.
+      const Eigen::VectorXd y = system.solver->solve(b);
+      double variance = 0;
+      for (size_t k = 0; k < points.size(); ++k) {
+        double dot = 0;
+        const double* row = &basis[k * static_cast<size_t>(m)];
+        for (int a = 0; a < pu; ++a)
+          for (int e = 0; e < pv; ++e) dot += row[a * pv + e] * y(first[k] + a * s.count_v + e);
+        variance += (weights ? (*weights)[k] : 1.0) * dot * dot;
+      }
+      const double value = std::sqrt(scale * variance);
+      out.u_mm[static_cast<size_t>(r) * out.cols + c] = value;
+      out.max_mm = std::max(out.max_mm, value);
+      sum += value;
+      ++counted;
+    }
+  }
+  out.mean_mm = counted > 0 ? sum / static_cast<double>(counted) : 0.0;
   return out;
 }
 

@@ -1,5 +1,6 @@
 // Least-squares B-spline surfaces of any degree for scattered points (Koivunen and Bajcsy 1992, section 5.4).
 #pragma once
+#include <functional>
 #include <vector>
 
 #include "host/geometry/bspline_surface.h"
@@ -43,6 +44,15 @@ BSplineSurface fit_least_squares(const std::vector<Point3>& points, const Parame
 SurfaceUncertainty fit_uncertainty(const std::vector<Point3>& points, const Parameters& params,
                                    const std::vector<double>* weights, const BSplineSurface& surface, double sigma_mm,
                                    int grid = 21);
+
+// The same for a region's net (LsqSpec::fill_outside): its coefficients are K^-1 C^T W z with
+// K = C^T W C + the membrane, so their covariance is the sandwich K^-1 (C^T W C) K^-1 (times
+// sigma^2 without weights), which carries the placed control points' dependence on the fitted
+// ones. Only the grid nodes `counts(u, v)` accepts (inside the trimmed face) enter max and mean;
+// the others are left 0 and are no figure.
+SurfaceUncertainty region_fit_uncertainty(const std::vector<Point3>& points, const Parameters& params,
+                                          const std::vector<double>* weights, const BSplineSurface& surface,
+                                          double sigma_mm, int grid, const std::function<bool(double, double)>& counts);
 
 // Distance from each point to the surface point with the same parameters: an upper bound of the
 // orthogonal distance, cheap enough to screen millions of points.

@@ -7,6 +7,7 @@
 #include <limits>
 #include <map>
 
+#include "host/fit/bspline_fit.h"
 #include "host/fit/fit_error.h"
 #include "host/fit/noise_estimate.h"
 #include "host/fit/parameterize.h"
@@ -581,6 +582,41 @@ RegionFit fit_regions(const PointCloud& cloud, const std::vector<double>* weight
           break;
         }
       }
+    }
+  }
+
+  // The faces' standard uncertainty, from the region's points and their noise (or sigma column).
+  double sigma_u = noise.reading_sigma_mm;
+  if (weights) {
+    std::vector<double> sigmas;
+    for (double w : *weights) sigmas.push_back(1.0 / std::sqrt(w));
+    std::nth_element(sigmas.begin(), sigmas.begin() + static_cast<std::ptrdiff_t>(sigmas.size() / 2), sigmas.end());
+    sigma_u = sigmas[sigmas.size() / 2];
+  }
+  for (size_t f = 0; f < out.faces.size() && sigma_u > 0; ++f) {
+    TrimmedFace& face = out.faces[f];
+    const Region& r = regions[static_cast<size_t>(out.face_region[f])];
+    std::vector<Point3> points;
+    std::vector<double> w;
+    Parameters params;
+    params.kind = Parameterization::kTableXy;
+    for (size_t i : r.members) {
+      points.push_back(pts[i]);
+      if (weights) w.push_back((*weights)[i]);
+      params.uv.push_back({std::clamp((pts[i].x - r.box.x0) / (r.box.x1 - r.box.x0), 0.0, 1.0),
+                           std::clamp((pts[i].y - r.box.y0) / (r.box.y1 - r.box.y0), 0.0, 1.0)});
+    }
+    auto counts = [&](double u, double v) {
+      return inside_face(face, r.box.x0 + u * (r.box.x1 - r.box.x0), r.box.y0 + v * (r.box.y1 - r.box.y0));
+    };
+    try {
+      const SurfaceUncertainty u = region_fit_uncertainty(points, params, weights ? &w : nullptr, face.surface, sigma_u, 41, counts);
+      face.has_uncertainty = true;
+      face.u_sigma_mm = sigma_u;
+      face.u_max_mm = u.max_mm;
+      face.u_mean_mm = u.mean_mm;
+    } catch (const FitError&) {
+      // The net cannot be refitted from these points: no uncertainty to state for this face.
     }
   }
 

@@ -168,3 +168,32 @@ TEST(SurfaceJson, ALoopBeyondItsSurfaceIsRefused) {
     STRCMP_CONTAINS("outside the face's surface", e.what());
   }
 }
+
+TEST(SurfaceJson, AFacesUncertaintyReadsBack) {
+  FittedSurface f = with_faces();
+  f.faces[0].has_uncertainty = true;
+  f.faces[0].u_sigma_mm = 0.002;
+  f.faces[0].u_max_mm = 0.0011;
+  f.faces[0].u_mean_mm = 0.0004;
+  const FittedSurface back = parse_surface_json(surface_json_text(f), "SURF.json");
+  CHECK(back.faces[0].has_uncertainty);
+  CHECK(!back.faces[1].has_uncertainty);
+  DOUBLES_EQUAL(0.002, back.faces[0].u_sigma_mm, 0);
+  DOUBLES_EQUAL(0.0011, back.faces[0].u_max_mm, 0);
+  DOUBLES_EQUAL(0.0004, back.faces[0].u_mean_mm, 0);
+}
+
+TEST(SurfaceJson, ANegativeFaceUncertaintyIsRefused) {
+  FittedSurface f = with_faces();
+  f.faces[1].has_uncertainty = true;
+  f.faces[1].u_sigma_mm = 0.002;
+  f.faces[1].u_max_mm = -0.001;
+  f.faces[1].u_mean_mm = 0.0004;
+  try {
+    parse_surface_json(surface_json_text(f), "SURF.json");
+    FAIL("a negative uncertainty was accepted");
+  } catch (const std::runtime_error& e) {
+    STRCMP_CONTAINS("face 2", e.what());
+    STRCMP_CONTAINS("not a finite, non-negative number", e.what());
+  }
+}

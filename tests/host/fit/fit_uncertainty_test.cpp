@@ -2,11 +2,13 @@
 // Monte Carlo method of GUM Supplement 1), on the simulated canister's true shape.
 #include <CppUTest/TestHarness.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
 
 #include "host/fit/bspline_fit.h"
+#include "host/fit/knot_support.h"
 #include "tests/support/monte_carlo_uncertainty.h"
 #include "tests/support/part_scan.h"
 
@@ -45,4 +47,68 @@ TEST(FitUncertainty, IsLargerWhereTheDataIsThinner) {
   const SurfaceUncertainty u = fit_uncertainty(c.points, p, nullptr, fit_least_squares(c.points, p, nullptr, spec), 0.002, 21);
   CHECK(u.u_mm[0] > 1.5 * u.u_mm[10 * 21 + 10]);
   CHECK(u.max_mm < 0.002);  // a least-squares surface averages: tighter than one point
+}
+
+TEST(FitUncertainty, ARegionsNetAgreesWithMonteCarloInsideItsTrim) {
+  // The canister's points inside an ellipse, fitted over the whole box with the control points
+  // beyond them placed by the membrane: the sandwich covariance against 1000 noisy refits, at the
+  // grid nodes inside the ellipse (GUM Supplement 1).
+  dg::test::PartScan part;
+  part.kind = dg::sim::PartKind::kCanister;
+  part.sigma_um = 0;
+  part.step_um = 0;
+  part.nx = 21;
+  part.ny = 16;
+  const PointCloud all = dg::test::scan_part(part, 1);
+  auto inside = [](double x, double y) { return (x - 10) * (x - 10) / 64.0 + (y - 7.5) * (y - 7.5) / 36.0 < 1.0; };
+  std::vector<Point3> truth;
+  Parameters p;
+  p.x_max = 20;
+  p.y_max = 15;
+  for (const Point3& q : all.points) {
+    if (!inside(q.x, q.y)) continue;
+    truth.push_back(q);
+    p.uv.push_back({q.x / 20.0, q.y / 15.0});
+  }
+  LsqSpec spec;
+  spec.knots_u = clamped_uniform_knots(8, 3);
+  spec.knots_v = clamped_uniform_knots(7, 3);
+  spec.fill_outside = true;
+  const std::vector<char> outside = outside_control_points(spec.knots_u, 3, spec.knots_v, 3, p.uv, kRegionMinProduct);
+  CHECK(std::count(outside.begin(), outside.end(), 1) >= 4);  // the corners' control points are placed
+  const BSplineSurface nominal = fit_least_squares(truth, p, nullptr, spec);
+  constexpr int kGrid = 11;
+  auto counts = [&](double u, double v) { return inside(20 * u, 15 * v); };
+  const SurfaceUncertainty predicted = region_fit_uncertainty(truth, p, nullptr, nominal, 0.005, kGrid, counts);
+  std::mt19937 rng(5);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  std::vector<double> sum(kGrid * kGrid, 0.0), sum_sq(kGrid * kGrid, 0.0);
+  const int replicas = 1000;
+  for (int k = 0; k < replicas; ++k) {
+    std::vector<Point3> noisy = truth;
+    for (Point3& q : noisy) q.z += 0.005 * unit(rng);
+    const BSplineSurface s = fit_least_squares(noisy, p, nullptr, spec);
+    for (int r = 0; r < kGrid; ++r) {
+      for (int c = 0; c < kGrid; ++c) {
+        const double z = s.evaluate(static_cast<double>(c) / (kGrid - 1), static_cast<double>(r) / (kGrid - 1)).z;
+        sum[static_cast<size_t>(r) * kGrid + c] += z;
+        sum_sq[static_cast<size_t>(r) * kGrid + c] += z * z;
+      }
+    }
+  }
+  double worst = 0;
+  int nodes = 0;
+  for (int r = 0; r < kGrid; ++r) {
+    for (int c = 0; c < kGrid; ++c) {
+      if (!counts(static_cast<double>(c) / (kGrid - 1), static_cast<double>(r) / (kGrid - 1))) continue;
+      const size_t g = static_cast<size_t>(r) * kGrid + c;
+      const double mean = sum[g] / replicas;
+      const double empirical = std::sqrt((sum_sq[g] - replicas * mean * mean) / (replicas - 1));
+      worst = std::fmax(worst, std::fabs(predicted.u_mm[g] / empirical - 1.0));
+      ++nodes;
+    }
+  }
+  CHECK(nodes > 40);
+  CHECK(predicted.max_mm > 0);
+  CHECK(worst <= 0.10);
 }
