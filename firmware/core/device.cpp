@@ -203,6 +203,9 @@ void Device::handle(const digitizer_Envelope& message) {
                      config_.probe == digitizer_ProbeType_PROBE_CALIPER_24BIT ? "this device's gauge is a 24-bit caliper"
                                                                               : "this device's gauge is a Digimatic indicator");
       }
+      if (scan_.holding_point()) {
+        return fault(id, digitizer_FaultCode_FAULT_BUSY, "an aborted scan's points wait in the device: resume it first");
+      }
       if (scan_.finished()) scan_.acknowledge_finished();
       const char* reason = "";
       const digitizer_FaultCode code =
@@ -517,7 +520,7 @@ void Device::transmit() {
     }
     if (send_points()) continue;
     // A scan that ended: its ScanDone once every point is on the wire (after its fault, if any).
-    if (scan_.finished() && next_send_seq_ == next_seq_ && !resend_done_) {
+    if (scan_.finished() && !scan_.holding_point() && next_send_seq_ == next_seq_ && !resend_done_) {
       last_done_ = digitizer_ScanDone_init_zero;
       last_done_.scan_id = scan_.scan_id();
       last_done_.reason = scan_.end_reason();

@@ -59,7 +59,7 @@ digitizer_FaultCode ScanEngine::start(const digitizer_ScanRequest& request, uint
   ix_ = iy_ = 0;
   next_seq_ = first_seq_ = first_seq;
   points_done_ = lines_done_ = 0;
-  paused_ = abort_requested_ = false;
+  paused_ = abort_requested_ = holding_ = false;
   end_ = digitizer_ScanEnd_SCAN_COMPLETED;
   fault_ = digitizer_FaultCode_FAULT_NONE;
   started_us_ = board_.now_us();
@@ -164,6 +164,16 @@ void ScanEngine::finish(digitizer_ScanEnd why, digitizer_FaultCode fault) {
   phase_ = Phase::kFinished;
 }
 
+void ScanEngine::count_emitted() {
+  ++next_seq_;
+  ++points_done_;
+  if (++ix_ == count_x_) {
+    ix_ = 0;
+    ++lines_done_;
+    ++iy_;
+  }
+}
+
 void ScanEngine::abort() {
   if (active()) abort_requested_ = true;
 }
@@ -180,7 +190,14 @@ void ScanEngine::poll(PointSink& sink) {
     const Phase before = phase_;
     switch (phase_) {
       case Phase::kIdle:
+        return;
       case Phase::kFinished:
+        // A scan aborted while its last point waited for room in the ring: the point was measured,
+        // so it goes in as soon as there is room (the ScanDone waits for it: holding_point()).
+        if (holding_ && sink.accept(pending_)) {
+          holding_ = false;
+          count_emitted();
+        }
         return;
       case Phase::kApproaching:
         if (abort_requested_) {
@@ -243,14 +260,16 @@ void ScanEngine::poll(PointSink& sink) {
         break;
       }
       case Phase::kEmitting:
-        if (!sink.accept(pending_)) return;  // ring full: wait, never drop
-        ++next_seq_;
-        ++points_done_;
-        if (++ix_ == count_x_) {
-          ix_ = 0;
-          ++lines_done_;
-          ++iy_;
+        if (!sink.accept(pending_)) {
+          // Ring full: wait, never drop. An abort does not wait for a host to make room (it may
+          // be gone): the scan ends now and keeps the point until there is room.
+          if (abort_requested_) {
+            holding_ = true;
+            finish(digitizer_ScanEnd_SCAN_ABORTED, digitizer_FaultCode_FAULT_NONE);
+          }
+          return;
         }
+        count_emitted();
         if (iy_ == count_y_) {
           finish(digitizer_ScanEnd_SCAN_COMPLETED, digitizer_FaultCode_FAULT_NONE);
           return;

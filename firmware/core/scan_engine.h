@@ -53,6 +53,8 @@ class ScanEngine {
   bool active() const { return phase_ != Phase::kIdle && phase_ != Phase::kFinished; }
   bool finished() const { return phase_ == Phase::kFinished; }
   void acknowledge_finished() { phase_ = Phase::kIdle; }
+  // An aborted scan's last measured point still waits for room in the ring: its ScanDone waits too.
+  bool holding_point() const { return holding_; }
   digitizer_ScanEnd end_reason() const { return end_; }
   digitizer_FaultCode fault() const { return fault_; }
   uint32_t scan_id() const { return request_.scan_id; }
@@ -70,6 +72,8 @@ class ScanEngine {
   bool take_reading(int64_t value_nm);
   int64_t point_value() const;
   void finish(digitizer_ScanEnd why, digitizer_FaultCode fault);
+  // The pending point went into the ring: count it and step the grid index.
+  void count_emitted();
   int32_t to_steps(int64_t nm) const;
 
   hal::Board& board_;
@@ -80,6 +84,7 @@ class ScanEngine {
   Phase phase_ = Phase::kIdle;
   bool paused_ = false;
   bool abort_requested_ = false;
+  bool holding_ = false;  // finished with pending_ not yet in the ring
   uint32_t count_x_ = 0, count_y_ = 0;
   uint32_t ix_ = 0, iy_ = 0;  // grid index of the current point (ix along the line)
   uint32_t rate_steps_s_ = 0;

@@ -84,6 +84,29 @@ int run_simple(const DeviceArgs& a, digitizer_CommandKind kind, const char* done
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
     }
   }
+  if (kind == digitizer_CommandKind_CMD_ABORT) {
+    // The device takes the abort at once but stops between points (a reading in progress ends
+    // first): say "aborted" only once it is idle, and where the scan's points are.
+    const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    for (;;) {
+      const digitizer_Envelope reply = command(session, digitizer_CommandKind_CMD_STATUS, a);
+      const digitizer_Status& s = reply.body.status;
+      const bool moving = s.state == digitizer_DeviceState_STATE_SCANNING || s.state == digitizer_DeviceState_STATE_PAUSED ||
+                          s.state == digitizer_DeviceState_STATE_JOGGING || s.state == digitizer_DeviceState_STATE_HOMING;
+      if (!moving) {
+        std::printf("%s: aborted, the device is idle\n", a.device.c_str());
+        if (s.ring_used > 0) {
+          std::printf("  %u points of scan %u wait in the device: `digitizer scan --resume -o FILE` with the scan's "
+                      "file fetches them\n", s.ring_used, s.scan_id);
+        }
+        return 0;
+      }
+      if (std::chrono::steady_clock::now() > give_up) {
+        throw DeviceError(a.device + ": the abort was accepted but the device is still busy after 30 s");
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+  }
   std::printf("%s: %s\n", a.device.c_str(), done);
   return 0;
 }

@@ -272,6 +272,41 @@ TEST(DeviceResume, AbortsOnASilentHostWhenConfiguredTo) {
   check_every_point_once(bench.host.stored, bench.host.done.points);
 }
 
+// The host died with the ring full; another host aborts. The scan ends at once (it used to wait
+// for room in the ring for ever, scanning as far as `status` could tell), and every point it
+// measured, the one waiting for the ring included, is still there for `--resume`.
+TEST(DeviceResume, AnAbortEndsAScanWaitingOnAFullRingAndKeepsItsPoints) {
+  Bench bench(dg::HostSilence::kContinue);
+  bench.scan_then_lose_host(1000, 120000000);
+  LONGS_EQUAL(128, bench.device.ring_used());
+  bench.new_host();
+  bench.hello(2);
+  bench.command(digitizer_CommandKind_CMD_ABORT, 9);
+  bench.host.acking = false;
+  bench.run_for(1000000);
+  LONGS_EQUAL(digitizer_DeviceState_STATE_IDLE, bench.device.state());
+  // A new scan would push the held point out: refused until the aborted scan is fetched.
+  bench.start_scan();
+  bench.run_for(100000);
+  const digitizer_Envelope* refused = bench.fault_for(1);
+  CHECK(refused != nullptr);
+  LONGS_EQUAL(digitizer_FaultCode_FAULT_BUSY, refused->body.fault.code);
+  bench.host.acking = true;
+  bench.host.stored.clear();
+  bench.resume(77, 0);
+  bench.run_until_done(60000000);
+  LONGS_EQUAL(digitizer_ScanEnd_SCAN_ABORTED, bench.host.done.reason);
+  LONGS_EQUAL(129, bench.host.done.points);
+  check_every_point_once(bench.host.stored, 129);
+  LONGS_EQUAL(1, bench.host.stored.front().seq);
+  // Fetched: the device takes a new scan.
+  bench.host.received.clear();
+  bench.start_scan();
+  bench.run_for(2000000);
+  CHECK(bench.fault_for(1) == nullptr);
+  LONGS_EQUAL(digitizer_DeviceState_STATE_SCANNING, bench.device.state());
+}
+
 TEST(DeviceResume, SendsTheScanDoneAgainForAFinishedScan) {
   Bench bench;
   bench.hello(1);
