@@ -17,6 +17,7 @@ FdTransport::~FdTransport() {
 void FdTransport::adopt(int fd) {
   if (fd_ >= 0) ::close(fd_);
   fd_ = fd;
+  heard_ = false;
 }
 
 void FdTransport::disconnect() {
@@ -48,7 +49,10 @@ size_t FdTransport::read(uint8_t* data, size_t capacity, int timeout_ms) {
     if (r < 0) throw TransportError(uri_ + ": poll failed: " + std::strerror(errno));
     if (r == 0) return 0;
     const ssize_t n = recv(fd_, data, capacity, 0);
-    if (n > 0) return static_cast<size_t>(n);
+    if (n > 0) {
+      heard_ = true;
+      return static_cast<size_t>(n);
+    }
     if (n < 0 && errno == EINTR) continue;
     if (n == 0 || (n < 0 && errno == ECONNRESET)) throw TransportError(uri_ + ": " + closed_reason());
     throw TransportError(uri_ + ": read failed: " + std::strerror(errno));

@@ -26,6 +26,7 @@ class FdTransport : public Transport {
 
   std::string uri_;
   int fd_ = -1;
+  bool heard_ = false;  // a byte arrived on this connection
 };
 
 }  // namespace dg::host

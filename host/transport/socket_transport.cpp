@@ -111,6 +111,13 @@ int SocketTransport::connect_once() const {
   throw TransportError(uri_ + ": cannot connect: " + error);
 }
 
+std::string SocketTransport::closed_reason() {
+  // A device that serves one host at a time (digitizer-sim --listen) turns another away by
+  // closing the connection before a word.
+  if (!heard_) return "the device closed the link before answering: another host is probably connected to it (a device serves one host at a time)";
+  return FdTransport::closed_reason();
+}
+
 void SocketTransport::reconnect() {
   disconnect();
   adopt(connect_once());

@@ -14,6 +14,9 @@ class SocketTransport final : public FdTransport {
   bool reconnectable() const override { return true; }
   void reconnect() override;
 
+ protected:
+  std::string closed_reason() override;
+
  private:
   int connect_once() const;
   bool unix_ = false;

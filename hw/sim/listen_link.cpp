@@ -97,7 +97,19 @@ void ListenLink::drop_host() {
 void ListenLink::accept_host() {
   const int fd = accept4(listen_fd_, nullptr, nullptr, SOCK_CLOEXEC | SOCK_NONBLOCK);
   if (fd < 0) return;
-  // A new host replaces the old one: a restarted host's old connection may not have closed yet.
+  // One host at a time, as a USB device's interface is claimed by one process: while the current
+  // host is connected, another is turned away (closed at once) rather than taking the link over
+  // in the middle of its scan. A host that died has closed its end (the kernel does that even for
+  // kill -9), and then the newcomer replaces it.
+  if (host_fd_ >= 0) {
+    pollfd p{host_fd_, POLLRDHUP, 0};
+    const bool gone = ::poll(&p, 1, 0) > 0 && (p.revents & (POLLRDHUP | POLLHUP | POLLERR)) != 0;
+    if (!gone) {
+      close(fd);
+      ++refused_;
+      return;
+    }
+  }
   drop_host();
   host_fd_ = fd;
   const int one = 1;

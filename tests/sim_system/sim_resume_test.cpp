@@ -333,3 +333,41 @@ TEST(SimResume, APowerLossLosesNoPointTheDeviceWasToldIsStored) {
   check_power_loss(377, 5, "power5");
   check_power_loss(450, -7, "power7");
 }
+
+// A second host (`digitizer status` from another terminal) while a scan runs is turned away with
+// the reason, as a claimed USB interface would turn it away; it used to take the link over, and
+// the scanning host lost points reconnecting.
+TEST(SimResume, ASecondHostIsTurnedAwayAndTheScanGoesOnUndisturbed) {
+  const std::string socket_path = temp_path("second.sock"), path = temp_path("second.scan");
+  ListeningSim sim("unix:" + socket_path);
+  const std::string uri = "unix:" + socket_path;
+  const digitizer_ScanRequest request = long_scan();
+  dg::host::CaptureResult result;
+  std::thread scanning([&] {
+    auto transport = dg::host::open_transport(uri);
+    dg::host::Session session(*transport);
+    const digitizer_Hello hello = session.hello(5000);
+    dg::host::ScanFileWriter file(path);
+    result = dg::host::capture_scan(session, hello, request, file, dg::host::CaptureOptions{});
+  });
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (file_size(path) < 20000 && std::chrono::steady_clock::now() < give_up) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  std::string error;
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    try {
+      auto transport = dg::host::open_transport(uri);
+      dg::host::Session session(*transport);
+      session.hello(2000);
+    } catch (const std::exception& e) {
+      error = e.what();
+    }
+  }
+  scanning.join();
+  STRCMP_CONTAINS("another host is probably connected", error.c_str());
+  CHECK(result.finished);
+  LONGS_EQUAL(0, result.reconnects);
+  check_complete(dg::host::read_scan_file(path), request);
+  std::remove(path.c_str());
+}
