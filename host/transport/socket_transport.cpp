@@ -1,6 +1,7 @@
 // Connects with a 3 s limit, so an unplugged bench is an error message and not a hang.
 #include "host/transport/socket_transport.h"
 
+#include <cerrno>
 #include <fcntl.h>
 #include <netdb.h>
 #include <netinet/in.h>
@@ -86,6 +87,12 @@ int SocketTransport::connect_once() const {
     address.sun_family = AF_UNIX;
     std::memcpy(address.sun_path, path_.c_str(), path_.size() + 1);
     const int fd = connect_with_timeout(AF_UNIX, reinterpret_cast<const sockaddr*>(&address), sizeof(address));
+    if (fd < 0 && errno == EAGAIN) {
+      // The listening device's queue of waiting connections is full: it is busy with its host
+      // and has not looked at the queue (a one-host device such as digitizer-sim --listen).
+      throw TransportError(uri_ + ": the device takes no connection now: another host is probably connected to it "
+                                  "(a device serves one host at a time)");
+    }
     if (fd < 0) throw TransportError(uri_ + ": cannot connect: " + std::strerror(errno));
     return fd;
   }
