@@ -136,6 +136,10 @@ size_t ListenLink::write(const uint8_t* data, size_t size) {
 }
 
 size_t ListenLink::read(uint8_t* data, size_t capacity) {
+  // A busy device reads without waiting: look at the queue of new connections here too, so that
+  // another host is turned away (or replaces a dead one) at once and not when the scan idles.
+  pollfd p{listen_fd_, POLLIN, 0};
+  if (listen_fd_ >= 0 && ::poll(&p, 1, 0) > 0 && (p.revents & POLLIN) != 0) accept_host();
   if (host_fd_ < 0) return 0;
   for (;;) {
     const ssize_t n = ::recv(host_fd_, data, capacity, 0);
