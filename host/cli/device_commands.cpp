@@ -64,6 +64,19 @@ int run_status(const DeviceArgs& a) {
   return 0;
 }
 
+// Asks for the device's status every 100 ms until `busy` says it is done; a DeviceError saying
+// `still` after `limit`.
+digitizer_Status wait_until_settled(Session& session, const DeviceArgs& a, bool (*busy)(const digitizer_Status&),
+                                    std::chrono::seconds limit, const std::string& still) {
+  const auto give_up = std::chrono::steady_clock::now() + limit;
+  for (;;) {
+    const digitizer_Envelope reply = command(session, digitizer_CommandKind_CMD_STATUS, a);
+    if (!busy(reply.body.status)) return reply.body.status;
+    if (std::chrono::steady_clock::now() > give_up) throw DeviceError(a.device + ": " + still);
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+}
+
 int run_simple(const DeviceArgs& a, digitizer_CommandKind kind, const char* done) {
   auto transport = open_transport(a.device);
   Session session(*transport);
@@ -71,41 +84,29 @@ int run_simple(const DeviceArgs& a, digitizer_CommandKind kind, const char* done
   command(session, kind, a);
   if (kind == digitizer_CommandKind_CMD_HOME) {
     // Homing takes a while: wait for it to end and say how.
-    const auto give_up = std::chrono::steady_clock::now() + std::chrono::minutes(3);
-    for (;;) {
-      const digitizer_Envelope reply = command(session, digitizer_CommandKind_CMD_STATUS, a);
-      const digitizer_Status& s = reply.body.status;
-      if (s.state != digitizer_DeviceState_STATE_HOMING) {
-        if (!s.homed) throw DeviceError(a.device + ": homing failed (" + fault_name(s.alarm) + ")");
-        std::printf("%s: homed, table at x %.3f y %.3f mm\n", a.device.c_str(), s.x_nm * 1e-6, s.y_nm * 1e-6);
-        return 0;
-      }
-      if (std::chrono::steady_clock::now() > give_up) throw DeviceError(a.device + ": still homing after 3 minutes");
-      std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    }
+    const digitizer_Status s = wait_until_settled(
+        session, a, [](const digitizer_Status& t) { return t.state == digitizer_DeviceState_STATE_HOMING; },
+        std::chrono::minutes(3), "still homing after 3 minutes");
+    if (!s.homed) throw DeviceError(a.device + ": homing failed (" + fault_name(s.alarm) + ")");
+    std::printf("%s: homed, table at x %.3f y %.3f mm\n", a.device.c_str(), s.x_nm * 1e-6, s.y_nm * 1e-6);
+    return 0;
   }
   if (kind == digitizer_CommandKind_CMD_ABORT) {
     // The device takes the abort at once but stops between points (a reading in progress ends
     // first): say "aborted" only once it is idle, and where the scan's points are.
-    const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(30);
-    for (;;) {
-      const digitizer_Envelope reply = command(session, digitizer_CommandKind_CMD_STATUS, a);
-      const digitizer_Status& s = reply.body.status;
-      const bool moving = s.state == digitizer_DeviceState_STATE_SCANNING || s.state == digitizer_DeviceState_STATE_PAUSED ||
-                          s.state == digitizer_DeviceState_STATE_JOGGING || s.state == digitizer_DeviceState_STATE_HOMING;
-      if (!moving) {
-        std::printf("%s: aborted, the device is idle\n", a.device.c_str());
-        if (s.ring_used > 0) {
-          std::printf("  %u points of scan %u wait in the device: `digitizer scan --resume -o FILE` with the scan's "
-                      "file fetches them\n", s.ring_used, s.scan_id);
-        }
-        return 0;
-      }
-      if (std::chrono::steady_clock::now() > give_up) {
-        throw DeviceError(a.device + ": the abort was accepted but the device is still busy after 30 s");
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    const digitizer_Status s = wait_until_settled(
+        session, a,
+        [](const digitizer_Status& t) {
+          return t.state == digitizer_DeviceState_STATE_SCANNING || t.state == digitizer_DeviceState_STATE_PAUSED ||
+                 t.state == digitizer_DeviceState_STATE_JOGGING || t.state == digitizer_DeviceState_STATE_HOMING;
+        },
+        std::chrono::seconds(30), "the abort was accepted but the device is still busy after 30 s");
+    std::printf("%s: aborted, the device is idle\n", a.device.c_str());
+    if (s.ring_used > 0) {
+      std::printf("  %u points of scan %u wait in the device: `digitizer scan --resume -o FILE` with the scan's "
+                  "file fetches them\n", s.ring_used, s.scan_id);
     }
+    return 0;
   }
   std::printf("%s: %s\n", a.device.c_str(), done);
   return 0;

@@ -343,55 +343,69 @@ BSplineSurface fit_least_squares(const std::vector<Point3>& points, const Parame
 }
 
 
-SurfaceUncertainty fit_uncertainty(const std::vector<Point3>& points, const Parameters& params,
-                                   const std::vector<double>* weights, const BSplineSurface& surface, double sigma_mm,
-                                   int grid) {
+namespace {
+
+// The least-squares problem whose solution `surface` is: its degrees and knots.
+LsqSpec spec_of(const BSplineSurface& surface, bool fill_outside) {
   LsqSpec spec;
   spec.degree_u = surface.degree_u;
   spec.degree_v = surface.degree_v;
   spec.knots_u = surface.knots_u;
   spec.knots_v = surface.knots_v;
-  NormalSystem system = assemble(points, params, weights, spec);
+  spec.fill_outside = fill_outside;
+  return spec;
+}
+
+// u(u, v) on a grid x grid of the parameter domain: `variance(b)` is Var S for the basis vector b
+// (in units of the points' variance when `weights` is null). Nodes `counts` rejects stay 0 and
+// enter neither max nor mean.
+template <typename Variance>
+SurfaceUncertainty uncertainty_on_grid(const BSplineSurface& s, double sigma_mm, int grid, bool weighted,
+                                       const std::function<bool(double, double)>* counts, Variance variance) {
   SurfaceUncertainty out;
   out.computed = true;
   out.sigma_mm = sigma_mm;
   out.rows = out.cols = std::max(2, grid);
   out.u_mm.assign(static_cast<size_t>(out.rows) * out.cols, 0.0);
-  const BSplineSurface& s = system.shape;
-  const int n = s.count_u * s.count_v;
-  // With weights 1 / sigma_i^2 the inverse normal matrix is the coefficients' covariance itself;
-  // without, it is scaled by the points' common variance.
-  const double scale = weights ? 1.0 : sigma_mm * sigma_mm;
-  Eigen::VectorXd b(n);
+  // With weights 1 / sigma_i^2 the variance is the coefficients' covariance itself; without, it
+  // is scaled by the points' common variance.
+  const double scale = weighted ? 1.0 : sigma_mm * sigma_mm;
+  Eigen::VectorXd b(s.count_u * s.count_v);
   double sum = 0;
+  size_t counted = 0;
   for (int r = 0; r < out.rows; ++r) {
     for (int c = 0; c < out.cols; ++c) {
       const double u = static_cast<double>(c) / (out.cols - 1), v = static_cast<double>(r) / (out.rows - 1);
+      if (counts && !(*counts)(u, v)) continue;
       node_basis(s, u, v, b);
-      // Var S(u, v) = b^T Cov(x) b with x = T y and Cov(y) = scale (T^T A T)^-1.
-      const Eigen::VectorXd reduced = system.eliminate ? Eigen::VectorXd(system.map.transpose() * b) : b;
-      const Eigen::VectorXd solved = system.solver->solve(reduced);
-      const double variance = scale * reduced.dot(solved);
-      const double value = std::sqrt(std::max(variance, 0.0));
+      const double value = std::sqrt(std::max(scale * variance(b), 0.0));
       out.u_mm[static_cast<size_t>(r) * out.cols + c] = value;
       out.max_mm = std::max(out.max_mm, value);
       sum += value;
+      ++counted;
     }
   }
-  out.mean_mm = sum / static_cast<double>(out.u_mm.size());
+  out.mean_mm = counted > 0 ? sum / static_cast<double>(counted) : 0.0;
   return out;
+}
+
+}  // namespace
+
+SurfaceUncertainty fit_uncertainty(const std::vector<Point3>& points, const Parameters& params,
+                                   const std::vector<double>* weights, const BSplineSurface& surface, double sigma_mm,
+                                   int grid) {
+  const NormalSystem system = assemble(points, params, weights, spec_of(surface, false));
+  // Var S(u, v) = b^T Cov(x) b with x = T y and Cov(y) = scale (T^T A T)^-1.
+  return uncertainty_on_grid(system.shape, sigma_mm, grid, weights != nullptr, nullptr, [&](const Eigen::VectorXd& b) {
+    const Eigen::VectorXd reduced = system.eliminate ? Eigen::VectorXd(system.map.transpose() * b) : b;
+    return reduced.dot(system.solver->solve(reduced));
+  });
 }
 
 SurfaceUncertainty region_fit_uncertainty(const std::vector<Point3>& points, const Parameters& params,
                                           const std::vector<double>* weights, const BSplineSurface& surface,
                                           double sigma_mm, int grid, const std::function<bool(double, double)>& counts) {
-  LsqSpec spec;
-  spec.degree_u = surface.degree_u;
-  spec.degree_v = surface.degree_v;
-  spec.knots_u = surface.knots_u;
-  spec.knots_v = surface.knots_v;
-  spec.fill_outside = true;
-  NormalSystem system = assemble(points, params, weights, spec);
+  const NormalSystem system = assemble(points, params, weights, spec_of(surface, true));
   const BSplineSurface& s = system.shape;
   if (system.eliminate) throw FitError("a region's net has no ramps to eliminate");
   // Each point's basis values and the unknowns they touch, once.
@@ -402,40 +416,19 @@ SurfaceUncertainty region_fit_uncertainty(const std::vector<Point3>& points, con
     const Cell cell = tensor_basis(s, params.uv[k].u, params.uv[k].v, &basis[k * static_cast<size_t>(m)]);
     first[k] = cell.u * s.count_v + cell.v;
   }
-  SurfaceUncertainty out;
-  out.computed = true;
-  out.sigma_mm = sigma_mm;
-  out.rows = out.cols = std::max(2, grid);
-  out.u_mm.assign(static_cast<size_t>(out.rows) * out.cols, 0.0);
-  const int n = s.count_u * s.count_v;
-  const double scale = weights ? 1.0 : sigma_mm * sigma_mm;
-  Eigen::VectorXd b(n);
-  double sum = 0;
-  size_t counted = 0;
-  for (int r = 0; r < out.rows; ++r) {
-    for (int c = 0; c < out.cols; ++c) {
-      const double u = static_cast<double>(c) / (out.cols - 1), v = static_cast<double>(r) / (out.rows - 1);
-      if (!counts(u, v)) continue;
-      node_basis(s, u, v, b);
-      // Var S = b^T K^-1 (C^T W C) K^-1 b = sum over points of w_k (c_k . y)^2 with y = K^-1 b.
-      const Eigen::VectorXd y = system.solver->solve(b);
-      double variance = 0;
-      for (size_t k = 0; k < points.size(); ++k) {
-        double dot = 0;
-        const double* row = &basis[k * static_cast<size_t>(m)];
-        for (int a = 0; a < pu; ++a)
-          for (int e = 0; e < pv; ++e) dot += row[a * pv + e] * y(first[k] + a * s.count_v + e);
-        variance += (weights ? (*weights)[k] : 1.0) * dot * dot;
-      }
-      const double value = std::sqrt(scale * variance);
-      out.u_mm[static_cast<size_t>(r) * out.cols + c] = value;
-      out.max_mm = std::max(out.max_mm, value);
-      sum += value;
-      ++counted;
+  // Var S = b^T K^-1 (C^T W C) K^-1 b = sum over points of w_k (c_k . y)^2 with y = K^-1 b.
+  return uncertainty_on_grid(s, sigma_mm, grid, weights != nullptr, &counts, [&](const Eigen::VectorXd& b) {
+    const Eigen::VectorXd y = system.solver->solve(b);
+    double variance = 0;
+    for (size_t k = 0; k < points.size(); ++k) {
+      double dot = 0;
+      const double* row = &basis[k * static_cast<size_t>(m)];
+      for (int a = 0; a < pu; ++a)
+        for (int e = 0; e < pv; ++e) dot += row[a * pv + e] * y(first[k] + a * s.count_v + e);
+      variance += (weights ? (*weights)[k] : 1.0) * dot * dot;
     }
-  }
-  out.mean_mm = counted > 0 ? sum / static_cast<double>(counted) : 0.0;
-  return out;
+    return variance;
+  });
 }
 
 std::vector<double> parameter_distances(const BSplineSurface& surface, const std::vector<Point3>& points,

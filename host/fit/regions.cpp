@@ -13,6 +13,7 @@
 #include "host/fit/parameterize.h"
 #include "host/geometry/closest_point.h"
 #include "host/scan/local_polynomial.h"
+#include "host/scan/median.h"
 #include "host/scan/neighbours.h"
 
 namespace dg::host {
@@ -34,6 +35,19 @@ struct Box {
   bool contains(double x, double y) const {
     const double e = 1e-9 * (1 + std::fabs(x1 - x0) + std::fabs(y1 - y0));
     return x >= x0 - e && x <= x1 + e && y >= y0 - e && y <= y1 + e;
+  }
+  // Table XY parameters over the box (its points' uv still to add) and a point's uv in it.
+  Parameters parameters() const {
+    Parameters params;
+    params.kind = Parameterization::kTableXy;
+    params.x_min = x0;
+    params.x_max = x1;
+    params.y_min = y0;
+    params.y_max = y1;
+    return params;
+  }
+  UV uv(const Point3& p) const {
+    return {std::clamp((p.x - x0) / (x1 - x0), 0.0, 1.0), std::clamp((p.y - y0) / (y1 - y0), 0.0, 1.0)};
   }
 };
 
@@ -87,16 +101,8 @@ void fit_region(const PointCloud& cloud, const std::vector<double>* weights, con
   }
   if (cloud.line) sub.line = lines;
   sub.resolution_mm = cloud.resolution_mm;
-  Parameters params;
-  params.kind = Parameterization::kTableXy;
-  params.x_min = r.box.x0;
-  params.x_max = r.box.x1;
-  params.y_min = r.box.y0;
-  params.y_max = r.box.y1;
-  for (const Point3& p : sub.points) {
-    params.uv.push_back({std::clamp((p.x - r.box.x0) / (r.box.x1 - r.box.x0), 0.0, 1.0),
-                         std::clamp((p.y - r.box.y0) / (r.box.y1 - r.box.y0), 0.0, 1.0)});
-  }
+  Parameters params = r.box.parameters();
+  for (const Point3& p : sub.points) params.uv.push_back(r.box.uv(p));
   r.report.points = r.members.size();
   // The simplest surface that keeps the tolerance: a single bilinear, then biquadratic patch is
   // tried before the refined net of the asked degree. A flat piece of base plate stays a plane,
@@ -167,12 +173,7 @@ void check_boundary(const PointCloud& cloud, const std::vector<double>* weights,
     std::vector<Point3> kept;
     std::vector<double> kept_weights;
     std::vector<size_t> out;
-    Parameters params;
-    params.kind = Parameterization::kTableXy;
-    params.x_min = r.box.x0;
-    params.x_max = r.box.x1;
-    params.y_min = r.box.y0;
-    params.y_max = r.box.y1;
+    Parameters params = r.box.parameters();
     for (size_t m = 0; m < r.members.size(); ++m) {
       const size_t i = r.members[m];
       const Point3& p = cloud.points[i];
@@ -184,8 +185,7 @@ void check_boundary(const PointCloud& cloud, const std::vector<double>* weights,
       }
       kept.push_back(p);
       if (weights) kept_weights.push_back((*weights)[i]);
-      params.uv.push_back({std::clamp((p.x - r.box.x0) / (r.box.x1 - r.box.x0), 0.0, 1.0),
-                           std::clamp((p.y - r.box.y0) / (r.box.y1 - r.box.y0), 0.0, 1.0)});
+      params.uv.push_back(r.box.uv(p));
     }
     if (out.empty()) continue;
     BSplineSurface refit;
@@ -586,25 +586,23 @@ RegionFit fit_regions(const PointCloud& cloud, const std::vector<double>* weight
   }
 
   // The faces' standard uncertainty, from the region's points and their noise (or sigma column).
-  double sigma_u = noise.reading_sigma_mm;
+  // With a sigma column the weights carry each point's own; the median is the figure stated.
+  double sigma_u = sigma;
   if (weights) {
     std::vector<double> sigmas;
     for (double w : *weights) sigmas.push_back(1.0 / std::sqrt(w));
-    std::nth_element(sigmas.begin(), sigmas.begin() + static_cast<std::ptrdiff_t>(sigmas.size() / 2), sigmas.end());
-    sigma_u = sigmas[sigmas.size() / 2];
+    sigma_u = median_of(sigmas);
   }
   for (size_t f = 0; f < out.faces.size() && sigma_u > 0; ++f) {
     TrimmedFace& face = out.faces[f];
     const Region& r = regions[static_cast<size_t>(out.face_region[f])];
     std::vector<Point3> points;
     std::vector<double> w;
-    Parameters params;
-    params.kind = Parameterization::kTableXy;
+    Parameters params = r.box.parameters();
     for (size_t i : r.members) {
       points.push_back(pts[i]);
       if (weights) w.push_back((*weights)[i]);
-      params.uv.push_back({std::clamp((pts[i].x - r.box.x0) / (r.box.x1 - r.box.x0), 0.0, 1.0),
-                           std::clamp((pts[i].y - r.box.y0) / (r.box.y1 - r.box.y0), 0.0, 1.0)});
+      params.uv.push_back(r.box.uv(pts[i]));
     }
     auto counts = [&](double u, double v) {
       return inside_face(face, r.box.x0 + u * (r.box.x1 - r.box.x0), r.box.y0 + v * (r.box.y1 - r.box.y0));

@@ -32,13 +32,17 @@ double grid_step(std::vector<double> values) {
   return step;
 }
 
-// Up to kLineReach grid neighbours on each side of a point along its row, its column and both
-// diagonals, nearest first, contiguous (a gap ends the side). A line model uses the first kLinePoints
-// of them that are not suspected outliers themselves.
+// Along a row, a column or a diagonal, a point on a sliver of surface between a crease and the
+// scan's edge (too thin for any half-plane to hold mostly its own surface) still has neighbours on
+// its own surface: one quadratic per side (kLines of them) may vouch for it but never replace it.
+// Each side holds up to kLineReach grid neighbours, nearest first, contiguous (a gap ends the
+// side); a line model uses the first kLinePoints of them that are not suspected outliers.
+constexpr int kLines = 8;
 constexpr int kLinePoints = 5;
 constexpr long kLineReach = 8;
+// The largest extrapolation gain a line may have and still vouch: 4.6 for five points at 1..5
+// steps, 7.75 for four at 1..4, 15.8 for five from the second step on.
 constexpr double kLineGainMax = 8;
-constexpr int kLines = 8;
 using LineSides = std::array<std::vector<size_t>, kLines>;
 
 bool grid_neighbourhoods(const std::vector<Point3>& points, int window, std::vector<std::vector<size_t>>& out,
@@ -119,9 +123,9 @@ struct LooModel {
   double gain = 0;
 };
 
-// A quadratic in the distance along a row or a column through the points on one side of point i,
+// A quadratic in the distance along a line through the points on one side of point i,
 // extrapolated to i; ok only with at least four points (one degree of freedom left to measure
-// how well the quadratic describes them).
+// how well the quadratic describes them) and a gain of at most kLineGainMax.
 LooModel line_model(const std::vector<Point3>& points, const std::vector<size_t>& reach, size_t i,
                     const std::vector<char>& suspect) {
   LooModel out;
@@ -163,14 +167,11 @@ LooModel line_model(const std::vector<Point3>& points, const std::vector<size_t>
     const double r = points[side[static_cast<size_t>(k)]].z - (coefficient[0] + coefficient[1] * t + coefficient[2] * t * t);
     ss += r * r;
   }
-  out.ok = true;
   out.prediction = coefficient[0];
   out.scale = std::sqrt(ss / (n - 3));
   out.near_kept = 4;
   // [(X^T X)^-1]_00, the cofactor over the determinant. Skipped suspects push the points away and
-  // the extrapolation's gain up (4.6 for five points at 1..5 steps, 7.75 for four at 1..4, 15.8 for
-  // five from the second step on); beyond 8
-  // that the prediction is too loose to vouch for anything.
+  // the gain up; beyond kLineGainMax the prediction is too loose to vouch for anything.
   out.gain = (m[1][1] * m[2][2] - m[1][2] * m[2][1]) / det;
   out.ok = out.gain <= kLineGainMax;
   return out;
@@ -236,10 +237,6 @@ LooModel loo_model(const std::vector<Point3>& points, const std::vector<size_t>&
 // the four half neighbourhoods on either side of it in x and in y. A point on a crease or a step,
 // or at the edge of the scan, lies on the model of at least one side; an outlier on none.
 constexpr int kWindows = 9;  // the whole neighbourhood and eight half-planes through the point
-
-// Along a row, a column or a diagonal a point on a sliver of surface between a crease and the
-// scan's edge (too thin for any half-plane to hold mostly its own surface) still has neighbours on
-// its own surface: eight quadratics, one per side, may vouch for it but never replace it.
 
 struct PointTest {
   LooModel model[kWindows + kLines];
@@ -432,16 +429,17 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
   }
   const double limit = std::max(options.outlier_sigmas * result.sigma_mm, 1e-9);
   const double sigma = std::max(result.sigma_mm, 1e-9);
+  // The window whose prediction replaces point i, or -1 for an inlier.
+  auto outlier_window = [&](size_t i) {
+    const int window = verdict(tests[i], sigma, options.outlier_sigmas);
+    return window >= 0 && std::fabs(tests[i].residual[window]) > limit ? window : -1;
+  };
   if (result.gridded) {
     std::vector<char> suspect(points.size(), 0);
-    for (size_t i = 0; i < points.size(); ++i) {
-      const int window = verdict(tests[i], sigma, options.outlier_sigmas);
-      suspect[i] = window >= 0 && std::fabs(tests[i].residual[window]) > limit;
-    }
+    for (size_t i = 0; i < points.size(); ++i) suspect[i] = outlier_window(i) >= 0;
     // A suspect a line clears may clear the next one along it (a sliver one point wide along the
     // scan's edge), so the lines are asked again until no suspect changes.
     for (bool changed = true; changed;) {
-      changed = false;
       std::vector<size_t> cleared;
       for (size_t i = 0; i < points.size(); ++i) {
         // Only where some window does not describe one surface (a crease crosses it): on a smooth
@@ -449,15 +447,15 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
         // that the windows see plainly (seen at the canister's dish: 0.027 mm off over 7 mm).
         if (!suspect[i] || !near_crease(tests[i], sigma)) continue;
         add_line_models(points, sides[i], i, suspect, tests[i]);
-        if (verdict(tests[i], sigma, options.outlier_sigmas) < 0) cleared.push_back(i);
+        if (outlier_window(i) < 0) cleared.push_back(i);
       }
       for (size_t i : cleared) suspect[i] = 0;
       changed = !cleared.empty();
     }
   }
   for (size_t i = 0; i < points.size(); ++i) {
-    const int window = verdict(tests[i], sigma, options.outlier_sigmas);
-    const bool outlier = window >= 0 && std::fabs(tests[i].residual[window]) > limit;
+    const int window = outlier_window(i);
+    const bool outlier = window >= 0;
     if (outlier) {
       result.outliers.push_back({i, tests[i].residual[window]});
       reference[i] = tests[i].model[window].prediction;

@@ -20,6 +20,9 @@ namespace dg::host {
 
 namespace {
 
+// Why a one-host device (digitizer-sim --listen) turns a connection away.
+constexpr const char* kAnotherHost = "another host is probably connected to it (a device serves one host at a time)";
+
 constexpr int kConnectTimeoutMs = 3000;
 
 // Connects a fresh socket to `address`; returns the descriptor or -1 with errno set.
@@ -90,8 +93,7 @@ int SocketTransport::connect_once() const {
     if (fd < 0 && errno == EAGAIN) {
       // The listening device's queue of waiting connections is full: it is busy with its host
       // and has not looked at the queue (a one-host device such as digitizer-sim --listen).
-      throw TransportError(uri_ + ": the device takes no connection now: another host is probably connected to it "
-                                  "(a device serves one host at a time)");
+      throw TransportError(uri_ + ": the device takes no connection now: " + kAnotherHost);
     }
     if (fd < 0) throw TransportError(uri_ + ": cannot connect: " + std::strerror(errno));
     return fd;
@@ -121,7 +123,7 @@ int SocketTransport::connect_once() const {
 std::string SocketTransport::closed_reason() {
   // A device that serves one host at a time (digitizer-sim --listen) turns another away by
   // closing the connection before a word.
-  if (!heard_) return "the device closed the link before answering: another host is probably connected to it (a device serves one host at a time)";
+  if (!heard_) return std::string("the device closed the link before answering: ") + kAnotherHost;
   return FdTransport::closed_reason();
 }
 

@@ -106,7 +106,6 @@ void ListenLink::accept_host() {
     const bool gone = ::poll(&p, 1, 0) > 0 && (p.revents & (POLLRDHUP | POLLHUP | POLLERR)) != 0;
     if (!gone) {
       close(fd);
-      ++refused_;
       return;
     }
   }

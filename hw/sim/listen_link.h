@@ -21,8 +21,6 @@ class ListenLink final : public LinkPort {
   const std::string& error() const { return error_; }
   // The TCP port actually bound (for tcp:0), or 0.
   int port() const { return port_; }
-  // Hosts turned away because another was connected.
-  unsigned refused() const { return refused_; }
 
   size_t write(const uint8_t* data, size_t size) override;
   size_t read(uint8_t* data, size_t capacity) override;
@@ -41,7 +39,6 @@ class ListenLink final : public LinkPort {
   std::string unix_path_;
   std::string error_;
   int port_ = 0;
-  unsigned refused_ = 0;
 };
 
 }  // namespace dg::sim
