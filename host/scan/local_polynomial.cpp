@@ -1,4 +1,4 @@
-// Local plane and quadratic fits through the shared packed LDL^T solver.
+// Local plane, quadratic and cubic fits through the shared packed LDL^T solver.
 #include "host/scan/local_polynomial.h"
 
 #include <algorithm>
@@ -14,13 +14,15 @@ int polynomial_terms(int order, double dx, double dy, double* t) {
   t[0] = 1, t[1] = dx, t[2] = dy;
   if (order == 1) return 3;
   t[3] = dx * dx, t[4] = dx * dy, t[5] = dy * dy;
-  return 6;
+  if (order == 2) return 6;
+  t[6] = dx * dx * dx, t[7] = dx * dx * dy, t[8] = dx * dy * dy, t[9] = dy * dy * dy;
+  return 10;
 }
 
 }  // namespace
 
 double LocalPolynomial::at(double x, double y) const {
-  double t[6];
+  double t[10];
   const int n = polynomial_terms(order, (x - centre.x) / scale_x, (y - centre.y) / scale_y, t);
   double z = 0;
   for (int k = 0; k < n; ++k) z += c[k] * t[k];
@@ -39,10 +41,10 @@ bool fit_local_polynomial(const std::vector<Point3>& points, const std::vector<s
   if (!(out.scale_x > 0) || !(out.scale_y > 0)) return false;
   const int n = out.terms();
   if (indices.size() < static_cast<size_t>(n)) return false;
-  double a[fit::packed_size(6)] = {}, inverse_d[6];
+  double a[fit::packed_size(10)] = {}, inverse_d[10];
   for (double& value : out.c) value = 0;
   for (size_t j : indices) {
-    double t[6];
+    double t[10];
     polynomial_terms(order, (points[j].x - centre.x) / out.scale_x, (points[j].y - centre.y) / out.scale_y, t);
     for (int r = 0; r < n; ++r) {
       for (int k = 0; k <= r; ++k) a[fit::packed_index(r, k)] += t[r] * t[k];

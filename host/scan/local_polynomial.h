@@ -7,15 +7,15 @@
 
 namespace dg::host {
 
-// z = c0 + c1 dx + c2 dy (+ c3 dx^2 + c4 dx dy + c5 dy^2), with dx, dy measured from `centre` and
+// z = c0 + c1 dx + c2 dy (+ c3 dx^2 + c4 dx dy + c5 dy^2 (+ the four cubic terms)), with dx, dy measured from `centre` and
 // scaled by the neighbourhood's extent so the normal equations stay well conditioned in any unit.
 struct LocalPolynomial {
-  int order = 1;  // 1: plane (3 terms), 2: quadratic (6 terms)
+  int order = 1;  // 1: plane (3 terms), 2: quadratic (6 terms), 3: cubic (10 terms)
   Point3 centre;
   double scale_x = 1, scale_y = 1;
-  double c[6] = {};
+  double c[10] = {};
 
-  int terms() const { return order == 1 ? 3 : 6; }
+  int terms() const { return order == 1 ? 3 : order == 2 ? 6 : 10; }
   double at(double x, double y) const;  // the value; at the centre it is c[0]
 };
 

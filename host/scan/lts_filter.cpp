@@ -44,6 +44,8 @@ constexpr long kLineReach = 8;
 // steps, 7.75 for four at 1..4, 15.8 for five from the second step on.
 constexpr double kLineGainMax = 8;
 using LineSides = std::array<std::vector<size_t>, kLines>;
+// Rounds of testing the points beside suspects again without them.
+constexpr int kSuspectRounds = 4;
 
 bool grid_neighbourhoods(const std::vector<Point3>& points, int window, std::vector<std::vector<size_t>>& out,
                          std::vector<std::vector<size_t>>& rows_and_columns, std::vector<LineSides>& sides) {
@@ -118,6 +120,8 @@ struct LooModel {
   // How many of point i's four nearest neighbours in the window the model kept: a model that trims
   // them describes another surface than the one i is on (across a crease from it).
   int near_kept = 0;
+  // The largest |residual| to the model among those four neighbours.
+  double near_worst = HUGE_VAL;
   // The prediction's variance in units of the noise variance: 0 for a window's model at its own
   // centre (its scale stands for it), the extrapolation's gain for a line's.
   double gain = 0;
@@ -178,7 +182,7 @@ LooModel line_model(const std::vector<Point3>& points, const std::vector<size_t>
 }
 
 LooModel loo_model(const std::vector<Point3>& points, const std::vector<size_t>& window, size_t i,
-                   const std::vector<double>& reference) {
+                   const std::vector<double>& reference, int max_order) {
   LooModel out;
   const int n = static_cast<int>(window.size());
   if (n < 3) return out;
@@ -192,8 +196,8 @@ LooModel loo_model(const std::vector<Point3>& points, const std::vector<size_t>&
   };
   const int spread = std::min(distinct(xs), distinct(ys));
   if (spread < 2) return out;
-  const int order = n >= 12 && spread >= 3 ? 2 : n >= 6 ? 1 : 0;
-  const int p = order == 0 ? 1 : order == 1 ? 3 : 6;
+  const int order = std::min(max_order, n >= 20 && spread >= 4 ? 3 : n >= 12 && spread >= 3 ? 2 : n >= 6 ? 1 : 0);
+  const int p = order == 0 ? 1 : order == 1 ? 3 : order == 2 ? 6 : 10;
   const int h = std::min(n, std::max(n / 2 + (p + 1) / 2, static_cast<int>(std::ceil(0.7 * n))));
   std::vector<std::pair<double, size_t>> by_residual;
   for (size_t j : window) by_residual.push_back({std::fabs(points[j].z - reference[j]), j});
@@ -226,8 +230,11 @@ LooModel loo_model(const std::vector<Point3>& points, const std::vector<size_t>&
     for (size_t j : window) nearest.push_back({std::hypot(points[j].x - points[i].x, points[j].y - points[i].y), j});
     const size_t count = std::min<size_t>(4, nearest.size());
     std::partial_sort(nearest.begin(), nearest.begin() + static_cast<std::ptrdiff_t>(count), nearest.end());
+    out.near_worst = count == 4 ? 0 : HUGE_VAL;
     for (size_t m = 0; m < count; ++m) {
-      if (std::find(chosen.begin(), chosen.end(), nearest[m].second) != chosen.end()) ++out.near_kept;
+      const size_t j = nearest[m].second;
+      if (std::find(chosen.begin(), chosen.end(), j) != chosen.end()) ++out.near_kept;
+      out.near_worst = std::max(out.near_worst, std::fabs(points[j].z - model.at(points[j].x, points[j].y)));
     }
   }
   return out;
@@ -244,14 +251,14 @@ struct PointTest {
 };
 
 PointTest test_point(const std::vector<Point3>& points, const std::vector<size_t>& hood, size_t i,
-                     const std::vector<double>& reference) {
+                     const std::vector<double>& reference, const std::vector<char>& excluded) {
   // Half-planes bounded by the lines through the point along x, y and both diagonals: a crease
   // that crosses the window at any of these angles leaves one of them wholly on the point's side.
   static const double kNormal[8][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, {-1, -1}, {1, -1}, {-1, 1}};
   PointTest t;
   std::vector<size_t> windows[kWindows];
   for (size_t j : hood) {
-    if (j == i) continue;
+    if (j == i || excluded[j]) continue;
     windows[0].push_back(j);
     const double dx = points[j].x - points[i].x, dy = points[j].y - points[i].y;
     for (int w = 0; w < 8; ++w) {
@@ -259,7 +266,9 @@ PointTest test_point(const std::vector<Point3>& points, const std::vector<size_t
     }
   }
   for (int w = 0; w < kWindows; ++w) {
-    t.model[w] = loo_model(points, windows[w], i, reference);
+    // The whole neighbourhood, a cubic: at 0.5 um of noise a quadratic's shape error over 5 x 5 mm
+    // of the canister's dish is several sigma. A half-plane holds too few points for one.
+    t.model[w] = loo_model(points, windows[w], i, reference, w == 0 ? 3 : 2);
     if (t.model[w].ok) t.residual[w] = points[i].z - t.model[w].prediction;
   }
   return t;
@@ -285,23 +294,39 @@ void add_line_models(const std::vector<Point3>& points, const LineSides& sides, 
 }
 
 // The verdict on one point given the scan's noise sigma. A window vouches for the point when it
-// describes its own neighbours (trimmed scale within 2.5 sigma: a window that holds too many
+// describes its own neighbours (trimmed scale within 2 sigma: a window that holds too many
 // outliers, or straddles a crease, does not, and its prediction is no evidence either way), keeps
 // at least two of the point's four nearest neighbours (else it models another surface than the
 // point's), and predicts the point within `k` times its noise and scale together. The point is an
 // outlier when no window vouches for it but some describe their neighbours; the best-describing
 // one's prediction replaces it. Returns that window, or -1 for an inlier.
 int verdict(const PointTest& t, double sigma, double k) {
+  // A whole neighbourhood that is one smooth surface (noise-level scale) and describes all four of
+  // the point's nearest neighbours within the bound has the point inside its surface: it alone
+  // judges. Its prediction at its own centre is an interpolation; a half-plane's or a line's at its
+  // edge is an extrapolation, whose shape error (tens of sigma at 0.5 um on the canister's dish)
+  // would vouch for an outlier of 20 sigma.
+  const LooModel& whole = t.model[0];
+  const double whole_bound = k * std::hypot(sigma, whole.scale);
+  if (whole.ok && whole.near_worst <= whole_bound && whole.scale <= 2.5 * sigma) {
+    return std::fabs(t.residual[0]) <= whole_bound ? -1 : 0;
+  }
   int best = -1;
   for (int w = 0; w < kWindows + kLines; ++w) {
     const LooModel& m = t.model[w];
-    if (!m.ok || m.near_kept < 2 || m.scale > 2.5 * sigma) continue;
+    if (!m.ok || m.near_kept < 2 || m.scale > 2.0 * sigma) continue;
     // A window's prediction errs by its noise and by its model's scale; a line's by the noise its
     // extrapolation amplifies, with a tighter bound (0.8 k), since a quadratic through five points
     // can half absorb an outlier beside it that its scale then hides.
     const double bound = w < kWindows ? k * std::hypot(sigma, m.scale) : 0.8 * k * sigma * std::sqrt(1 + m.gain);
     if (std::fabs(t.residual[w]) <= bound) return -1;
     if (w < kWindows && (best < 0 || m.scale < t.model[best].scale)) best = w;
+  }
+  // No window vouches and none that describes its neighbours keeps the point's nearest ones: they
+  // are outliers too (a cluster of them), and a window that describes the rest judges.
+  for (int w = 0; best < 0 && w < kWindows; ++w) {
+    const LooModel& m = t.model[w];
+    if (m.ok && m.scale <= 2.5 * sigma && (best < 0 || m.scale < t.model[best].scale)) best = w;
   }
   return best;
 }
@@ -414,8 +439,9 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
   // Outliers: leave-one-out residuals from the whole neighbourhood and its four sides (test_point).
   std::vector<PointTest> tests(points.size());
   std::vector<double> abs_full(points.size());
+  std::vector<char> suspect(points.size(), 0);
   for (size_t i = 0; i < points.size(); ++i) {
-    tests[i] = test_point(points, hood[i], i, reference);
+    tests[i] = test_point(points, hood[i], i, reference, suspect);
     abs_full[i] = std::fabs(tests[i].residual[0]);
   }
   // 1.4826 * MAD of the whole-neighbourhood residuals: the noise of the scan (outliers and model
@@ -434,9 +460,12 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
     const int window = verdict(tests[i], sigma, options.outlier_sigmas);
     return window >= 0 && std::fabs(tests[i].residual[window]) > limit ? window : -1;
   };
-  if (result.gridded) {
-    std::vector<char> suspect(points.size(), 0);
-    for (size_t i = 0; i < points.size(); ++i) suspect[i] = outlier_window(i) >= 0;
+  auto classify = [&]() {
+    for (size_t i = 0; i < points.size(); ++i) {
+      for (int d = 0; d < kLines; ++d) tests[i].model[kWindows + d] = LooModel{};
+      suspect[i] = outlier_window(i) >= 0;
+    }
+    if (!result.gridded) return;
     // A suspect a line clears may clear the next one along it (a sliver one point wide along the
     // scan's edge), so the lines are asked again until no suspect changes.
     for (bool changed = true; changed;) {
@@ -452,6 +481,27 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
       for (size_t i : cleared) suspect[i] = 0;
       changed = !cleared.empty();
     }
+  };
+  classify();
+  // Two or three outliers in one window, or a cluster at a crease, can leave no window that
+  // describes its neighbours, or bend the one that does: the points beside suspects are tested
+  // again without them, until the suspects settle.
+  // Only suspects that their whole neighbourhood condemns are left out: one a half-plane condemns
+  // may be a point on a sliver at a crease whose neighbours on the sliver need it.
+  std::vector<char> tested_without(points.size(), 0);  // a point's test left some suspect out
+  for (int round = 0; round < kSuspectRounds; ++round) {
+    const std::vector<char> before_round = suspect;
+    std::vector<char> left_out(points.size(), 0);
+    for (size_t i = 0; i < points.size(); ++i) left_out[i] = suspect[i] && outlier_window(i) == 0;
+    for (size_t i = 0; i < points.size(); ++i) {
+      bool beside = false;
+      for (size_t j : hood[i]) beside = beside || (j != i && left_out[j]);
+      if (!beside && !tested_without[i]) continue;
+      tests[i] = test_point(points, hood[i], i, reference, left_out);
+      tested_without[i] = beside;
+    }
+    classify();
+    if (suspect == before_round) break;
   }
   for (size_t i = 0; i < points.size(); ++i) {
     const int window = outlier_window(i);
