@@ -25,6 +25,20 @@ nlohmann::json distance_json(const DistanceStats& d) {
           {"rms", d.rms},         {"max", d.max},     {"min", d.min},   {"max_abs", d.max_abs}};
 }
 
+// An uncertainty grid; a face's nodes outside it are null.
+nlohmann::json uncertainty_json(const SurfaceUncertainty& u, const char* kind) {
+  nlohmann::json grid = nlohmann::json::array();
+  for (double value : u.u_mm) grid.push_back(value == kOffFace ? nlohmann::json(nullptr) : finite_or_null(value));
+  return {{"kind", kind},
+          {"sigma_mm", finite_or_null(u.sigma_mm)},
+          {"sigma_from", u.sigma_from},
+          {"coverage_factor", 2},
+          {"max_mm", finite_or_null(u.max_mm)},
+          {"mean_mm", finite_or_null(u.mean_mm)},
+          {"grid", {u.rows, u.cols}},
+          {"u_mm", std::move(grid)}};
+}
+
 void put_surface(nlohmann::json& j, const BSplineSurface& s) {
   j["degree"] = {s.degree_u, s.degree_v};
   j["control_count"] = {s.count_u, s.count_v};
@@ -61,12 +75,9 @@ std::string surface_json_text(const FittedSurface& f) {
       }
       one["loops"] = std::move(loops);
       if (f.has_fit) one["distance"] = distance_json(face.distance);
-      if (face.has_uncertainty) {
-        one["uncertainty"] = {{"kind", "standard uncertainty of the face, from the points' noise (k = 1), over the face"},
-                              {"sigma_mm", finite_or_null(face.u_sigma_mm)},
-                              {"coverage_factor", 2},
-                              {"max_mm", finite_or_null(face.u_max_mm)},
-                              {"mean_mm", finite_or_null(face.u_mean_mm)}};
+      if (face.uncertainty.computed) {
+        one["uncertainty"] = uncertainty_json(
+            face.uncertainty, "standard uncertainty of the face, from the points' noise (k = 1); null outside the face");
       }
       faces.push_back(std::move(one));
     }
@@ -92,17 +103,7 @@ std::string surface_json_text(const FittedSurface& f) {
           {"neighbours", {{"checks", v.neighbour_checks}, {"excess_max_mm", finite_or_null(v.range_excess_max_mm)}}}};
     }
     if (f.uncertainty.computed) {
-      const SurfaceUncertainty& u = f.uncertainty;
-      nlohmann::json grid = nlohmann::json::array();
-      for (double value : u.u_mm) grid.push_back(finite_or_null(value));
-      fit["uncertainty"] = {{"kind", "standard uncertainty of the surface, from the points' noise (k = 1)"},
-                            {"sigma_mm", finite_or_null(u.sigma_mm)},
-                            {"sigma_from", u.sigma_from},
-                            {"coverage_factor", 2},
-                            {"max_mm", finite_or_null(u.max_mm)},
-                            {"mean_mm", finite_or_null(u.mean_mm)},
-                            {"grid", {u.rows, u.cols}},
-                            {"u_mm", std::move(grid)}};
+      fit["uncertainty"] = uncertainty_json(f.uncertainty, "standard uncertainty of the surface, from the points' noise (k = 1)");
     }
     j["fit"] = std::move(fit);
   }
@@ -131,6 +132,37 @@ long long whole(const nlohmann::json& v, const std::string& name, const std::str
 std::vector<int> whole_pair(const nlohmann::json& v, const std::string& name, const std::string& field, int lo, int hi) {
   if (!v.is_array() || v.size() != 2) throw std::runtime_error(name + ": \"" + field + "\" needs two numbers");
   return {static_cast<int>(whole(v[0], name, field, lo, hi)), static_cast<int>(whole(v[1], name, field, lo, hi))};
+}
+
+// An uncertainty grid as uncertainty_json writes it. On a face (`where` names it) a null node is
+// off the face; a face written before faces carried grids has none (rows and cols 0).
+SurfaceUncertainty get_uncertainty(const nlohmann::json& u, const std::string& name, const std::string& where, bool face) {
+  auto fail = [&](const std::string& what) { return std::runtime_error(name + ": " + where + "\"uncertainty\": " + what); };
+  SurfaceUncertainty out;
+  out.computed = true;
+  out.sigma_mm = u.at("sigma_mm").get<double>();
+  out.sigma_from = u.value("sigma_from", "");
+  out.max_mm = u.at("max_mm").get<double>();
+  out.mean_mm = u.at("mean_mm").get<double>();
+  for (double value : {out.sigma_mm, out.max_mm, out.mean_mm}) {
+    if (!(value >= 0) || !std::isfinite(value)) throw fail("a value that is not a finite, non-negative number");
+  }
+  if (face && !u.contains("grid")) return out;
+  const auto grid = whole_pair(u.at("grid"), name, "grid", 2, 4096);
+  out.rows = grid[0];
+  out.cols = grid[1];
+  const auto& values = u.at("u_mm");
+  if (!values.is_array() || values.size() != static_cast<size_t>(out.rows) * out.cols) throw fail("\"u_mm\" does not fill its grid");
+  for (const auto& v : values) {
+    if (face && v.is_null()) {
+      out.u_mm.push_back(kOffFace);
+      continue;
+    }
+    const double value = v.is_number() ? v.get<double>() : -1.0;
+    if (!(value >= 0) || !std::isfinite(value)) throw fail("a value that is not a finite, non-negative number");
+    out.u_mm.push_back(value);
+  }
+  return out;
 }
 
 BSplineSurface get_surface(const nlohmann::json& j, const std::string& name) {
@@ -252,16 +284,7 @@ FittedSurface parse_surface_json(const std::string& text, const std::string& nam
         if (faces[k].contains("distance")) face.distance = get_distance(faces[k].at("distance"), where);
         face.points = face.distance.count;
         if (faces[k].contains("uncertainty")) {
-          const auto& u = faces[k].at("uncertainty");
-          face.has_uncertainty = true;
-          face.u_sigma_mm = u.at("sigma_mm").get<double>();
-          face.u_max_mm = u.at("max_mm").get<double>();
-          face.u_mean_mm = u.at("mean_mm").get<double>();
-          for (double value : {face.u_sigma_mm, face.u_max_mm, face.u_mean_mm}) {
-            if (!(value >= 0) || !std::isfinite(value)) {
-              throw fail("face " + std::to_string(k + 1) + ": \"uncertainty\" holds a value that is not a finite, non-negative number");
-            }
-          }
+          face.uncertainty = get_uncertainty(faces[k].at("uncertainty"), name, "face " + std::to_string(k + 1) + ": ", true);
         }
         f.faces.push_back(std::move(face));
       }
@@ -294,23 +317,7 @@ FittedSurface parse_surface_json(const std::string& text, const std::string& nam
         f.validation.neighbour_checks = static_cast<size_t>(whole(n.at("checks"), name, "checks", 0, 1LL << 48));
         f.validation.range_excess_max_mm = n.at("excess_max_mm").get<double>();
       }
-      if (fit.contains("uncertainty")) {
-        const auto& u = fit["uncertainty"];
-        SurfaceUncertainty& out = f.uncertainty;
-        out.computed = true;
-        out.sigma_mm = u.at("sigma_mm").get<double>();
-        out.sigma_from = u.value("sigma_from", "");
-        out.max_mm = u.at("max_mm").get<double>();
-        out.mean_mm = u.at("mean_mm").get<double>();
-        const auto grid = whole_pair(u.at("grid"), name, "grid", 2, 4096);
-        out.rows = grid[0];
-        out.cols = grid[1];
-        out.u_mm = u.at("u_mm").get<std::vector<double>>();
-        if (out.u_mm.size() != static_cast<size_t>(out.rows) * out.cols) throw fail("\"uncertainty\": \"u_mm\" does not fill its grid");
-        for (double value : out.u_mm) {
-          if (!(value >= 0) || !std::isfinite(value)) throw fail("\"uncertainty\": a value that is not a finite, non-negative number");
-        }
-      }
+      if (fit.contains("uncertainty")) f.uncertainty = get_uncertainty(fit.at("uncertainty"), name, "", false);
     }
   } catch (const nlohmann::json::exception& e) {
     throw fail(std::string("missing or mistyped field: ") + e.what());

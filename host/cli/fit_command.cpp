@@ -223,15 +223,15 @@ int finish_regions(const FitArgs& a, const PointCloud& cloud, FittedSurface out,
     double u_max = 0, u_sum = 0;
     size_t with_u = 0;
     for (const TrimmedFace& f : out.faces) {
-      if (!f.has_uncertainty) continue;
-      u_max = std::max(u_max, f.u_max_mm);
-      u_sum += f.u_mean_mm;
+      if (!f.uncertainty.computed) continue;
+      u_max = std::max(u_max, f.uncertainty.max_mm);
+      u_sum += f.uncertainty.mean_mm;
       ++with_u;
     }
     if (with_u == out.faces.size() && with_u > 0) {
       std::printf("standard uncertainty of the faces u (k = 1): max %.4f, mean of the faces' means %.4f mm; expanded U = 2u: "
                   "max %.4f mm\n  from a point uncertainty of %.4f mm; the fit's precision, not its shape error\n",
-                  u_max, u_sum / static_cast<double>(with_u), 2 * u_max, out.faces[0].u_sigma_mm);
+                  u_max, u_sum / static_cast<double>(with_u), 2 * u_max, out.faces[0].uncertainty.sigma_mm);
     } else {
       std::printf("standard uncertainty of the faces: not computed for %zu of %zu faces (no noise estimate, or a net "
                   "the points cannot refit)\n", out.faces.size() - with_u, out.faces.size());

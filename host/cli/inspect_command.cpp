@@ -63,7 +63,8 @@ std::vector<std::string> scan_facts(const std::string& path) {
   return facts;
 }
 
-void write_report(const InspectArgs& a, const Inspection& r, const FittedSurface& surface, const std::string& alignment) {
+// Returns whether the uncertainty map was drawn (the surface, or every face, carries its grid).
+bool write_report(const InspectArgs& a, const Inspection& r, const FittedSurface& surface, const std::string& alignment) {
   std::string svg;
   ReportInputs in;
   in.pictures = inspection_pictures(r, &svg);
@@ -81,12 +82,14 @@ void write_report(const InspectArgs& a, const Inspection& r, const FittedSurface
   const char* names[] = {"-deviation.png", "-error-x.png", "-error-y.png", "-error-z.png"};
   for (size_t k = 0; k < in.pictures.size() && k < 4; ++k) write_file_atomically(stem + names[k], in.pictures[k].png);
   ReportPicture uncertainty = uncertainty_picture(surface);
-  if (!uncertainty.png.empty()) {
+  const bool drawn = !uncertainty.png.empty();
+  if (drawn) {
     write_file_atomically(stem + "-uncertainty.png", uncertainty.png);
     in.pictures.push_back(std::move(uncertainty));
   }
   write_file_atomically(stem + "-deviation.svg", svg);
   write_file_atomically(a.report_html, html_report(in));
+  return drawn;
 }
 
 }  // namespace
@@ -135,7 +138,7 @@ int run_inspect(const InspectArgs& a) {
     }
     write_file_atomically(a.deviations_csv, text);
   }
-  if (!a.report_html.empty()) write_report(a, r, surface, alignment);
+  const bool uncertainty_drawn = !a.report_html.empty() && write_report(a, r, surface, alignment);
   if (a.json) {
     std::fputs(inspection_json_text(r, a.points, a.surface).c_str(), stdout);
     return 0;
@@ -155,7 +158,7 @@ int run_inspect(const InspectArgs& a) {
   if (!a.deviations_csv.empty()) std::printf("wrote %s\n", a.deviations_csv.c_str());
   if (!a.report_html.empty()) {
     std::printf("wrote %s (pictures beside it: %s-deviation.png/.svg, -error-x/y/z.png%s)\n", a.report_html.c_str(),
-                without_extension(a.report_html).c_str(), surface.uncertainty.computed ? ", -uncertainty.png" : "");
+                without_extension(a.report_html).c_str(), uncertainty_drawn ? ", -uncertainty.png" : "");
   }
   return 0;
 }

@@ -357,8 +357,8 @@ LsqSpec spec_of(const BSplineSurface& surface, bool fill_outside) {
 }
 
 // u(u, v) on a grid x grid of the parameter domain: `variance(b)` is Var S for the basis vector b
-// (in units of the points' variance when `weights` is null). Nodes `counts` rejects stay 0 and
-// enter neither max nor mean.
+// (in units of the points' variance when `weights` is null). Nodes `counts` rejects hold kOffFace
+// and enter neither max nor mean.
 template <typename Variance>
 SurfaceUncertainty uncertainty_on_grid(const BSplineSurface& s, double sigma_mm, int grid, bool weighted,
                                        const std::function<bool(double, double)>* counts, Variance variance) {
@@ -376,7 +376,10 @@ SurfaceUncertainty uncertainty_on_grid(const BSplineSurface& s, double sigma_mm,
   for (int r = 0; r < out.rows; ++r) {
     for (int c = 0; c < out.cols; ++c) {
       const double u = static_cast<double>(c) / (out.cols - 1), v = static_cast<double>(r) / (out.rows - 1);
-      if (counts && !(*counts)(u, v)) continue;
+      if (counts && !(*counts)(u, v)) {
+        out.u_mm[static_cast<size_t>(r) * out.cols + c] = kOffFace;
+        continue;
+      }
       node_basis(s, u, v, b);
       const double value = std::sqrt(std::max(scale * variance(b), 0.0));
       out.u_mm[static_cast<size_t>(r) * out.cols + c] = value;

@@ -608,11 +608,8 @@ RegionFit fit_regions(const PointCloud& cloud, const std::vector<double>* weight
       return inside_face(face, r.box.x0 + u * (r.box.x1 - r.box.x0), r.box.y0 + v * (r.box.y1 - r.box.y0));
     };
     try {
-      const SurfaceUncertainty u = region_fit_uncertainty(points, params, weights ? &w : nullptr, face.surface, sigma_u, 41, counts);
-      face.has_uncertainty = true;
-      face.u_sigma_mm = sigma_u;
-      face.u_max_mm = u.max_mm;
-      face.u_mean_mm = u.mean_mm;
+      face.uncertainty = region_fit_uncertainty(points, params, weights ? &w : nullptr, face.surface, sigma_u, 41, counts);
+      face.uncertainty.sigma_from = weights ? "sigma column (median)" : "noise estimate";
     } catch (const FitError&) {
       // The net cannot be refitted from these points: no uncertainty to state for this face.
     }

@@ -4,6 +4,7 @@
 
 #include "host/geometry/bspline_surface.h"
 #include "host/geometry/distance_stats.h"
+#include "host/geometry/surface_uncertainty.h"
 #include "host/geometry/trimmed_face.h"
 
 namespace dg::host {
@@ -22,17 +23,6 @@ struct FitValidation {
   size_t neighbour_checks = 0;
   double range_excess_max_mm = 0;
   Point3 range_worst;  // the surface point that leaves the box most
-};
-
-// The standard uncertainty of a fitted surface's height (or normal position) on a grid over its
-// parameter domain, from the coefficients' covariance: u(x, y); U = 2u is the expanded uncertainty.
-struct SurfaceUncertainty {
-  bool computed = false;
-  double sigma_mm = 0;     // the point standard uncertainty it was propagated from
-  std::string sigma_from;  // where that came from: "sigma column", "noise estimate", ...
-  int rows = 0, cols = 0;  // grid over [0, 1]^2 in (u, v); u_mm[r * cols + c] at u = c/(cols-1), v = r/(rows-1)
-  std::vector<double> u_mm;
-  double max_mm = 0, mean_mm = 0;
 };
 
 struct FittedSurface {

@@ -4,6 +4,7 @@
 
 #include "host/geometry/bspline_surface.h"
 #include "host/geometry/distance_stats.h"
+#include "host/geometry/surface_uncertainty.h"
 
 namespace dg::host {
 
@@ -21,10 +22,10 @@ struct TrimmedFace {
   size_t points = 0;        // the region's points
   DistanceStats distance;   // their orthogonal distances to this face, mm
   int iterations = 0;
-  // The standard uncertainty of the face's height (k = 1) from the points' noise, over a 41 x 41
-  // grid's nodes inside the face (host/fit/bspline_fit.h, region_fit_uncertainty).
-  bool has_uncertainty = false;
-  double u_sigma_mm = 0, u_max_mm = 0, u_mean_mm = 0;
+  // The standard uncertainty of the face's height (k = 1) from the points' noise, on a 41 x 41
+  // grid over its surface's domain, nodes outside the face kOffFace (host/fit/bspline_fit.h,
+  // region_fit_uncertainty).
+  SurfaceUncertainty uncertainty;
 };
 
 // Twice the signed area of a loop (positive counter-clockwise), mm^2.

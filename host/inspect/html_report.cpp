@@ -2,6 +2,7 @@
 #include "host/inspect/html_report.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include "host/inspect/deviation_map.h"
@@ -73,30 +74,93 @@ std::vector<ReportPicture> inspection_pictures(const Inspection& inspection, std
           {"Z error map (Fig. 17c)", deviation_map_png(ez, small)}};
 }
 
-ReportPicture uncertainty_picture(const FittedSurface& f) {
-  ReportPicture out;
-  const SurfaceUncertainty& u = f.uncertainty;
-  if (!u.computed || u.rows < 2 || u.cols < 2 || u.u_mm.size() != static_cast<size_t>(u.rows) * u.cols) return out;
-  const BSplineSurface& s = f.surface;
-  std::vector<MapPoint> points;
-  const int samples = 160;  // per direction: the grid's 21 nodes would show as dots
-  for (int r = 0; r <= samples; ++r) {
-    for (int c = 0; c <= samples; ++c) {
-      const double a = static_cast<double>(c) / samples, b = static_cast<double>(r) / samples;
-      const double gc = a * (u.cols - 1), gr = b * (u.rows - 1);
-      const int c0 = std::min(static_cast<int>(gc), u.cols - 2), r0 = std::min(static_cast<int>(gr), u.rows - 2);
-      const double fc = gc - c0, fr = gr - r0;
-      auto at = [&](int rr, int cc) { return u.u_mm[static_cast<size_t>(rr) * u.cols + cc]; };
-      const double value = (1 - fr) * ((1 - fc) * at(r0, c0) + fc * at(r0, c0 + 1)) +
-                           fr * ((1 - fc) * at(r0 + 1, c0) + fc * at(r0 + 1, c0 + 1));
-      const Point3 p = s.evaluate(s.u_min() + a * (s.u_max() - s.u_min()), s.v_min() + b * (s.v_max() - s.v_min()));
-      points.push_back({p.x, p.y, 2 * value});
+namespace {
+
+// u at (a, b) in [0, 1]^2 by bilinear interpolation between the grid's nodes, over those of the
+// four that lie on the face (renormalized); false when none does.
+bool grid_value(const SurfaceUncertainty& u, double a, double b, double& value) {
+  const double gc = a * (u.cols - 1), gr = b * (u.rows - 1);
+  const int c0 = std::clamp(static_cast<int>(gc), 0, u.cols - 2), r0 = std::clamp(static_cast<int>(gr), 0, u.rows - 2);
+  const double fc = gc - c0, fr = gr - r0;
+  double sum = 0, weight = 0;
+  for (int dr = 0; dr <= 1; ++dr) {
+    for (int dc = 0; dc <= 1; ++dc) {
+      const double node = u.u_mm[static_cast<size_t>(r0 + dr) * u.cols + (c0 + dc)];
+      const double w = (dr ? fr : 1 - fr) * (dc ? fc : 1 - fc);
+      if (node == kOffFace) continue;
+      sum += w * node;
+      weight += w;
     }
   }
+  if (!(weight > 1e-9)) return false;
+  value = sum / weight;
+  return true;
+}
+
+bool has_grid(const SurfaceUncertainty& u) {
+  return u.computed && u.rows >= 2 && u.cols >= 2 && u.u_mm.size() == static_cast<size_t>(u.rows) * u.cols;
+}
+
+}  // namespace
+
+ReportPicture uncertainty_picture(const FittedSurface& f) {
+  ReportPicture out;
+  std::vector<MapPoint> points;
+  const int samples = 160;  // per direction: the grid's 21 or 41 nodes would show as dots
+  double sigma_mm = 0;
+  std::string sigma_from;
+  if (f.faces.empty()) {
+    const SurfaceUncertainty& u = f.uncertainty;
+    if (!has_grid(u)) return out;
+    const BSplineSurface& s = f.surface;
+    for (int r = 0; r <= samples; ++r) {
+      for (int c = 0; c <= samples; ++c) {
+        const double a = static_cast<double>(c) / samples, b = static_cast<double>(r) / samples;
+        double value = 0;
+        if (!grid_value(u, a, b, value)) continue;
+        const Point3 p = s.evaluate(s.u_min() + a * (s.u_max() - s.u_min()), s.v_min() + b * (s.v_max() - s.v_min()));
+        points.push_back({p.x, p.y, 2 * value});
+      }
+    }
+    sigma_mm = u.sigma_mm;
+    sigma_from = u.sigma_from;
+  } else {
+    // Trimmed faces: each table point takes the face whose loops hold it, and that face's grid at
+    // the point's parameters. Every face must carry its grid, or the map would be blank there.
+    double x0 = HUGE_VAL, x1 = -HUGE_VAL, y0 = HUGE_VAL, y1 = -HUGE_VAL;
+    for (const TrimmedFace& face : f.faces) {
+      if (!has_grid(face.uncertainty)) return out;
+      for (const TrimLoop& loop : face.loops) {
+        for (const Point2& q : loop) x0 = std::min(x0, q.x), x1 = std::max(x1, q.x), y0 = std::min(y0, q.y), y1 = std::max(y1, q.y);
+      }
+    }
+    if (!(x1 > x0) || !(y1 > y0)) return out;
+    for (int r = 0; r <= samples; ++r) {
+      for (int c = 0; c <= samples; ++c) {
+        const double x = x0 + (x1 - x0) * c / samples, y = y0 + (y1 - y0) * r / samples;
+        for (const TrimmedFace& face : f.faces) {
+          if (!inside_face(face, x, y)) continue;
+          double a = 0, b = 0, value = 0;
+          table_to_parameters(face.surface, x, y, a, b);
+          const BSplineSurface& s = face.surface;
+          a = (a - s.u_min()) / (s.u_max() - s.u_min());
+          b = (b - s.v_min()) / (s.v_max() - s.v_min());
+          if (grid_value(face.uncertainty, std::clamp(a, 0.0, 1.0), std::clamp(b, 0.0, 1.0), value)) {
+            points.push_back({x, y, 2 * value});
+          }
+          break;
+        }
+      }
+    }
+    sigma_mm = f.faces[0].uncertainty.sigma_mm;
+    sigma_from = f.faces[0].uncertainty.sigma_from;
+  }
+  if (points.empty()) return out;
   MapPicture picture;
   picture.magnitude = true;
-  out.caption = "Expanded uncertainty U = 2u of the fitted surface (k = 2), from a point uncertainty of " +
-                number(u.sigma_mm) + " mm (" + u.sigma_from + "): the fit's precision, not its shape error";
+  out.caption = "Expanded uncertainty U = 2u of the fitted surface" + std::string(f.faces.empty() ? "" : "'s faces") +
+                " (k = 2), from a point uncertainty of " + number(sigma_mm) + " mm (" + sigma_from +
+                "): the fit's precision, not its shape error";
   out.png = deviation_map_png(points, picture);
   return out;
 }
@@ -155,6 +219,13 @@ std::string html_report(const ReportInputs& in) {
     if (u.computed) {
       h += row("standard uncertainty u (k = 1)", "max " + number(u.max_mm) + " mm, mean " + number(u.mean_mm) + " mm");
       h += row("expanded uncertainty U = 2u", "max " + number(2 * u.max_mm) + " mm, mean " + number(2 * u.mean_mm) + " mm");
+    }
+    for (size_t k = 0; k < f.faces.size(); ++k) {
+      const SurfaceUncertainty& fu = f.faces[k].uncertainty;
+      const std::string face = "face " + std::to_string(k + 1) + ": ";
+      h += row(face + "expanded uncertainty U = 2u", fu.computed ? "max " + number(2 * fu.max_mm) + " mm, mean " +
+                                                                       number(2 * fu.mean_mm) + " mm"
+                                                                 : std::string("not computed"));
     }
     if (!f.source.empty()) h += row("fitted from", f.source);
     h += "</table>\n";

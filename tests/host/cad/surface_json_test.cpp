@@ -169,26 +169,53 @@ TEST(SurfaceJson, ALoopBeyondItsSurfaceIsRefused) {
   }
 }
 
-TEST(SurfaceJson, AFacesUncertaintyReadsBack) {
+// A face's uncertainty grid reads back node by node, the nodes outside the face as such.
+TEST(SurfaceJson, AFacesUncertaintyGridReadsBackWithItsNodesOffTheFace) {
   FittedSurface f = with_faces();
-  f.faces[0].has_uncertainty = true;
-  f.faces[0].u_sigma_mm = 0.002;
-  f.faces[0].u_max_mm = 0.0011;
-  f.faces[0].u_mean_mm = 0.0004;
-  const FittedSurface back = parse_surface_json(surface_json_text(f), "SURF.json");
-  CHECK(back.faces[0].has_uncertainty);
-  CHECK(!back.faces[1].has_uncertainty);
-  DOUBLES_EQUAL(0.002, back.faces[0].u_sigma_mm, 0);
-  DOUBLES_EQUAL(0.0011, back.faces[0].u_max_mm, 0);
-  DOUBLES_EQUAL(0.0004, back.faces[0].u_mean_mm, 0);
+  SurfaceUncertainty& u = f.faces[0].uncertainty;
+  u.computed = true;
+  u.sigma_mm = 0.002;
+  u.sigma_from = "noise estimate";
+  u.max_mm = 0.0011;
+  u.mean_mm = 0.0004;
+  u.rows = 2;
+  u.cols = 3;
+  u.u_mm = {0.0002, kOffFace, 0.0011, kOffFace, 0.0003, 0.0004};
+  const std::string text = surface_json_text(f);
+  STRCMP_CONTAINS("null", text.c_str());
+  const FittedSurface back = parse_surface_json(text, "SURF.json");
+  CHECK(back.faces[0].uncertainty.computed);
+  CHECK(!back.faces[1].uncertainty.computed);
+  DOUBLES_EQUAL(0.002, back.faces[0].uncertainty.sigma_mm, 0);
+  DOUBLES_EQUAL(0.0011, back.faces[0].uncertainty.max_mm, 0);
+  DOUBLES_EQUAL(0.0004, back.faces[0].uncertainty.mean_mm, 0);
+  STRCMP_EQUAL("noise estimate", back.faces[0].uncertainty.sigma_from.c_str());
+  LONGS_EQUAL(2, back.faces[0].uncertainty.rows);
+  LONGS_EQUAL(3, back.faces[0].uncertainty.cols);
+  for (size_t k = 0; k < u.u_mm.size(); ++k) DOUBLES_EQUAL(u.u_mm[k], back.faces[0].uncertainty.u_mm[k], 0);
+}
+
+// The single surface's grid covers the whole domain: a null node there is an error.
+TEST(SurfaceJson, ANullNodeInTheSurfacesOwnUncertaintyGridIsRefused) {
+  FittedSurface f = fitted();
+  f.uncertainty.computed = true;
+  f.uncertainty.sigma_mm = 0.002;
+  f.uncertainty.rows = f.uncertainty.cols = 2;
+  f.uncertainty.u_mm = {0.001, kOffFace, 0.001, 0.001};
+  try {
+    parse_surface_json(surface_json_text(f), "SURF.json");
+    FAIL("a null node in a whole surface's grid was accepted");
+  } catch (const std::runtime_error& e) {
+    STRCMP_CONTAINS("uncertainty", e.what());
+  }
 }
 
 TEST(SurfaceJson, ANegativeFaceUncertaintyIsRefused) {
   FittedSurface f = with_faces();
-  f.faces[1].has_uncertainty = true;
-  f.faces[1].u_sigma_mm = 0.002;
-  f.faces[1].u_max_mm = -0.001;
-  f.faces[1].u_mean_mm = 0.0004;
+  f.faces[1].uncertainty.computed = true;
+  f.faces[1].uncertainty.sigma_mm = 0.002;
+  f.faces[1].uncertainty.max_mm = -0.001;
+  f.faces[1].uncertainty.mean_mm = 0.0004;
   try {
     parse_surface_json(surface_json_text(f), "SURF.json");
     FAIL("a negative uncertainty was accepted");

@@ -118,3 +118,43 @@ TEST(Report, TheUncertaintyMapShowsExpandedUncertaintyWhereTheSurfaceIs) {
   STRCMP_CONTAINS("expanded uncertainty U = 2u", html.c_str());
   STRCMP_CONTAINS("0.0080 mm", html.c_str());
 }
+
+// Trimmed faces: each table point takes its own face's grid. Two faces split a flat 40 x 30 mm
+// patch at x = 20; the right face is uncertain only at its far corner, the left not at all, and a
+// node off the right face (at its near edge) does not bleed into the map.
+TEST(Report, TheUncertaintyMapOfTrimmedFacesTakesEachPointsOwnFace) {
+  FittedSurface f;
+  BSplineSurface s;
+  s.degree_u = s.degree_v = 1;
+  s.count_u = s.count_v = 2;
+  s.knots_u = s.knots_v = {0, 0, 1, 1};
+  s.control = {{0, 0, 1}, {0, 30, 1}, {40, 0, 1}, {40, 30, 1}};
+  TrimmedFace left, right;
+  left.surface = right.surface = s;
+  left.loops = {{{0, 0}, {20, 0}, {20, 30}, {0, 30}}};
+  right.loops = {{{20, 0}, {40, 0}, {40, 30}, {20, 30}}};
+  for (TrimmedFace* face : {&left, &right}) {
+    face->uncertainty.computed = true;
+    face->uncertainty.sigma_mm = 0.002;
+    face->uncertainty.sigma_from = "test";
+    face->uncertainty.rows = face->uncertainty.cols = 3;
+  }
+  left.uncertainty.u_mm = {0, 0, kOffFace, 0, 0, kOffFace, 0, 0, kOffFace};
+  right.uncertainty.u_mm = {kOffFace, 0, 0, kOffFace, 0, 0, kOffFace, 0, 0.004};
+  right.uncertainty.max_mm = 0.004;
+  f.faces = {left, right};
+  CHECK(!uncertainty_picture(f).png.empty());
+  f.faces[0].uncertainty.computed = false;  // a face without its grid: no map rather than a blank hole
+  CHECK(uncertainty_picture(f).png.empty());
+  f.faces[0].uncertainty.computed = true;
+  const ReportPicture picture = uncertainty_picture(f);
+  const Decoded d = decode(picture.png);
+  auto pixel = [&](int x, int y) { return &d.rgb[(static_cast<size_t>(y) * d.width + x) * 3]; };
+  CHECK(pixel(20 + 600 - 8, 20 + 4)[1] < 80);   // (40, 30): saturated
+  CHECK(pixel(20 + 4, 20 + 4)[1] > 240);        // (0, 30): white, on the left face
+  CHECK(pixel(20 + 4, 20 + 450 - 8)[1] > 240);  // (0, 0)
+  STRCMP_CONTAINS("faces", picture.caption.c_str());
+  ReportInputs in;
+  in.surface = &f;
+  STRCMP_CONTAINS("face 2: expanded uncertainty U = 2u", html_report(in).c_str());
+}
