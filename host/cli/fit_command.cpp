@@ -19,6 +19,7 @@
 #include "host/fit/fit_validation.h"
 #include "host/fit/orthogonal_distances.h"
 #include "host/fit/regions.h"
+#include "host/fit/propagated_uncertainty.h"
 
 namespace dg::host {
 
@@ -92,44 +93,6 @@ void print_uncertainty(const FittedSurface& out) {
               u.max_mm, u.mean_mm, 2 * u.max_mm, 2 * u.mean_mm);
   std::printf("  from a point uncertainty of %.4f mm (%s); the fit's precision, not its shape error\n", u.sigma_mm,
               u.sigma_from.c_str());
-}
-
-// The surface's standard uncertainty from the points' noise: the sigma column when the fit was
-// weighted by it, else the noise estimate (the readings' scatter, rounding included), else the
-// residual RMS.
-SurfaceUncertainty surface_uncertainty(const PointCloud& cloud, const Parameters& params, const std::vector<double>* w,
-                                       const BSplineSurface& surface, const std::vector<double>& distances) {
-  double sigma = 0;
-  std::string from;
-  if (w) {
-    std::vector<double> sigmas = *cloud.sigma;
-    std::nth_element(sigmas.begin(), sigmas.begin() + static_cast<std::ptrdiff_t>(sigmas.size() / 2), sigmas.end());
-    sigma = sigmas[sigmas.size() / 2];
-    from = "each point's sigma column; the median is given";
-  } else {
-    const NoiseEstimate noise = estimate_gauge_noise(cloud, params);
-    if (noise.reading_sigma_mm > 0) {
-      sigma = noise.reading_sigma_mm;
-      char text[160];
-      std::snprintf(text, sizeof text, "noise estimated from the scan, %.4f mm, with the reading step %.4f mm", noise.sigma_mm,
-                    noise.resolution_mm);
-      from = text;
-    } else {
-      const size_t unknowns = static_cast<size_t>(surface.count_u) * surface.count_v;
-      double sum = 0;
-      for (double d : distances) sum += d * d;
-      if (distances.size() > unknowns) sigma = std::sqrt(sum / static_cast<double>(distances.size() - unknowns));
-      from = "residual RMS over n - p degrees of freedom";
-    }
-  }
-  if (!(sigma > 0) || !std::isfinite(sigma)) return {};
-  try {
-    SurfaceUncertainty u = fit_uncertainty(cloud.points, params, w, surface, sigma);
-    u.sigma_from = from;
-    return u;
-  } catch (const FitError&) {
-    return {};  // the net cannot be refitted from these points: no uncertainty to state
-  }
 }
 
 void print_summary(const FitArgs& a, const FittedSurface& out) {
@@ -365,7 +328,7 @@ int run_fit(const FitArgs& a) {
     out.validation = validate_fit(cloud, params, w, out.surface, ValidationOptions{});
   }
   out.distance = distance_stats(distances);
-  out.uncertainty = surface_uncertainty(cloud, params, w, out.surface, distances);
+  out.uncertainty = propagated_uncertainty(cloud, params, w, out.surface, distances);
   write_surface_json(a.output, out);
   print_summary(a, out);
   return exit_code;

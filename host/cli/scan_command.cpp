@@ -17,6 +17,8 @@
 #include "host/device/capture.h"
 #include "host/device/pull_fit.h"
 #include "host/fit/device_fit_surface.h"
+#include "host/fit/propagated_uncertainty.h"
+#include "host/scan/point_reader.h"
 #include "host/cad/surface_json.h"
 #include "host/transport/transport.h"
 
@@ -28,18 +30,40 @@ volatile std::sig_atomic_t g_interrupted = 0;
 
 void on_interrupt(int) { g_interrupted = 1; }
 
-// Pulls the device's fit of its latest scan and writes it as SURF.json.
+// Pulls the device's fit of its latest scan and writes it as SURF.json. With the scan's file
+// (`scan_path`), the fit gains a report from the scan's points: their distances to it and the
+// surface's standard uncertainty.
 void write_device_fit(Session& session, const digitizer_Hello& device, const std::string& model,
-                      const std::string& path, bool quiet) {
+                      const std::string& path, bool quiet, const std::string& scan_path) {
   const digitizer_DeviceFitModel which =
       model == "bspline" ? digitizer_DeviceFitModel_DEVICE_FIT_NET : digitizer_DeviceFitModel_DEVICE_FIT_BEZIER;
   const digitizer_FitResult fit = pull_fit(session, device, which, 5000);
   const std::string source = std::string("device ") + device.device_id + " scan " + std::to_string(fit.scan_id);
-  const FittedSurface surface = surface_from_device_fit(fit, source);
+  FittedSurface surface = surface_from_device_fit(fit, source);
+  std::string why_no_uncertainty = "no scan file given (--scan)";
+  if (!scan_path.empty()) {
+    const ScanData data = read_scan_file(scan_path);
+    if (!data.request || data.request->scan_id != fit.scan_id) {
+      throw std::runtime_error(scan_path + " holds " + (data.request ? "scan " + std::to_string(data.request->scan_id) : "no scan") +
+                               ", the device's fit is of scan " + std::to_string(fit.scan_id));
+    }
+    why_no_uncertainty = add_scan_to_device_fit(surface, read_points(scan_path), fit.points, fit.rejected);
+  }
   write_surface_json(path, surface);
   if (!quiet) {
     std::printf("device fit: %s, %u x %u control points from %u points (%u rejected)%s\n", surface.model.c_str(),
                 fit.side, fit.side, fit.points, fit.rejected, fit.scan_finished ? "" : ", scan still running");
+    if (surface.has_fit) {
+      std::printf("  the scan's points to it: rms %.4f max |d| %.4f mm (orthogonal)\n", surface.distance.rms,
+                  surface.distance.max_abs);
+    }
+    const SurfaceUncertainty& u = surface.uncertainty;
+    if (u.computed) {
+      std::printf("  standard uncertainty u (k = 1): max %.4f mean %.4f mm; expanded U = 2u: max %.4f mm, from a point "
+                  "uncertainty of %.4f mm\n", u.max_mm, u.mean_mm, 2 * u.max_mm, u.sigma_mm);
+    } else {
+      std::printf("  standard uncertainty: not stated: %s\n", why_no_uncertainty.c_str());
+    }
     std::printf("wrote %s\n", path.c_str());
   }
 }
@@ -138,6 +162,7 @@ CLI::App* add_pull_command(CLI::App& app, PullArgs& pull) {
   cmd->add_option("--model", pull.model, "bezier (one bicubic patch) or bspline (5 x 5 cubic net)")
       ->capture_default_str()->check(CLI::IsMember({"bezier", "bspline"}));
   cmd->add_option("-o,--output", pull.output, "SURF.json to write")->required();
+  cmd->add_option("--scan", pull.scan, "the scan's file: report the fit against its points, with its uncertainty");
   cmd->add_flag("-q,--quiet", pull.quiet, "print nothing but errors");
   return cmd;
 }
@@ -146,7 +171,7 @@ int run_pull(const PullArgs& a) {
   auto transport = open_transport(a.device);
   Session session(*transport);
   const digitizer_Hello device = session.hello(5000, digitizer_Capability_CAP_DEVICE_FIT);
-  write_device_fit(session, device, a.model, a.output, a.quiet);
+  write_device_fit(session, device, a.model, a.output, a.quiet, a.scan);
   return 0;
 }
 
@@ -246,7 +271,7 @@ int run_scan(const ScanArgs& a) {
     std::printf("wrote %s\n", a.output.c_str());
   }
   // The device's fit of whatever it measured, even of a scan cut short.
-  if (!a.device_fit.empty()) write_device_fit(session, device, a.device_fit_model, a.device_fit, a.quiet);
+  if (!a.device_fit.empty()) write_device_fit(session, device, a.device_fit_model, a.device_fit, a.quiet, a.output);
   if (result.done.reason != digitizer_ScanEnd_SCAN_COMPLETED) {
     std::fprintf(stderr, "digitizer: scan %s after %u points%s%s; the points are in %s\n",
                  result.done.reason == digitizer_ScanEnd_SCAN_ABORTED ? "aborted" : "stopped by a fault", result.points,

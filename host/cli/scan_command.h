@@ -33,6 +33,7 @@ struct PullArgs {
   std::string device;  // --device; chosen_device() when empty
   std::string model = "bezier";
   std::string output;
+  std::string scan;  // --scan: the scan's file, for the fit's report and uncertainty
   bool quiet = false;
 };
 

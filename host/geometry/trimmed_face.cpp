@@ -35,14 +35,17 @@ bool inside_face(const TrimmedFace& face, double x, double y) {
 }
 
 void table_to_parameters(const BSplineSurface& s, double x, double y, double& u, double& v) {
-  // A height field's x depends on u only and y on v only, linearly (bspline_fit.h); the corner
-  // control points sit at the domain's ends.
+  // A height field's x depends on u only and y on v only, linearly (bspline_fit.h): the corner
+  // control points sit at their Greville abscissae, the domain's ends for clamped knots and beyond
+  // them for the device's uniform net (-0.5 and 1.5).
   const Point3& first = s.at(0, 0);
   const Point3& last = s.at(s.count_u - 1, s.count_v - 1);
   const double tu = last.x != first.x ? (x - first.x) / (last.x - first.x) : 0.0;
   const double tv = last.y != first.y ? (y - first.y) / (last.y - first.y) : 0.0;
-  u = s.u_min() + tu * (s.u_max() - s.u_min());
-  v = s.v_min() + tv * (s.v_max() - s.v_min());
+  const double gu0 = greville(s.knots_u, s.degree_u, 0), gu1 = greville(s.knots_u, s.degree_u, s.count_u - 1);
+  const double gv0 = greville(s.knots_v, s.degree_v, 0), gv1 = greville(s.knots_v, s.degree_v, s.count_v - 1);
+  u = gu0 + tu * (gu1 - gu0);
+  v = gv0 + tv * (gv1 - gv0);
 }
 
 Point3 point_above(const BSplineSurface& surface, double x, double y) {
