@@ -20,6 +20,8 @@
 #include "host/fit/orthogonal_distances.h"
 #include "host/fit/regions.h"
 #include "host/fit/propagated_uncertainty.h"
+#include "host/fit/replica_uncertainty.h"
+#include <functional>
 
 namespace dg::host {
 
@@ -81,12 +83,12 @@ void print_validation(const FittedSurface& out) {
   if (!v.problem.empty()) std::printf("validation: %s\n", v.problem.c_str());
 }
 
-void print_uncertainty(const FittedSurface& out) {
+void print_uncertainty(const FittedSurface& out, const std::string& why_not) {
   const SurfaceUncertainty& u = out.uncertainty;
   if (!u.computed) {
     // Said, not left out: a reader must not take the distances above for the surface's uncertainty.
-    std::printf("standard uncertainty of the surface: not computed for the %s method (least-squares fits carry it)\n",
-                out.method.c_str());
+    std::printf("standard uncertainty of the surface: not computed: %s\n",
+                why_not.empty() ? "no point uncertainty to propagate (no sigma column and no noise estimate)" : why_not.c_str());
     return;
   }
   std::printf("standard uncertainty of the surface u (k = 1): max %.4f mean %.4f mm; expanded U = 2u: max %.4f mean %.4f mm\n",
@@ -95,15 +97,58 @@ void print_uncertainty(const FittedSurface& out) {
               u.sigma_from.c_str());
 }
 
-void print_summary(const FitArgs& a, const FittedSurface& out) {
+void print_summary(const FitArgs& a, const FittedSurface& out, const std::string& why_no_uncertainty = "") {
   if (a.quiet) return;
   print_stats(out);
   print_validation(out);
-  print_uncertainty(out);
+  print_uncertainty(out, why_no_uncertainty);
   if (a.tolerance_mm > 0) {
     std::printf("tolerance %.4f mm %s after %d fits\n", a.tolerance_mm, out.tolerance_kept ? "kept" : "NOT kept", out.iterations);
   }
   std::printf("wrote %s\n", a.output.c_str());
+}
+
+// The points' standard uncertainties for a Monte Carlo: the sigma column (unless --ignore-sigma),
+// else the noise estimated from the scan lines. Empty, with the reason, when neither is known.
+std::vector<double> point_sigmas(const FitArgs& a, const PointCloud& cloud, const Parameters& params, std::string& why_not) {
+  if (cloud.sigma && !a.ignore_sigma) return *cloud.sigma;
+  double sigma = 0;
+  try {
+    sigma = estimate_gauge_noise(cloud, params).reading_sigma_mm;
+  } catch (const FitError& e) {
+    why_not = std::string("no noise estimate (") + e.what() + ") and no sigma column";
+    return {};
+  }
+  if (!(sigma > 0) || !std::isfinite(sigma)) {
+    why_not = "no noise estimate from these points and no sigma column";
+    return {};
+  }
+  return std::vector<double>(cloud.points.size(), sigma);
+}
+
+// The uncertainty of a method without a closed-form covariance, by refitting noisy replicas.
+SurfaceUncertainty by_replicas(const FitArgs& a, const std::vector<Point3>& points, const std::vector<double>& sigmas,
+                               const BSplineSurface& nominal,
+                               const std::function<BSplineSurface(const std::vector<Point3>&)>& refit, std::string& why_not) {
+  if (sigmas.empty()) return {};
+  if (a.replicas < 2) {
+    why_not = "--replicas " + std::to_string(a.replicas) + " (at least 2 refits are needed)";
+    return {};
+  }
+  ReplicaPlan plan;
+  plan.replicas = a.replicas;
+  int refused = 0;
+  SurfaceUncertainty u = replica_uncertainty(points, sigmas, nominal, refit, plan, &refused);
+  if (!u.computed) {
+    why_not = std::to_string(refused) + " of " + std::to_string(a.replicas) + " noisy replicas could not be refitted";
+  } else {
+    // The Monte Carlo's own relative standard uncertainty of a standard deviation from M samples.
+    char text[96];
+    std::snprintf(text, sizeof text, "; its own relative uncertainty about %.0f %%",
+                  100.0 / std::sqrt(2.0 * (a.replicas - refused - 1)));
+    u.sigma_from += text;
+  }
+  return u;
 }
 
 // Hamdan's (2010) method places all 16 points in space, so the patch is parametric, not a height field;
@@ -122,8 +167,15 @@ int run_fit_ips(const FitArgs& a, const PointCloud& cloud) {
   out.source = a.input;
   out.surface = fit_bezier_ips(cloud, params).surface;
   out.distance = distance_stats(orthogonal_distances(out.surface, cloud.points, params));
+  std::string why_not;
+  const std::vector<double> sigmas = point_sigmas(a, cloud, params, why_not);
+  out.uncertainty = by_replicas(a, cloud.points, sigmas, out.surface, [&](const std::vector<Point3>& noisy) {
+    PointCloud replica = cloud;
+    replica.points = noisy;
+    return fit_bezier_ips(replica, parameterize(replica, Parameterization::kChordLength)).surface;
+  }, why_not);
   write_surface_json(a.output, out);
-  print_summary(a, out);
+  print_summary(a, out, why_not);
   return 0;
 }
 
@@ -148,12 +200,30 @@ int run_fit_hermite(const FitArgs& a, const PointCloud& cloud) {
     for (int c = 0; c < grid.cols; ++c) params.uv.push_back({r.u[static_cast<size_t>(c)], r.v[static_cast<size_t>(row)]});
   }
   out.distance = distance_stats(orthogonal_distances(out.surface, grid.points, params));
+  // The grid's points in its own order; one standard uncertainty for all (the sigma column's median).
+  std::string why_not;
+  std::vector<double> sigmas;
+  try {
+    sigmas = point_sigmas(a, cloud, parameterize(cloud, Parameterization::kChordLength), why_not);
+  } catch (const FitError& e) {
+    why_not = std::string("no noise estimate (") + e.what() + ") and no sigma column";
+  }
+  if (!sigmas.empty()) {
+    std::vector<double> sorted = sigmas;
+    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
+    sigmas.assign(grid.points.size(), sorted[sorted.size() / 2]);
+  }
+  out.uncertainty = by_replicas(a, grid.points, sigmas, out.surface, [&](const std::vector<Point3>& noisy) {
+    HermiteGrid replica = grid;
+    replica.points = noisy;
+    return fit_hermite(replica).surface;
+  }, why_not);
   write_surface_json(a.output, out);
   if (!a.quiet) {
     std::printf("hermite through a %d x %d grid (%d x %d patches), largest |n . t| / |t| %.2g\n", grid.cols, grid.rows,
                 grid.cols - 1, grid.rows - 1, r.normal_residual_max);
   }
-  print_summary(a, out);
+  print_summary(a, out, why_not);
   return 0;
 }
 
@@ -243,6 +313,9 @@ CLI::App* add_fit_command(CLI::App& app, FitArgs& a) {
   cmd->add_flag("--no-creases", a.no_creases, "B-splines: no multiple knots at creases and steps found across the scan");
   cmd->add_flag("--no-regions", a.no_regions,
                 "with --tolerance: fit one surface even where creases and steps split the scan into regions");
+  cmd->add_option("--replicas", a.replicas,
+                  "ips and hermite: noisy replicas refitted for the surface's uncertainty (Monte Carlo, GUM Supplement 1)")
+      ->capture_default_str()->check(CLI::Range(0, 100000));
   cmd->add_flag("-q,--quiet", a.quiet, "print nothing but errors");
   return cmd;
 }

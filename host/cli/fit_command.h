@@ -21,6 +21,7 @@ struct FitArgs {
   bool ignore_sigma = false;
   bool no_creases = false;        // B-splines: do not put multiple knots at detected creases
   bool no_regions = false;        // with a tolerance: one surface even where creases split the scan
+  int replicas = 30;              // ips and hermite: Monte Carlo refits for the uncertainty (ips: ~3 s each)
   bool quiet = false;
 };
 
