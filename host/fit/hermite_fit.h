@@ -33,9 +33,10 @@ HermiteGrid hermite_grid(const PointCloud& cloud, const std::string& name);
 HermiteResult fit_hermite(const HermiteGrid& grid);
 
 // One curve: tangents of the C2 cubic spline through `p` at parameters `t` whose end tangents are
-// chosen so that n_k . d_k = 0 at every point (in least squares when there are more points than
-// the six end-tangent components can satisfy) and, among those, nearest to the end derivatives of
-// the cubic through the first and last four points, projected onto each end's tangent plane.
+// chosen so that n_k . d_k = 0 at every point they influence by at least 0.1 (in least squares when
+// there are more such points than the six end-tangent components can satisfy) and, among those,
+// nearest to the end derivatives of the cubic through the first and last four points, projected
+// onto each end's tangent plane.
 std::vector<Point3> constrained_tangents(const std::vector<Point3>& p, const std::vector<Point3>& n,
                                          const std::vector<double>& t);
 // The derivatives of the closed C2 spline through `f` (f.front() and f.back() the same point) at
