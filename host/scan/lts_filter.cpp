@@ -99,9 +99,9 @@ bool grid_neighbourhoods(const std::vector<Point3>& points, int window, std::vec
     }
   }
   for (size_t i = 0; i < points.size(); ++i) {
-    const long x0 = start(at[i].first, lo_x, hi_x), y0 = start(at[i].second, lo_y, hi_y);
-    for (long y = y0; y <= y0 + 2 * r; ++y)
-      for (long x = x0; x <= x0 + 2 * r; ++x) {
+    const long first_x = start(at[i].first, lo_x, hi_x), first_y = start(at[i].second, lo_y, hi_y);
+    for (long y = first_y; y <= first_y + 2 * r; ++y)
+      for (long x = first_x; x <= first_x + 2 * r; ++x) {
         const auto it = cell.find({x, y});
         if (it != cell.end()) out[i].push_back(it->second);
       }
