@@ -64,7 +64,11 @@ std::string add_scan_to_device_fit(FittedSurface& device_fit, const PointCloud& 
   const std::vector<double> distances = orthogonal_distances(s, scan.points, params);
   device_fit.has_fit = true;
   device_fit.distance = distance_stats(distances);
-  device_fit.noise_sigma_mm = estimate_gauge_noise(scan, params).sigma_mm;
+  try {
+    device_fit.noise_sigma_mm = estimate_gauge_noise(scan, params).sigma_mm;
+  } catch (const FitError& e) {
+    return std::string("no noise estimate from the scan: ") + e.what();  // a scan of one line, say
+  }
   if (device_rejected > 0) {
     return "the device left " + std::to_string(device_rejected) + " points out of its fit, and the scan does not say which";
   }
