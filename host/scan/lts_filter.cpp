@@ -274,6 +274,14 @@ PointTest test_point(const std::vector<Point3>& points, const std::vector<size_t
   return t;
 }
 
+// Some window describes its own neighbours: a trimmed scale that noise gives.
+bool some_window_describes(const PointTest& t, double sigma) {
+  for (int w = 0; w < kWindows; ++w) {
+    if (t.model[w].ok && t.model[w].scale <= 2.5 * sigma) return true;
+  }
+  return false;
+}
+
 // Some window of the point straddles a crease: its trimmed scale is beyond what noise gives.
 bool near_crease(const PointTest& t, double sigma) {
   for (int w = 0; w < kWindows; ++w) {
@@ -455,6 +463,26 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
   }
   const double limit = std::max(options.outlier_sigmas * result.sigma_mm, 1e-9);
   const double sigma = std::max(result.sigma_mm, 1e-9);
+  // Where outliers crowd a window so that none of its parts describes its own points, the test is
+  // made on a window two steps wider, where they are fewer among more.
+  std::vector<std::vector<size_t>> wide;
+  if (result.gridded) {
+    std::vector<std::vector<size_t>> unused_lines;
+    std::vector<LineSides> unused_sides;
+    grid_neighbourhoods(points, options.window + 2, wide, unused_lines, unused_sides);
+  }
+  // Only a wider window that is one smooth surface as a whole stands in: at a crease the wider
+  // window holds more of the other surface, and a sliver point there has its lines instead.
+  auto retest = [&](size_t i, const std::vector<char>& excluded) {
+    tests[i] = test_point(points, hood[i], i, reference, excluded);
+    if (result.gridded && !some_window_describes(tests[i], sigma)) {
+      const PointTest wider = test_point(points, wide[i], i, reference, excluded);
+      if (wider.model[0].ok && wider.model[0].scale <= 2.5 * sigma) tests[i] = wider;
+    }
+  };
+  for (size_t i = 0; i < points.size() && result.gridded; ++i) {
+    if (!some_window_describes(tests[i], sigma)) retest(i, suspect);
+  }
   // The window whose prediction replaces point i, or -1 for an inlier.
   auto outlier_window = [&](size_t i) {
     const int window = verdict(tests[i], sigma, options.outlier_sigmas);
@@ -497,7 +525,7 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
       bool beside = false;
       for (size_t j : hood[i]) beside = beside || (j != i && left_out[j]);
       if (!beside && !tested_without[i]) continue;
-      tests[i] = test_point(points, hood[i], i, reference, left_out);
+      retest(i, left_out);
       tested_without[i] = beside;
     }
     classify();
