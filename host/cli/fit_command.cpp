@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <map>
 #include <stdexcept>
 
@@ -21,7 +22,7 @@
 #include "host/fit/regions.h"
 #include "host/fit/propagated_uncertainty.h"
 #include "host/fit/replica_uncertainty.h"
-#include <functional>
+#include "host/scan/median.h"
 
 namespace dg::host {
 
@@ -109,12 +110,13 @@ void print_summary(const FitArgs& a, const FittedSurface& out, const std::string
 }
 
 // The points' standard uncertainties for a Monte Carlo: the sigma column (unless --ignore-sigma),
-// else the noise estimated from the scan lines. Empty, with the reason, when neither is known.
-std::vector<double> point_sigmas(const FitArgs& a, const PointCloud& cloud, const Parameters& params, std::string& why_not) {
+// else the noise estimated from the scan lines (parameterized by `kind`). Empty, with the reason,
+// when neither is known.
+std::vector<double> point_sigmas(const FitArgs& a, const PointCloud& cloud, Parameterization kind, std::string& why_not) {
   if (cloud.sigma && !a.ignore_sigma) return *cloud.sigma;
   double sigma = 0;
   try {
-    sigma = estimate_gauge_noise(cloud, params).reading_sigma_mm;
+    sigma = estimate_gauge_noise(cloud, parameterize(cloud, kind)).reading_sigma_mm;
   } catch (const FitError& e) {
     why_not = std::string("no noise estimate (") + e.what() + ") and no sigma column";
     return {};
@@ -168,7 +170,7 @@ int run_fit_ips(const FitArgs& a, const PointCloud& cloud) {
   out.surface = fit_bezier_ips(cloud, params).surface;
   out.distance = distance_stats(orthogonal_distances(out.surface, cloud.points, params));
   std::string why_not;
-  const std::vector<double> sigmas = point_sigmas(a, cloud, params, why_not);
+  const std::vector<double> sigmas = point_sigmas(a, cloud, Parameterization::kChordLength, why_not);
   out.uncertainty = by_replicas(a, cloud.points, sigmas, out.surface, [&](const std::vector<Point3>& noisy) {
     PointCloud replica = cloud;
     replica.points = noisy;
@@ -202,17 +204,8 @@ int run_fit_hermite(const FitArgs& a, const PointCloud& cloud) {
   out.distance = distance_stats(orthogonal_distances(out.surface, grid.points, params));
   // The grid's points in its own order; one standard uncertainty for all (the sigma column's median).
   std::string why_not;
-  std::vector<double> sigmas;
-  try {
-    sigmas = point_sigmas(a, cloud, parameterize(cloud, Parameterization::kChordLength), why_not);
-  } catch (const FitError& e) {
-    why_not = std::string("no noise estimate (") + e.what() + ") and no sigma column";
-  }
-  if (!sigmas.empty()) {
-    std::vector<double> sorted = sigmas;
-    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
-    sigmas.assign(grid.points.size(), sorted[sorted.size() / 2]);
-  }
+  std::vector<double> sigmas = point_sigmas(a, cloud, Parameterization::kChordLength, why_not);
+  if (!sigmas.empty()) sigmas.assign(grid.points.size(), median_of(sigmas));
   out.uncertainty = by_replicas(a, grid.points, sigmas, out.surface, [&](const std::vector<Point3>& noisy) {
     HermiteGrid replica = grid;
     replica.points = noisy;

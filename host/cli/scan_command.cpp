@@ -17,7 +17,6 @@
 #include "host/device/capture.h"
 #include "host/device/pull_fit.h"
 #include "host/fit/device_fit_surface.h"
-#include "host/fit/fit_error.h"
 #include "host/fit/propagated_uncertainty.h"
 #include "host/scan/point_reader.h"
 #include "host/cad/surface_json.h"
@@ -48,13 +47,7 @@ void write_device_fit(Session& session, const digitizer_Hello& device, const std
       throw std::runtime_error(scan_path + " holds " + (data.request ? "scan " + std::to_string(data.request->scan_id) : "no scan") +
                                ", the device's fit is of scan " + std::to_string(fit.scan_id));
     }
-    try {
-      why_no_uncertainty = add_scan_to_device_fit(surface, read_points(scan_path), fit.points, fit.rejected);
-    } catch (const FitError& e) {
-      // The device's fit is still written; only the report against the scan is missing.
-      surface.has_fit = false;
-      why_no_uncertainty = e.what();
-    }
+    why_no_uncertainty = add_scan_to_device_fit(surface, read_points(scan_path), fit.points, fit.rejected);
   }
   write_surface_json(path, surface);
   if (!quiet) {

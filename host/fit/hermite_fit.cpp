@@ -179,8 +179,9 @@ std::vector<Point3> constrained_tangents(const std::vector<Point3>& p, const std
   for (size_t k = 0; k < n; ++k) {
     // A constraint the end tangents barely move (an interior point: their influence decays by
     // about 0.27 a step) cannot be met by them when the points are noisy; weighted as an exact
-    // one, it would swing them by the noise over that influence (2 um of noise in z moved a
-    // sphere's patches 74 um off between the points). Such constraints are left to the data.
+    // one, it would swing them by the noise over that influence (2 um of noise in z put a sphere's
+    // surface 54 um off between the points: HermiteFit.NoisyPointsDoNotSwingTheEndTangents). Such
+    // constraints are left to the data.
     if (std::max(std::fabs(e.b[k]), std::fabs(e.c[k])) < kMinEndInfluence) continue;
     Eigen::Matrix<double, 1, 6> row;
     const Point3 m = nn[k];

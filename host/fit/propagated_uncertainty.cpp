@@ -1,7 +1,6 @@
 // Propagating the points' standard uncertainty through a least-squares fit's covariance.
 #include "host/fit/propagated_uncertainty.h"
 
-#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -10,6 +9,7 @@
 #include "host/fit/noise_estimate.h"
 #include "host/fit/orthogonal_distances.h"
 #include "host/geometry/trimmed_face.h"
+#include "host/scan/median.h"
 
 namespace dg::host {
 
@@ -18,9 +18,7 @@ SurfaceUncertainty propagated_uncertainty(const PointCloud& cloud, const Paramet
   double sigma = 0;
   std::string from;
   if (w && cloud.sigma) {
-    std::vector<double> sigmas = *cloud.sigma;
-    std::nth_element(sigmas.begin(), sigmas.begin() + static_cast<std::ptrdiff_t>(sigmas.size() / 2), sigmas.end());
-    sigma = sigmas[sigmas.size() / 2];
+    sigma = median_of(*cloud.sigma);
     from = "each point's sigma column; the median is given";
   } else {
     const NoiseEstimate noise = estimate_gauge_noise(cloud, params);
@@ -64,11 +62,7 @@ std::string add_scan_to_device_fit(FittedSurface& device_fit, const PointCloud& 
   const std::vector<double> distances = orthogonal_distances(s, scan.points, params);
   device_fit.has_fit = true;
   device_fit.distance = distance_stats(distances);
-  try {
-    device_fit.noise_sigma_mm = estimate_gauge_noise(scan, params).sigma_mm;
-  } catch (const FitError& e) {
-    return std::string("no noise estimate from the scan: ") + e.what();  // a scan of one line, say
-  }
+  device_fit.noise_sigma_mm = estimate_gauge_noise(scan, params).sigma_mm;
   if (device_rejected > 0) {
     return "the device left " + std::to_string(device_rejected) + " points out of its fit, and the scan does not say which";
   }

@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "host/geometry/vec3.h"
+#include "host/scan/median.h"
 
 namespace dg::host {
 
@@ -70,9 +71,7 @@ SurfaceUncertainty replica_uncertainty(const std::vector<Point3>& points, const 
   out.computed = true;
   out.rows = out.cols = grid;
   out.u_mm.assign(static_cast<size_t>(nodes), 0.0);
-  std::vector<double> sorted = sigma_mm;
-  std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
-  out.sigma_mm = sorted.empty() ? 0 : sorted[sorted.size() / 2];
+  out.sigma_mm = median_of(sigma_mm);
   double sum_u = 0;
   for (int g = 0; g < nodes; ++g) {
     double mean = 0;

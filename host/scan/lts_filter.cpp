@@ -331,10 +331,9 @@ int verdict(const PointTest& t, double sigma, double k) {
     if (w < kWindows && (best < 0 || m.scale < t.model[best].scale)) best = w;
   }
   // No window vouches and none that describes its neighbours keeps the point's nearest ones: they
-  // are outliers too (a cluster of them), and a window that describes the rest judges.
+  // are outliers too (a cluster of them), and the first window that describes the rest judges.
   for (int w = 0; best < 0 && w < kWindows; ++w) {
-    const LooModel& m = t.model[w];
-    if (m.ok && m.scale <= 2.5 * sigma && (best < 0 || m.scale < t.model[best].scale)) best = w;
+    if (t.model[w].ok && t.model[w].scale <= 2.5 * sigma) best = w;
   }
   return best;
 }

@@ -50,13 +50,7 @@ inline std::vector<double> replica_spread(const std::vector<host::Point3>& truth
 // A 21 x 16 scan of the canister, a 9 x 8 bicubic net; unweighted every point has sigma 5 um,
 // weighted sigma runs from 2 to 10 um across the part (a sigma column).
 inline MonteCarloAgreement uncertainty_against_monte_carlo(bool weighted, int replicas) {
-  PartScan part;
-  part.kind = sim::PartKind::kCanister;
-  part.sigma_um = 0;  // the replicas add their own noise
-  part.step_um = 0;
-  part.nx = 21;
-  part.ny = 16;
-  const host::PointCloud truth = scan_part(part, 1);
+  const host::PointCloud truth = scan_part(noiseless_canister(21, 16), 1);
   const host::Parameters params = host::parameterize(truth, host::Parameterization::kTableXy);
   host::LsqSpec spec;
   spec.knots_u = host::clamped_uniform_knots(9, 3);

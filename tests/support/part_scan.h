@@ -21,6 +21,18 @@ struct PartScan {
   double outlier_rate = 0, outlier_mm = 0.5;
 };
 
+// The canister's true shape on an nx x ny grid at 1 mm, without noise or rounding: for Monte Carlo
+// checks, whose replicas add their own noise.
+inline PartScan noiseless_canister(int nx = 41, int ny = 31) {
+  PartScan s;
+  s.kind = sim::PartKind::kCanister;
+  s.sigma_um = 0;
+  s.step_um = 0;
+  s.nx = nx;
+  s.ny = ny;
+  return s;
+}
+
 inline host::PointCloud scan_part(const PartScan& s, unsigned seed, std::vector<size_t>* outliers = nullptr) {
   std::mt19937 rng(seed);
   std::normal_distribution<double> noise(0.0, s.sigma_um * 1e-3);

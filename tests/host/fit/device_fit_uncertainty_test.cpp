@@ -50,11 +50,7 @@ FittedSurface device_fit_of(const std::vector<Point3>& points, digitizer_DeviceF
 
 template <typename Kind>
 void check_against_monte_carlo(digitizer_DeviceFitModel model) {
-  dg::test::PartScan part;
-  part.kind = dg::sim::PartKind::kCanister;
-  part.sigma_um = 0;
-  part.step_um = 0;
-  const PointCloud truth = dg::test::scan_part(part, 1);
+  const PointCloud truth = dg::test::scan_part(dg::test::noiseless_canister(), 1);
   std::mt19937 rng(11);
   std::normal_distribution<double> noise(0.0, kSigmaMm);
   constexpr int kReplicas = 1000;

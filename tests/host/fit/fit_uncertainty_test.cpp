@@ -53,13 +53,7 @@ TEST(FitUncertainty, ARegionsNetAgreesWithMonteCarloInsideItsTrim) {
   // The canister's points inside an ellipse, fitted over the whole box with the control points
   // beyond them placed by the membrane: the sandwich covariance against 1000 noisy refits, at the
   // grid nodes inside the ellipse (GUM Supplement 1).
-  dg::test::PartScan part;
-  part.kind = dg::sim::PartKind::kCanister;
-  part.sigma_um = 0;
-  part.step_um = 0;
-  part.nx = 21;
-  part.ny = 16;
-  const PointCloud all = dg::test::scan_part(part, 1);
+  const PointCloud all = dg::test::scan_part(dg::test::noiseless_canister(21, 16), 1);
   auto inside = [](double x, double y) { return (x - 10) * (x - 10) / 64.0 + (y - 7.5) * (y - 7.5) / 36.0 < 1.0; };
   std::vector<Point3> truth;
   Parameters p;

@@ -23,14 +23,8 @@ struct Case {
 };
 
 Case canister_case() {
-  dg::test::PartScan part;
-  part.kind = dg::sim::PartKind::kCanister;
-  part.sigma_um = 0;
-  part.step_um = 0;
-  part.nx = 21;
-  part.ny = 16;
   Case c;
-  c.points = dg::test::scan_part(part, 1).points;
+  c.points = dg::test::scan_part(dg::test::noiseless_canister(21, 16), 1).points;
   c.params.x_max = 20;
   c.params.y_max = 15;
   for (const Point3& q : c.points) c.params.uv.push_back({q.x / 20.0, q.y / 15.0});
