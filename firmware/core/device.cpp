@@ -63,6 +63,10 @@ uint64_t Device::next_deadline_us() const {
     const uint64_t due = ring_.at(offset).t_us + kBatchMaxAgeUs;
     if (due < deadline) deadline = due;
   }
+  // A first sight of the e-stop is looked at again once the confirming delay has passed.
+  if (estop_seen_us_ != kNotSeen && !estop_confirmed_ && estop_seen_us_ + kEstopConfirmUs < deadline) {
+    deadline = estop_seen_us_ + kEstopConfirmUs;
+  }
   const uint64_t silence = host_silence_deadline_us();
   return silence < deadline ? silence : deadline;
 }
@@ -116,6 +120,8 @@ void Device::poll() {
 
 void Device::raise_alarm(digitizer_FaultCode code, const char* detail) {
   motion_.stop();
+  // No current in the motors while in alarm: an e-stop or a crash leaves nothing driven.
+  board_.enable_drivers(false);
   homing_.cancel();
   repeat_.cancel();
   jogging_ = false;
@@ -126,11 +132,29 @@ void Device::raise_alarm(digitizer_FaultCode code, const char* detail) {
   if (alarm_ && alarm_code_ == code) return;
   alarm_ = true;
   alarm_code_ = code;
+  alarm_detail_ = detail;
   fault(0, code, detail);
 }
 
+// Pressed now and confirmed pressed by watch_motion (a spike alone does not refuse a command; an
+// e-stop pressed within the confirming delay alarms the machine right after).
+bool Device::estop_held() { return estop_confirmed_ && board_.read_pin(hal::Pin::kEstop); }
+
 void Device::watch_motion() {
-  if (board_.read_pin(hal::Pin::kEstop)) return raise_alarm(digitizer_FaultCode_FAULT_ESTOP, "e-stop pressed");
+  // The e-stop read between moves is confirmed as the step interrupt confirms it: a second read at
+  // least StepGenerator::kConfirmNs later, with no release seen between (a spike on the cable
+  // must not alarm the machine and drop its homed position).
+  if (board_.read_pin(hal::Pin::kEstop)) {
+    const uint64_t now_us = board_.now_us();
+    if (estop_seen_us_ == kNotSeen) estop_seen_us_ = now_us;
+    if (now_us - estop_seen_us_ >= kEstopConfirmUs) {
+      estop_confirmed_ = true;
+      return raise_alarm(digitizer_FaultCode_FAULT_ESTOP, "e-stop pressed");
+    }
+  } else {
+    estop_seen_us_ = kNotSeen;
+    estop_confirmed_ = false;
+  }
   const Trip trip = motion_.trip();
   if (trip == Trip::kEstop) return raise_alarm(digitizer_FaultCode_FAULT_ESTOP, "e-stop pressed");
   if (homing_.active()) {
@@ -144,7 +168,7 @@ void Device::watch_motion() {
   }
   if (trip == Trip::kLimitX || trip == Trip::kLimitY) {
     motion_.clear_trip();
-    raise_alarm(digitizer_FaultCode_FAULT_HARD_LIMIT, trip == Trip::kLimitX ? "x min limit switch closed" : "y min limit switch closed");
+    raise_alarm(digitizer_FaultCode_FAULT_HARD_LIMIT, trip == Trip::kLimitX ? "x min limit switch tripped" : "y min limit switch tripped");
   }
 }
 
@@ -303,10 +327,11 @@ void Device::handle_command(uint32_t id, const digitizer_Command& command) {
       scan_.set_paused(command.kind == digitizer_CommandKind_CMD_PAUSE);
       return queue({Reply::kAccepted, id, digitizer_FaultCode_FAULT_NONE, nullptr});
     case digitizer_CommandKind_CMD_UNLOCK:
-      if (board_.read_pin(hal::Pin::kEstop)) return fault(id, digitizer_FaultCode_FAULT_ESTOP, "the e-stop is still pressed");
+      if (estop_held()) return fault(id, digitizer_FaultCode_FAULT_ESTOP, "the e-stop is still pressed");
       motion_.clear_trip();
       alarm_ = false;
       alarm_code_ = digitizer_FaultCode_FAULT_NONE;
+      board_.enable_drivers(true);
       return queue({Reply::kAccepted, id, digitizer_FaultCode_FAULT_NONE, nullptr});
     case digitizer_CommandKind_CMD_JOG: {
       if (refuse_motion(id)) return;
@@ -341,12 +366,13 @@ void Device::handle_command(uint32_t id, const digitizer_Command& command) {
     }
     case digitizer_CommandKind_CMD_HOME:
       // Allowed in alarm (homing is how a machine recovers its position), not with the e-stop.
-      if (board_.read_pin(hal::Pin::kEstop)) return fault(id, digitizer_FaultCode_FAULT_ESTOP, "the e-stop is pressed");
+      if (estop_held()) return fault(id, digitizer_FaultCode_FAULT_ESTOP, "the e-stop is pressed");
       if (scan_.active() || motion_.busy() || homing_.active()) return fault(id, digitizer_FaultCode_FAULT_BUSY, "busy");
       alarm_ = false;
       alarm_code_ = digitizer_FaultCode_FAULT_NONE;
       homed_ = false;
       motion_.clear_trip();
+      board_.enable_drivers(true);
       homing_.start();
       return queue({Reply::kAccepted, id, digitizer_FaultCode_FAULT_NONE, nullptr});
     default:
@@ -431,6 +457,7 @@ bool Device::send_reply(const Reply& reply) {
       s.points_total = scan_.points_total();
       s.ring_used = static_cast<uint32_t>(ring_.size());
       s.alarm = alarm_code_;
+      if (alarm_) set_string(s.alarm_detail, alarm_detail_);
       s.homed = homed_;
       break;
     }
@@ -529,6 +556,7 @@ void Device::transmit() {
       last_done_.duration_us = scan_.duration_us();
       have_last_done_ = true;
       if (scan_.end_reason() == digitizer_ScanEnd_SCAN_FAULTED && !alarm_) {
+        board_.enable_drivers(false);
         alarm_ = true;
         alarm_code_ = scan_.fault();
         fault(0, scan_.fault(), "scan stopped by a fault");

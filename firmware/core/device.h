@@ -154,9 +154,16 @@ class Device : private PointSink {
   digitizer_LineDone line_done_ = digitizer_LineDone_init_zero;
   bool alarm_ = false;
   digitizer_FaultCode alarm_code_ = digitizer_FaultCode_FAULT_NONE;
+  const char* alarm_detail_ = "";  // a string literal: the alarm's reason, for Status
   bool jogging_ = false;
   Homing homing_;
   bool homed_ = false;
+  // When the e-stop was first seen pressed between moves, for its confirming read.
+  static constexpr uint64_t kNotSeen = UINT64_MAX;
+  static constexpr uint64_t kEstopConfirmUs = StepGenerator::kConfirmNs / 1000;
+  uint64_t estop_seen_us_ = kNotSeen;
+  bool estop_held();
+  bool estop_confirmed_ = false;  // seen twice: the alarm is raised, no more looks needed
   RepeatabilityRun repeat_;
   bool touching_ = false;          // a CMD_TOUCH move is running
   uint32_t touch_request_ = 0;

@@ -1,5 +1,6 @@
 // Homing: per axis (x, then y) seek the min switch fast, back off, approach it slowly, take the
-// switch point as the axis's machine position, pull off. A state machine polled by the device.
+// switch point as the axis's machine position, pull off; after backing off and after pulling off
+// the switch must read released. A state machine polled by the device.
 #pragma once
 #include <cstdint>
 
@@ -23,7 +24,7 @@ class Homing {
   void cancel();
 
  private:
-  enum class Phase : uint8_t { kIdle, kSeek, kBackoff, kLatch, kPullOff, kDone, kFailed };
+  enum class Phase : uint8_t { kIdle, kSeek, kBackoff, kBackoffCheck, kLatch, kPullOff, kPullOffCheck, kDone, kFailed };
   void begin_axis();
   Status move_axis(int32_t steps, uint32_t rate);
   void fail(const char* why);

@@ -57,6 +57,7 @@ Status StepGenerator::start(int64_t dx, int64_t dy, uint32_t rate_steps_s) {
   probing_ = false;
   if (dx == 0 && dy == 0) return Status::kOk;
   trip_ = Trip::kNone;
+  confirming_ = false;
   step_x_ = dx > 0 ? 1 : (dx < 0 ? -1 : 0);
   step_y_ = dy > 0 ? 1 : (dy < 0 ? -1 : 0);
   count_x_ = static_cast<uint32_t>(dx < 0 ? -dx : dx);
@@ -116,6 +117,7 @@ uint32_t StepGenerator::on_tick(void* self) { return static_cast<StepGenerator*>
 
 uint32_t StepGenerator::tick() {
   bool step_x = false, step_y = false;
+  const int64_t error_before = error_;
   const bool takeup = takeup_x_ > 0 || takeup_y_ > 0;
   if (takeup) {
     // Backlash: motor steps that move no table, so they are not counted.
@@ -142,7 +144,18 @@ uint32_t StepGenerator::tick() {
   if (board_.read_pin(hal::Pin::kEstop)) trip = Trip::kEstop;
   else if (step_x && step_x_ < 0 && board_.read_pin(hal::Pin::kLimitXMin)) trip = Trip::kLimitX;
   else if (step_y && step_y_ < 0 && board_.read_pin(hal::Pin::kLimitYMin)) trip = Trip::kLimitY;
+  if (trip != Trip::kNone && !confirming_) {
+    // Debounce with bounded latency: an input seen asserted is read again kConfirmNs later before
+    // it stops the move, and this step waits for that read. A spike shorter than that (noise on a
+    // long switch cable) costs one step kConfirmNs late instead of an alarm.
+    confirming_ = true;
+    error_ = error_before;
+    return kConfirmNs;
+  }
+  confirming_ = false;
   if (trip != Trip::kNone) {
+    // The e-stop cuts the drivers here, in the interrupt, not when the main loop next looks.
+    if (trip == Trip::kEstop) board_.enable_drivers(false);
     trip_ = trip;
     busy_ = false;
     return 0;

@@ -54,12 +54,15 @@ class StepGenerator {
   // Sets the current position without moving (after homing).
   void set_position(int32_t x_steps, int32_t y_steps);
   // Before every step the e-stop input and, moving towards min on an axis, that axis's limit
-  // switch are read; an asserted one stops the move at once (no step is taken) and is kept here.
+  // switch are read; one asserted on two reads kConfirmNs apart stops the move (no step is taken)
+  // and is kept here.
   Trip trip() const { return trip_; }
   void clear_trip() { trip_ = Trip::kNone; }
   // Stops at once (abort); the position stays exact.
   void stop();
   const MotionConfig& config() const { return config_; }
+  // The delay between the two reads that confirm a safety input, ns.
+  static constexpr uint32_t kConfirmNs = 20000;
 
  private:
   static uint32_t on_tick(void* self);
@@ -85,6 +88,8 @@ class StepGenerator {
   volatile bool touched_ = false;
   volatile int32_t touch_x_ = 0, touch_y_ = 0;
   volatile Trip trip_ = Trip::kNone;
+  // A safety input was seen asserted on the last tick and is read again on this one.
+  bool confirming_ = false;
   // The way each axis last moved; at power-up taken as positive, as homing's pull-off leaves it.
   int8_t last_dir_x_ = 1, last_dir_y_ = 1;
   uint32_t takeup_x_ = 0, takeup_y_ = 0;    // backlash steps still to take before this move

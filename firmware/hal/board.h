@@ -34,6 +34,10 @@ class Board {
   virtual void write_pin(Pin pin, bool level) = 0;
   virtual bool read_pin(Pin pin) = 0;
 
+  // The stepper drivers' enable line: off, the motors carry no current and steps do nothing.
+  // Boards power up with the drivers on; the core turns them off in alarm.
+  virtual void enable_drivers(bool on) = 0;
+
   // Calls `handler` from interrupt context on each rising edge of `pin`.
   virtual void on_rising_edge(Pin pin, EdgeHandler handler, void* context) = 0;
 

@@ -52,7 +52,7 @@ int run_status(const DeviceArgs& a) {
                         {"z_mm", s.z_nm * 1e-6},         {"homed", s.homed},
                         {"scan_id", s.scan_id},          {"points_done", s.points_done},
                         {"points_total", s.points_total}, {"ring_used", s.ring_used},
-                        {"alarm", fault_name(s.alarm)}};
+                        {"alarm", fault_name(s.alarm)},   {"alarm_detail", s.alarm_detail}};
     std::printf("%s\n", j.dump(1).c_str());
     return 0;
   }
@@ -60,7 +60,9 @@ int run_status(const DeviceArgs& a) {
   std::printf("table at x %.3f y %.3f mm, gauge %.3f mm, %s\n", s.x_nm * 1e-6, s.y_nm * 1e-6, s.z_nm * 1e-6,
               s.homed ? "homed" : "not homed");
   if (s.points_total > 0) std::printf("scan %u: %u of %u points, %u waiting in the ring\n", s.scan_id, s.points_done, s.points_total, s.ring_used);
-  if (s.state == digitizer_DeviceState_STATE_ALARM) std::printf("alarm: %s (digitizer unlock clears it)\n", fault_name(s.alarm));
+  if (s.state == digitizer_DeviceState_STATE_ALARM) {
+    std::printf("alarm: %s%s%s (digitizer unlock clears it)\n", fault_name(s.alarm), s.alarm_detail[0] ? ": " : "", s.alarm_detail);
+  }
   return 0;
 }
 
@@ -87,7 +89,9 @@ int run_simple(const DeviceArgs& a, digitizer_CommandKind kind, const char* done
     const digitizer_Status s = wait_until_settled(
         session, a, [](const digitizer_Status& t) { return t.state == digitizer_DeviceState_STATE_HOMING; },
         std::chrono::minutes(3), "still homing after 3 minutes");
-    if (!s.homed) throw DeviceError(a.device + ": homing failed (" + fault_name(s.alarm) + ")");
+    if (!s.homed) {
+      throw DeviceError(a.device + ": homing failed (" + fault_name(s.alarm) + (s.alarm_detail[0] ? std::string(": ") + s.alarm_detail : "") + ")");
+    }
     std::printf("%s: homed, table at x %.3f y %.3f mm\n", a.device.c_str(), s.x_nm * 1e-6, s.y_nm * 1e-6);
     return 0;
   }

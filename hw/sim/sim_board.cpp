@@ -28,6 +28,11 @@ void SimBoard::step_axis(int axis) {
   const bool positive = pins_[index(axis == 0 ? hal::Pin::kDirX : hal::Pin::kDirY)];
   int64_t& position = axis == 0 ? x_steps_ : y_steps_;
   int64_t& motor = motor_[axis];
+  const int64_t before = position;
+  if (!drivers_on_) {
+    ++steps_without_drivers_;
+    return;
+  }
   if (!positive && position <= config_.hard_stop_steps) {
     ++lost_steps_;  // against the mechanical stop: the motor stalls
   } else {
@@ -37,6 +42,7 @@ void SimBoard::step_axis(int axis) {
     if (positive && position < motor - config_.backlash_steps) position = motor - config_.backlash_steps;
     if (!positive && position > motor) position = motor;
   }
+  if ((position < 0) != (before < 0)) switch_edge_ns_[axis] = now_ns_;
   ++steps_;
   if (axis == 0 && x_step_log_ != nullptr) x_step_log_->push_back(now_ns_);
   if (last_step_ns_[axis] != kNever) {
@@ -62,16 +68,35 @@ void SimBoard::write_pin(hal::Pin pin, bool level) {
   }
 }
 
+// The logical level of a normally-closed min switch: tripped while its circuit is open.
+bool SimBoard::limit_tripped(int axis) const {
+  if (config_.switches == SwitchWiring::kOpen) return true;
+  if (config_.switches == SwitchWiring::kStuckClosed) return false;
+  if (axis == 0 && config_.x_wire_cut_at_ns > 0 && now_ns_ >= config_.x_wire_cut_at_ns) return true;
+  const bool pressed = (axis == 0 ? x_steps_ : y_steps_) < 0;
+  const uint64_t edge = switch_edge_ns_[axis];
+  if (config_.switch_bounce_ns > 0 && edge != kNever && now_ns_ - edge < config_.switch_bounce_ns) {
+    // Chatter: the contacts make and break every 3 us until they settle.
+    return ((now_ns_ - edge) / 3000) % 2 ? pressed : !pressed;
+  }
+  return pressed;
+}
+
+bool SimBoard::glitch() const {
+  return config_.glitch_period_ns > 0 && now_ns_ % config_.glitch_period_ns < 2000;
+}
+
 bool SimBoard::read_pin(hal::Pin pin) {
   switch (pin) {
     case hal::Pin::kGaugeClock: return config_.caliper ? caliper_.clock() : gauge_.clock();
     case hal::Pin::kGaugeData: return config_.caliper ? caliper_.data() : gauge_.data();
-    case hal::Pin::kLimitXMin: return config_.limit_switches && x_steps_ < 0;
-    case hal::Pin::kLimitYMin: return config_.limit_switches && y_steps_ < 0;
+    case hal::Pin::kLimitXMin: return limit_tripped(0) || glitch();
+    case hal::Pin::kLimitYMin: return limit_tripped(1) || glitch();
     case hal::Pin::kTouchProbe:
       return x_steps_ >= config_.touch_x_steps || y_steps_ >= config_.touch_y_steps;
     case hal::Pin::kEstop:
-      return config_.estop_for_ns > 0 && now_ns_ >= config_.estop_at_ns && now_ns_ < config_.estop_at_ns + config_.estop_for_ns;
+      return glitch() ||
+             (config_.estop_for_ns > 0 && now_ns_ >= config_.estop_at_ns && now_ns_ < config_.estop_at_ns + config_.estop_for_ns);
     default: return pins_[index(pin)];
   }
 }

@@ -17,6 +17,13 @@ namespace dg::sim {
 using hal::LinkPort;
 
 
+// How the simulated min switches are wired.
+enum class SwitchWiring : uint8_t {
+  kNormallyClosed,  // as documented: the circuit opens when the table presses the switch
+  kOpen,            // not wired (or a connector off): the circuit is always open
+  kStuckClosed,     // a jammed switch or a shorted cable: the circuit never opens
+};
+
 struct SimConfig {
   Part part{};
   GaugeConfig gauge{};
@@ -28,7 +35,15 @@ struct SimConfig {
   // The min limit switches close below table 0; the table hits its mechanical stop this far below
   // (steps towards it are lost, as a stalled motor loses them).
   int32_t hard_stop_steps = -800;
-  bool limit_switches = true;  // false: the switches are not wired (homing must fail)
+  // The min switches are normally closed, as the docs wire them: the input reads "tripped" whenever
+  // the circuit is open, so a switch that is pressed, unplugged or has a cut wire all read tripped.
+  SwitchWiring switches = SwitchWiring::kNormallyClosed;
+  // After the table crosses a switch's edge its contacts chatter this long (0: clean contacts).
+  uint64_t switch_bounce_ns = 0;
+  // From this virtual time the x switch's wire is cut, so it reads tripped (0: never).
+  uint64_t x_wire_cut_at_ns = 0;
+  // Electrical noise: a 2 us spike on the limit and e-stop inputs every this long (0: none).
+  uint64_t glitch_period_ns = 0;
   bool caliper = false;        // the gauge port carries a 24-bit caliper instead of a Digimatic gauge
   // A touch-trigger probe's stylus meets a face at table x >= touch_x_steps (or y >= touch_y_steps);
   // INT32_MAX: no face.
@@ -47,6 +62,7 @@ class SimBoard final : public hal::Board {
 
   void write_pin(hal::Pin pin, bool level) override;
   bool read_pin(hal::Pin pin) override;
+  void enable_drivers(bool on) override { drivers_on_ = on; }
   void on_rising_edge(hal::Pin pin, hal::EdgeHandler handler, void* context) override;
   void start_step_timer(uint32_t delay_ns, hal::TimerHandler handler, void* context) override;
   void stop_step_timer() override;
@@ -68,6 +84,11 @@ class SimBoard final : public hal::Board {
   void log_x_steps(std::vector<uint64_t>* log) { x_step_log_ = log; }
   // Steps the drivers were given against the mechanical stop (lost).
   uint64_t lost_steps() const { return lost_steps_; }
+  bool drivers_on() const { return drivers_on_; }
+  // Step pulses given while the drivers were off (the motors did not turn).
+  uint64_t steps_without_drivers() const { return steps_without_drivers_; }
+  // Tests: the x switch's wire is cut at this virtual time.
+  void cut_x_wire_at(uint64_t t_ns) { config_.x_wire_cut_at_ns = t_ns; }
   // Shortest time between two steps on one axis seen so far, in ns.
   uint64_t min_step_interval_ns() const { return min_step_interval_ns_; }
 
@@ -77,6 +98,8 @@ class SimBoard final : public hal::Board {
   static constexpr uint64_t kLinkPollNs = 1000000;
 
   void step_axis(int axis);
+  bool limit_tripped(int axis) const;
+  bool glitch() const;
 
   SimConfig config_;
   LinkPort* link_;
@@ -93,8 +116,11 @@ class SimBoard final : public hal::Board {
   int64_t x_steps_ = 0, y_steps_ = 0;
   int64_t motor_[2] = {0, 0};  // where the motors have turned the screws to (equals the table without play)
   uint64_t lost_steps_ = 0;
+  bool drivers_on_ = true;
+  uint64_t steps_without_drivers_ = 0;
   std::vector<uint64_t>* x_step_log_ = nullptr;
   uint64_t last_step_ns_[2] = {kNever, kNever};
+  uint64_t switch_edge_ns_[2] = {kNever, kNever};  // when the table last crossed each switch's edge
   uint64_t min_step_interval_ns_ = kNever;
   uint64_t steps_ = 0;
   uint64_t last_link_poll_ns_ = 0;

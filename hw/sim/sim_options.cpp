@@ -12,7 +12,10 @@ const char kSimOptionsHelp[] =
     "  part=dome|saddle|canister|flat  seed=N  noise_um=X  outliers=RATE\n"
     "  outlier_mm=X  inch=0|1  gauge_delay_us=N  mute=0|1  drop_edge=BIT  id=NAME\n"
     "  host_silence_s=N (virtual s, 0 never)  on_host_silence=pause|continue|abort\n"
-    "  start_x_mm=X start_y_mm=Y (the table's start)  estop_at_ms=T estop_ms=D  switches=0|1\n"
+    "  start_x_mm=X start_y_mm=Y (the table's start)  estop_at_ms=T estop_ms=D\n"
+    "  switches=nc|open|stuck (normally-closed min switches; open: unwired or cut, stuck: never open)\n"
+    "  switch_bounce_us=T (contact chatter at a switch's edge)  glitch_ms=T (a 2 us spike on the\n"
+    "  limit and e-stop inputs every T ms)  x_wire_cut_ms=T (the x switch's wire cut at T)\n"
     "  require_homing=0|1  gauge=digimatic|caliper  backlash_um=X  compensate_um=X\n"
     "  touch_x_mm=X touch_y_mm=Y (faces the touch probe meets)\n";
 namespace {
@@ -104,8 +107,15 @@ std::string apply_sim_option(const std::string& pair, SimOptions* options) {
     if (value != "digimatic" && value != "caliper") return "gauge is digimatic or caliper, got '" + value + "'";
     c.caliper = value == "caliper";
   } else if (key == "switches") {
-    if (value != "0" && value != "1") return "switches is 0 or 1, got '" + value + "'";
-    c.limit_switches = value == "1";
+    // 1 and 0 as before: wired, or none (an unwired normally-closed input reads open).
+    if (value == "nc" || value == "1") c.switches = SwitchWiring::kNormallyClosed;
+    else if (value == "open" || value == "0") c.switches = SwitchWiring::kOpen;
+    else if (value == "stuck") c.switches = SwitchWiring::kStuckClosed;
+    else return "switches is nc, open or stuck, got '" + value + "'";
+  } else if (key == "switch_bounce_us" || key == "glitch_ms" || key == "x_wire_cut_ms") {
+    if (!parse_double(value, &d) || d < 0 || d > 1e7) return key + " must be 0..1e7, got '" + value + "'";
+    const uint64_t ns = static_cast<uint64_t>(std::llround(d * (key == "switch_bounce_us" ? 1e3 : 1e6)));
+    (key == "switch_bounce_us" ? c.switch_bounce_ns : key == "glitch_ms" ? c.glitch_period_ns : c.x_wire_cut_at_ns) = ns;
   } else if (key == "require_homing") {
     if (value != "0" && value != "1") return "require_homing is 0 or 1, got '" + value + "'";
     options->require_homing = value == "1";

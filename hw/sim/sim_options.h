@@ -26,7 +26,8 @@ struct SimOptions {
 // gauge_delay_us, mute (gauge never answers), drop_edge (a CK pulse missing from
 // every frame), id, host_silence_s, on_host_silence (pause, continue, abort), start_x_mm,
 // start_y_mm (where the table starts), estop_at_ms, estop_ms (the e-stop pressed then, that long),
-// switches (0: no limit switches), require_homing, gauge (digimatic, caliper), backlash_um (the
+// switches (nc, open, stuck; 1 and 0 for nc and open), switch_bounce_us, glitch_ms, x_wire_cut_ms,
+// require_homing, gauge (digimatic, caliper), backlash_um (the
 // screws' play), compensate_um (the firmware's compensation; default the play). Returns an error
 // message, or empty on success.
 std::string apply_sim_option(const std::string& pair, SimOptions* options);

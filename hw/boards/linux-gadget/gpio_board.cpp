@@ -72,6 +72,11 @@ bool GpioBoard::open(const PinMap& map, std::string* error) {
   return true;
 }
 
+void GpioBoard::enable_drivers(bool on) {
+  // The line's polarity (EN is active low) is in its spec; unwired, there is nothing to switch.
+  if (enable_.requested()) enable_.set(on);
+}
+
 void GpioBoard::write_pin(hal::Pin pin, bool level) {
   const int i = index(pin);
   if (is_step(i)) {

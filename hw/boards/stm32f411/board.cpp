@@ -90,6 +90,11 @@ bool Stm32Board::read_pin(hal::Pin pin) {
   return high != p.active_low;
 }
 
+void Stm32Board::enable_drivers(bool on) {
+  // EN is active low: reset the pin to enable, set it to disable (BSRR: one write, no read-modify).
+  reg(kDriverEnablePort + kBsrr) = on ? 1u << (kDriverEnablePin + 16) : 1u << kDriverEnablePin;
+}
+
 void Stm32Board::on_rising_edge(hal::Pin pin, hal::EdgeHandler handler, void* context) {
   const PinMap& p = pin_map(pin);
   const uint32_t line = p.number;

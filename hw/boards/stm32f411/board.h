@@ -17,6 +17,7 @@ class Stm32Board final : public hal::Board {
 
   void write_pin(hal::Pin pin, bool level) override;
   bool read_pin(hal::Pin pin) override;
+  void enable_drivers(bool on) override;
   void on_rising_edge(hal::Pin pin, hal::EdgeHandler handler, void* context) override;
   void start_step_timer(uint32_t delay_ns, hal::TimerHandler handler, void* context) override;
   void stop_step_timer() override;

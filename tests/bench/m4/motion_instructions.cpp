@@ -17,6 +17,8 @@ class MemoryBoard final : public dg::hal::Board {
  public:
   void write_pin(dg::hal::Pin pin, bool level) override { pins[static_cast<int>(pin)] = level; }
   bool read_pin(dg::hal::Pin pin) override { return pins[static_cast<int>(pin)]; }
+  void enable_drivers(bool on) override { drivers_on = on; }
+  volatile bool drivers_on = true;
   void on_rising_edge(dg::hal::Pin, dg::hal::EdgeHandler h, void* c) override {
     edge = h;
     edge_context = c;

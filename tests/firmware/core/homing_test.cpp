@@ -1,11 +1,13 @@
 // Homing and hard limits on the simulated table: the switch point becomes the machine position,
-// a closed switch stops an axis before its next step, the e-stop stops everything.
+// a tripped switch stops an axis before its next step, the e-stop stops everything; unwired,
+// jammed, bouncing, noisy and cut switches (normally closed, as the docs wire them).
 #include "firmware/core/homing.h"
 
 #include <CppUTest/TestHarness.h>
 
 #include <algorithm>
 #include <cstdlib>
+#include <string>
 
 #include "hw/sim/sim_board.h"
 
@@ -34,6 +36,20 @@ dg::sim::SimConfig table_at(int32_t x, int32_t y) {
   return c;
 }
 
+// Homes a table 5 mm from its switches wired as given; how it ended.
+struct Failed {
+  bool failed;
+  std::string why;
+  uint64_t lost_steps;
+};
+Failed home_with(dg::sim::SwitchWiring wiring) {
+  dg::sim::SimConfig c = table_at(2000, 2000);
+  c.switches = wiring;
+  Rig rig(c);
+  rig.home();
+  return {rig.homing.failed(), rig.homing.failure(), rig.board.lost_steps()};
+}
+
 }  // namespace
 
 TEST_GROUP(Homing){};
@@ -54,13 +70,68 @@ TEST(Homing, FindsTheSwitchesFromAnywhereAndAgreesWithTheTable) {
   }
 }
 
-TEST(Homing, FailsWhenASwitchIsMissing) {
-  dg::sim::SimConfig c = table_at(2000, 2000);
-  c.limit_switches = false;
+TEST(Homing, AnUnwiredSwitchFailsInsteadOfHomingWhereverTheTableIs) {
+  // Normally closed and unplugged: the input reads tripped everywhere. The seek "finds" it at
+  // once; backing off 2 mm does not clear it, so homing fails instead of calling this spot home.
+  const Failed f = home_with(dg::sim::SwitchWiring::kOpen);
+  CHECK(f.failed);
+  STRCMP_CONTAINS("x switch still tripped 2 mm off it", f.why.c_str());
+  LONGS_EQUAL(0, f.lost_steps);
+}
+
+TEST(Homing, AJammedSwitchFailsAfterTheWholeTravel) {
+  const Failed f = home_with(dg::sim::SwitchWiring::kStuckClosed);
+  CHECK(f.failed);
+  STRCMP_CONTAINS("x switch not found over the travel", f.why.c_str());
+}
+
+TEST(Homing, BouncingContactsAndSpikesOnTheInputsHomeToTheCleanStep) {
+  // Contacts that chatter for 2 ms at the edge, and a 2 us spike on every limit and e-stop input
+  // each millisecond: homing still ends where clean switches put it, with the steps the table's.
+  Rig clean(table_at(5000, 3000));
+  clean.home();
+  CHECK(clean.homing.done());
+  dg::sim::SimConfig c = table_at(5000, 3000);
+  c.switch_bounce_ns = 2000000;
+  c.glitch_period_ns = 1000000;
+  Rig noisy(c);
+  noisy.home();
+  CHECK_TEXT(noisy.homing.done(), noisy.homing.failure());
+  LONGS_EQUAL(clean.board.table_x_steps(), noisy.board.table_x_steps());
+  LONGS_EQUAL(clean.board.table_y_steps(), noisy.board.table_y_steps());
+  LONGS_EQUAL(noisy.motion.x_steps(), noisy.board.table_x_steps());
+  LONGS_EQUAL(noisy.motion.y_steps(), noisy.board.table_y_steps());
+}
+
+TEST(Homing, SpikesOnTheInputsDoNotStopAMove) {
+  // A 10 mm move reads the e-stop before each of its 4,000 steps; with a spike every millisecond
+  // some reads land on one, and a single read would stop the move.
+  dg::sim::SimConfig c = table_at(0, 0);
+  c.glitch_period_ns = 1000000;
   Rig rig(c);
+  rig.motion.set_position(0, 0);
+  CHECK(rig.motion.move_to(4000, 0, 0) == dg::Status::kOk);
+  while (rig.motion.busy() && rig.board.wait(UINT64_MAX)) {
+  }
+  CHECK(rig.motion.trip() == dg::Trip::kNone);
+  LONGS_EQUAL(4000, rig.board.table_x_steps());
+}
+
+TEST(Homing, ACutWireStopsMovesTowardsTheSwitchAndFailsTheNextHoming) {
+  Rig rig(table_at(3000, 3000));
+  rig.home();
+  CHECK(rig.homing.done());
+  // The x switch's wire is cut 50 ms into a move towards it: the open circuit reads tripped.
+  rig.board.cut_x_wire_at(rig.board.now_ns() + 50000000);
+  CHECK(rig.motion.move_to(0, 400, 0) == dg::Status::kOk);
+  while (rig.motion.busy() && rig.board.wait(UINT64_MAX)) {
+  }
+  CHECK(rig.motion.trip() == dg::Trip::kLimitX);
+  CHECK(rig.motion.x_steps() > 0);
+  LONGS_EQUAL(rig.motion.x_steps(), rig.board.table_x_steps());
   rig.home();
   CHECK(rig.homing.failed());
-  STRCMP_CONTAINS("x min switch was not found", rig.homing.failure());
+  STRCMP_CONTAINS("x switch still tripped 2 mm off it", rig.homing.failure());
 }
 
 TEST(Homing, AClosedSwitchStopsTheAxisBeforeItsNextStep) {
@@ -86,6 +157,9 @@ TEST(Homing, TheEstopStopsAMoveAtOnce) {
   }
   CHECK(rig.motion.trip() == dg::Trip::kEstop);
   CHECK(rig.motion.x_steps() < 4000);
+  // The step interrupt cut the drivers; no step pulse went to a driver that was off.
+  CHECK_FALSE(rig.board.drivers_on());
+  LONGS_EQUAL(0, rig.board.steps_without_drivers());
   LONGS_EQUAL(rig.motion.x_steps(), rig.board.table_x_steps());
 }
 
