@@ -53,7 +53,6 @@ struct FloatingPolicy {
   static Unit unit(int64_t offset, const UnitScale& scale) {
     return static_cast<T>(static_cast<double>(offset) / static_cast<double>(scale.range));
   }
-  static Basis tensor(Unit a, Unit b) { return a * b; }
   static Basis narrow(Unit a) { return a; }
   static Accum scale(Accum sum, Unit b) { return sum * b; }
   // s = u * spans split into the span index (clamped to the last span) and the local t in [0, 1].
@@ -66,22 +65,30 @@ struct FloatingPolicy {
   }
 };
 
-// Fixed point for a device without an FPU: basis values in Q1.F (32-bit), coordinates as integer
-// nanometres, sums in 64 bits. One product is one 32x32->64 multiply-accumulate (SMLAL on a
-// Cortex-M3/M4). With F = 15 a matrix sum grows by at most 2^30 per point and a right-hand-side sum by
+// Fixed point for a device without an FPU: basis values in Q1.30 (32-bit), coordinates as integer
+// nanometres, sums in 64 bits. A product of two basis values is rounded to Q2.(2F), a basis value
+// times a height to F fraction bits: one 32x32->64 multiply (SMULL on a Cortex-M3/M4) and a rounding
+// shift. The basis is not rounded to Q1.F first: with 2^-16 basis values a 120 mm height carried
+// 2 um into every product, and the fit of a tilted part or a coarse grid, whose points repeat the
+// same basis values line after line, drifted up to 5 um from the same fit in double (within
+// 0.1 um now). With F = 15 a matrix sum grows by at most 2^30 per point and a right-hand-side sum by
 // at most 2^15 * |value_nm|, so 2^31 points, or 2^20 points of |z| < 2^27 nm (134 mm), fit in 63 bits;
 // `kMaxValueNm` and `kMaxPoints` state that limit and the accumulator refuses beyond it.
 template <int F>
 struct FixedPolicy {
   using Unit = fx::Q<30>;  // parameters and one-dimensional basis values, in [0, 1]
-  using Basis = fx::Q<F>;
+  using Basis = fx::Q<30>;
   using Value = int32_t;  // nm
   using Accum = int64_t;
   using Solve = fx::Q32x32;  // mm
   static constexpr int32_t kMaxValueNm = (int32_t{1} << 27) - 1;
   static constexpr uint32_t kMaxPoints = uint32_t{1} << (62 - F - 27);
-  static Accum product(Basis a, Basis b) { return int64_t{a.raw} * b.raw; }
-  static Accum product_value(Basis a, Value v) { return int64_t{a.raw} * v; }
+  // Rounded half up: the products of basis values are never negative, and a height's sign only
+  // moves a tie by one unit of 2^-F nm.
+  static Accum product(Basis a, Basis b) {
+    return (int64_t{a.raw} * b.raw + (int64_t{1} << (59 - 2 * F))) >> (60 - 2 * F);
+  }
+  static Accum product_value(Basis a, Value v) { return (int64_t{a.raw} * v + (int64_t{1} << (29 - F))) >> (30 - F); }
   // The k that brings the mean diagonal product into [1/4, 1) when multiplied by 4^k.
   static int diagonal_exponent(Accum sum, uint32_t count) {
     const int64_t mean = sum / static_cast<int64_t>(count);  // Q(2F), at most 1
@@ -116,12 +123,8 @@ struct FixedPolicy {
     const int64_t u = (offset * scale.multiplier + (int64_t{1} << (scale.shift - 1))) >> scale.shift;
     return Unit::from_raw(static_cast<int32_t>(u > (int64_t{1} << 30) ? (int64_t{1} << 30) : u));
   }
-  // The product of two values in [0, 1], Q1.30 x Q1.30 -> Q1.F, rounded.
-  static Basis tensor(Unit a, Unit b) {
-    return Basis::from_raw(static_cast<int32_t>(fx::round_shift(int64_t{a.raw} * b.raw, 60 - F)));
-  }
-  // A one-dimensional basis value, Q1.30 -> Q1.F rounded.
-  static Basis narrow(Unit a) { return Basis::from_raw(static_cast<int32_t>(fx::round_shift(a.raw, 30 - F))); }
+  // A one-dimensional basis value: kept at full precision.
+  static Basis narrow(Unit a) { return a; }
   // sum * b for b in [0, 1] (Q1.30), rounded; the result is no larger than the sum. The 64 x 32-bit
   // product is taken in two halves so nothing overflows: sum = hi 2^32 + lo, and hi b 2^2 is at
   // most the result. Q1.30, not Q1.F: a scan line's v products multiply all of its sums, so

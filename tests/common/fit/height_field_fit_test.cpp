@@ -50,13 +50,58 @@ int32_t dome_z_nm(int32_t x_nm, int32_t y_nm) {
   return static_cast<int32_t>(std::lround(z_mm * 1000.0)) * 1000;
 }
 
-template <typename Fit>
-void feed_grid(Fit& fit, int step_mm, int32_t (*z)(int32_t, int32_t)) {
-  for (int32_t y = 0; y <= 200; y += step_mm)
-    for (int32_t x = 0; x <= 200; x += step_mm) fit.add(x * 1000000, y * 1000000, z(x * 1000000, y * 1000000));
-}
-
 const FitRegion kTable{0, 200000000, 0, 200000000};
+
+// The largest gap between the fixed-point and the double fits over the region, mm, of heights
+// z_mm(x, y) read to 1 um on a grid of `step_mm`.
+struct Gap {
+  double bezier_mm = 0, net_mm = 0;
+  uint32_t points = 0;
+};
+template <typename Z>
+Gap fixed_against_double(const FitRegion& region, double step_mm, Z z_mm) {
+  DoubleBezier double_bezier;
+  FixedBezier fixed_bezier;
+  DoubleNet double_net;
+  FixedNet fixed_net;
+  double_bezier.begin(region);
+  fixed_bezier.begin(region);
+  double_net.begin(region);
+  fixed_net.begin(region);
+  const double x0 = region.x_min_nm * 1e-6, x1 = region.x_max_nm * 1e-6;
+  const double y0 = region.y_min_nm * 1e-6, y1 = region.y_max_nm * 1e-6;
+  for (double y = y0; y <= y1 + 1e-9; y += step_mm)
+    for (double x = x0; x <= x1 + 1e-9; x += step_mm) {
+      const int32_t x_nm = static_cast<int32_t>(std::lround(x * 1e6)), y_nm = static_cast<int32_t>(std::lround(y * 1e6));
+      const int32_t z_nm = static_cast<int32_t>(std::lround(z_mm(x, y) * 1e3)) * 1000;
+      double_bezier.add(x_nm, y_nm, z_nm);
+      fixed_bezier.add(x_nm, y_nm, z_nm);
+      double_net.add(x_nm, y_nm, z_nm);
+      fixed_net.add(x_nm, y_nm, z_nm);
+    }
+  double pd[4][4], nd[5][5], pf_mm[4][4], nf_mm[5][5];
+  int32_t pf[4][4], nf[5][5];
+  static DoubleBezier::Workspace w1;
+  static FixedBezier::Workspace w2;
+  static DoubleNet::Workspace w3;
+  static FixedNet::Workspace w4;
+  CHECK(dg::Status::kOk == double_bezier.solve(pd, w1));
+  CHECK(dg::Status::kOk == fixed_bezier.solve(pf, w2));
+  CHECK(dg::Status::kOk == double_net.solve(nd, w3));
+  CHECK(dg::Status::kOk == fixed_net.solve(nf, w4));
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) pf_mm[i][j] = pf[i][j] * 1e-6;
+  for (int i = 0; i < 5; ++i)
+    for (int j = 0; j < 5; ++j) nf_mm[i][j] = nf[i][j] * 1e-6;
+  Gap gap;
+  gap.points = fixed_bezier.count();
+  for (double y = y0; y <= y1 + 1e-9; y += (y1 - y0) / 80)
+    for (double x = x0; x <= x1 + 1e-9; x += (x1 - x0) / 80) {
+      gap.bezier_mm = std::fmax(gap.bezier_mm, std::fabs(bezier_at(pd, region, x, y) - bezier_at(pf_mm, region, x, y)));
+      gap.net_mm = std::fmax(gap.net_mm, std::fabs(net_at(nd, region, x, y) - net_at(nf_mm, region, x, y)));
+    }
+  return gap;
+}
 
 }  // namespace
 
@@ -91,42 +136,36 @@ TEST(HeightFieldFit, ReproducesABilinearSurfaceExactly) {
 }
 
 TEST(HeightFieldFit, FixedPointMatchesDoubleWithinOneMicrometreOnA200mmTable) {
-  DoubleBezier double_bezier;
-  FixedBezier fixed_bezier;
-  DoubleNet double_net;
-  FixedNet fixed_net;
-  double_bezier.begin(kTable);
-  fixed_bezier.begin(kTable);
-  double_net.begin(kTable);
-  fixed_net.begin(kTable);
-  feed_grid(double_bezier, 1, dome_z_nm);
-  feed_grid(fixed_bezier, 1, dome_z_nm);
-  feed_grid(double_net, 1, dome_z_nm);
-  feed_grid(fixed_net, 1, dome_z_nm);
-  LONGS_EQUAL(201u * 201u, fixed_bezier.count());
+  const Gap gap = fixed_against_double(kTable, 1, [](double x, double y) {
+    return dome_z_nm(static_cast<int32_t>(x * 1e6), static_cast<int32_t>(y * 1e6)) * 1e-6;
+  });
+  LONGS_EQUAL(201u * 201u, gap.points);
+  CHECK_TEXT(gap.bezier_mm < 1e-4, "Bezier: fixed point more than 0.1 um from double");
+  CHECK_TEXT(gap.net_mm < 1e-4, "net: fixed point more than 0.1 um from double");
+}
 
-  double pd[4][4], nd[5][5], pf_mm[4][4], nf_mm[5][5];
-  int32_t pf[4][4], nf[5][5];
-  static DoubleBezier::Workspace w1;
-  static FixedBezier::Workspace w2;
-  static DoubleNet::Workspace w3;
-  static FixedNet::Workspace w4;
-  CHECK(dg::Status::kOk == double_bezier.solve(pd, w1));
-  CHECK(dg::Status::kOk == fixed_bezier.solve(pf, w2));
-  CHECK(dg::Status::kOk == double_net.solve(nd, w3));
-  CHECK(dg::Status::kOk == fixed_net.solve(nf, w4));
-  for (int i = 0; i < 4; ++i)
-    for (int j = 0; j < 4; ++j) pf_mm[i][j] = pf[i][j] * 1e-6;
-  for (int i = 0; i < 5; ++i)
-    for (int j = 0; j < 5; ++j) nf_mm[i][j] = nf[i][j] * 1e-6;
-  double worst_bezier = 0, worst_net = 0;
-  for (double y = 0; y <= 200; y += 2.5)
-    for (double x = 0; x <= 200; x += 2.5) {
-      worst_bezier = std::fmax(worst_bezier, std::fabs(bezier_at(pd, kTable, x, y) - bezier_at(pf_mm, kTable, x, y)));
-      worst_net = std::fmax(worst_net, std::fabs(net_at(nd, kTable, x, y) - net_at(nf_mm, kTable, x, y)));
-    }
-  CHECK_TEXT(worst_bezier < 1e-3, "Bezier: fixed point more than 1 um from double");
-  CHECK_TEXT(worst_net < 1e-3, "net: fixed point more than 1 um from double");
+TEST(HeightFieldFit, FixedPointMatchesDoubleOnTiltedPartsCoarseGridsAndShortLines) {
+  // What drifted by micrometres while basis values were rounded to 2^-16 before their products:
+  // a part tilted to 120 mm over the table, a 120 mm bump scanned at 5 mm (41 x 41 points, each
+  // basis value repeated on every line), and 10 mm lines climbing 120 mm along y.
+  struct Case {
+    const char* name;
+    FitRegion region;
+    double step_mm;
+    double (*z_mm)(double, double);
+  } cases[] = {
+      {"tilted 0.6 along x", kTable, 1, [](double x, double) { return 0.6 * x; }},
+      {"tilted 0.4 x + 0.2 y", kTable, 2, [](double x, double y) { return 0.4 * x + 0.2 * y; }},
+      {"120 mm bump at 5 mm", kTable, 5,
+       [](double x, double y) { return 120 * std::exp(-((x - 100) * (x - 100) + (y - 100) * (y - 100)) / 5000); }},
+      {"waves of 120 mm", kTable, 2, [](double x, double y) { return 60 + 60 * std::sin(x / 40) * std::cos(y / 50); }},
+      {"10 mm lines up a 120 mm slope", FitRegion{0, 10000000, 0, 200000000}, 0.5, [](double, double y) { return 0.6 * y; }},
+  };
+  for (const Case& c : cases) {
+    const Gap gap = fixed_against_double(c.region, c.step_mm, c.z_mm);
+    CHECK_TEXT(gap.bezier_mm < 2.5e-4, c.name);
+    CHECK_TEXT(gap.net_mm < 2.5e-4, c.name);
+  }
 }
 
 TEST(HeightFieldFit, PointsOnOneLineLeaveThePatchUndetermined) {
