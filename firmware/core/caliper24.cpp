@@ -31,6 +31,7 @@ Status Caliper24Reader::start() {
 
 void Caliper24Reader::on_clock_edge(void* context) {
   auto* self = static_cast<Caliper24Reader*>(context);
+  self->edges_ = self->edges_ + 1;
   if (self->state_ != State::kReading) return;
   const uint64_t now = self->board_.now_us();
   const bool after_pause = now - self->last_edge_us_ >= self->timing_.frame_gap_us;
@@ -45,26 +46,35 @@ void Caliper24Reader::on_clock_edge(void* context) {
   self->bits_ = index + 1;
 }
 
-void Caliper24Reader::finish_frame() {
+// `bits` and `raw` as they were when the pause after the frame began: an edge after that starts the
+// next frame and may still count itself in bits_, but it no longer changes raw_.
+void Caliper24Reader::finish_frame(int bits, uint32_t raw) {
   board_.write_pin(hal::Pin::kGaugeReq, false);
-  if (bits_ != kCaliperBits) return fail(Status::kBadEncoding);  // a lost or extra edge
-  if (caliper24_decode(raw_, &reading_) != Status::kOk) return fail(Status::kBadEncoding);
+  if (bits != kCaliperBits) return fail(Status::kBadEncoding);  // a lost or extra edge
+  if (caliper24_decode(raw, &reading_) != Status::kOk) return fail(Status::kBadEncoding);
   state_ = State::kDone;
 }
 
 uint64_t Caliper24Reader::deadline_us() const {
   if (state_ != State::kReading) return UINT64_MAX;
+  int bits = 0;
+  uint64_t last_edge_us = 0;
+  snapshot([&] { bits = bits_, last_edge_us = last_edge_us_; });
   // A frame in progress ends with the pause after it; waiting for one, the timeout.
-  if (bits_ > 0) return last_edge_us_ + timing_.frame_gap_us;
+  if (bits > 0) return last_edge_us + timing_.frame_gap_us;
   return started_us_ + timing_.frame_timeout_us;
 }
 
 Probe::State Caliper24Reader::poll() {
   if (state_ != State::kReading) return state_;
+  int bits = 0;
+  uint32_t raw = 0;
+  uint64_t last_edge_us = 0;
+  snapshot([&] { bits = bits_, raw = raw_, last_edge_us = last_edge_us_; });
   const uint64_t now = board_.now_us();
-  if (bits_ > 0 && now - last_edge_us_ >= timing_.frame_gap_us) {
-    finish_frame();
-  } else if (bits_ <= 0 && now - started_us_ >= timing_.frame_timeout_us) {
+  if (bits > 0 && now - last_edge_us >= timing_.frame_gap_us) {
+    finish_frame(bits, raw);
+  } else if (bits <= 0 && now - started_us_ >= timing_.frame_timeout_us) {
     fail(Status::kTimeout);
   }
   return state_;

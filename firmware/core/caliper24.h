@@ -42,7 +42,7 @@ class Caliper24Reader final : public ClockedProbe {
 
  private:
   static void on_clock_edge(void* self);
-  void finish_frame();
+  void finish_frame(int bits, uint32_t raw);
 
   CaliperTiming timing_;
   CaliperReading reading_{};

@@ -19,6 +19,7 @@ Status DigimaticReader::start() {
 
 void DigimaticReader::on_clock_edge(void* context) {
   auto* self = static_cast<DigimaticReader*>(context);
+  self->edges_ = self->edges_ + 1;
   if (self->state_ != State::kReading) return;
   const int index = self->bits_;
   if (index >= kDigimaticBits) {
@@ -36,13 +37,24 @@ void DigimaticReader::on_clock_edge(void* context) {
 
 uint64_t DigimaticReader::deadline_us() const {
   if (state_ != State::kReading) return UINT64_MAX;
-  return bits_ == 0 ? started_us_ + timing_.first_clock_timeout_us
-                    : last_edge_us_ + timing_.bit_timeout_us;
+  int bits = 0;
+  uint64_t last_edge_us = 0;
+  snapshot([&] { bits = bits_, last_edge_us = last_edge_us_; });
+  return deadline_after(bits, last_edge_us);
+}
+
+uint64_t DigimaticReader::deadline_after(int bits, uint64_t last_edge_us) const {
+  return bits == 0 ? started_us_ + timing_.first_clock_timeout_us : last_edge_us + timing_.bit_timeout_us;
 }
 
 DigimaticReader::State DigimaticReader::poll() {
   if (state_ != State::kReading) return state_;
-  const int bits = bits_;
+  // The bits, then the deadline they give, then the clock: an edge after the snapshot can only
+  // make the deadline later, never the clock earlier than an edge it counts.
+  int bits = 0;
+  uint64_t last_edge_us = 0;
+  snapshot([&] { bits = bits_, last_edge_us = last_edge_us_; });
+  const uint64_t deadline = deadline_after(bits, last_edge_us);
   if (bits > kDigimaticBits) {
     fail(Status::kBadEncoding);
   } else if (bits == kDigimaticBits) {
@@ -51,7 +63,7 @@ DigimaticReader::State DigimaticReader::poll() {
     } else {
       fail(Status::kBadEncoding);
     }
-  } else if (board_.now_us() >= deadline_us()) {
+  } else if (board_.now_us() >= deadline) {
     // A missing clock edge leaves the frame short: an error, never a guess.
     fail(Status::kTimeout);
   }

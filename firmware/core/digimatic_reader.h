@@ -34,6 +34,8 @@ class DigimaticReader final : public ClockedProbe {
 
  private:
   static void on_clock_edge(void* self);
+  // When the next edge is due after `bits` edges, the last at `last_edge_us`.
+  uint64_t deadline_after(int bits, uint64_t last_edge_us) const;
 
   DigimaticTiming timing_;
   DigimaticBits frame_{};

@@ -54,7 +54,21 @@ class ClockedProbe : public Probe {
     state_ = State::kFailed;
   }
 
+  // Reads what the CK interrupt writes as one consistent state: `read` runs again until no edge
+  // came during it. last_edge_us_ is two words on a 32-bit core, and an edge between the two
+  // loads, or between reading it and the count of bits, would give a time or a count that never
+  // was. Read the clock after this, so that no edge in the snapshot is later than "now".
+  template <typename Read>
+  void snapshot(Read read) const {
+    for (;;) {
+      const uint32_t before = edges_;
+      read();
+      if (edges_ == before) return;
+    }
+  }
+
   hal::Board& board_;
+  volatile uint32_t edges_ = 0;  // every CK edge seen, counted first thing by the interrupt
   volatile uint64_t last_edge_us_ = 0;
   uint64_t started_us_ = 0;
   volatile State state_ = State::kIdle;

@@ -167,6 +167,10 @@ void Stm32Board::step_timer_irq() {
 
 void Stm32Board::clock_irq() {
   if (reg(kTim5 + kTimSr) & kTimUif) {
+    // Clearing the flag and counting the wrap must look like one step to now_us(): a gauge or
+    // step interrupt between them would see neither the flag nor the count and read a time
+    // 2^32 us (71.6 minutes) in the past.
+    CriticalSection masked;
     reg(kTim5 + kTimSr) = ~kTimUif;
     clock_high_ = clock_high_ + 1;
   }
