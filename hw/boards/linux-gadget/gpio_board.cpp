@@ -7,7 +7,7 @@
 // such as the DRV8825 need 1.9 us).
 #include "hw/boards/linux-gadget/gpio_board.h"
 
-#include "hw/boards/linux-gadget/step_schedule.h"
+#include "firmware/hal/step_schedule.h"
 
 #include <poll.h>
 #include <sys/prctl.h>
@@ -20,7 +20,8 @@ namespace dg::gadget {
 namespace {
 
 constexpr uint64_t kStepPulseNs = 2000;
-
+// A process may wake this late and still chain its steps; later, the move is stretched instead.
+constexpr uint64_t kLateStepNs = 50000;
 
 int index(hal::Pin pin) { return static_cast<int>(pin); }
 
@@ -114,14 +115,14 @@ void GpioBoard::stop_step_timer() { timer_due_ns_ = kNever; }
 bool GpioBoard::run_step_timer() {
   uint64_t now = now_ns();
   while (timer_due_ns_ != kNever && timer_due_ns_ <= now) {
-    if (step_late(timer_due_ns_, now)) ++late_steps_;
+    if (hal::step_late<uint64_t>(timer_due_ns_, now, kLateStepNs)) ++late_steps_;
     ++timer_ticks_;
     const uint32_t next_ns = timer_handler_(timer_context_);
     if (next_ns == 0) {
       timer_due_ns_ = kNever;
       return true;
     }
-    timer_due_ns_ = next_step_due(timer_due_ns_, now, next_ns);
+    timer_due_ns_ = hal::next_step_due<uint64_t>(timer_due_ns_, now, next_ns, kLateStepNs);
     now = now_ns();
   }
   return false;

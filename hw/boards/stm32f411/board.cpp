@@ -1,8 +1,10 @@
 // Timing: TIM2 free-runs at 96 MHz and each step interrupt sets the next compare from the last
-// one, not from "now", so interrupt latency never accumulates. STEP pulses are held high for
+// one, not from "now", so interrupt latency never accumulates; a tick later than 1 us sets it from
+// itself instead, so a late step stretches the move rather than bursting the steps it missed. STEP pulses are held high for
 // kStepPulseNs (DRV8825 needs 1.9 us, A4988 1 us, TMC2209 100 ns), measured on the DWT cycle counter.
 #include "hw/boards/stm32f411/board.h"
 
+#include "firmware/hal/step_schedule.h"
 #include "hw/boards/stm32f411/pins.h"
 #include "hw/boards/stm32f411/registers.h"
 
@@ -12,6 +14,7 @@ namespace {
 
 constexpr uint32_t kStepPulseNs = 2000;
 constexpr uint32_t kStepPulseCycles = kStepPulseNs * (kSysclkHz / 1000000) / 1000;
+constexpr uint32_t kLateStepTicks = kTimerClockHz / 1000000;  // 1 us of TIM2
 
 void configure_pin(const PinMap& p) {
   const uint32_t shift2 = 2u * p.number;
@@ -151,6 +154,7 @@ void Stm32Board::stop_step_timer() {
 }
 
 void Stm32Board::step_timer_irq() {
+  const uint32_t entered = reg(kTim2 + kTimCnt);
   reg(kTim2 + kTimSr) = ~kTimCc1if;
   if (step_handler_ == nullptr || reg(kTim2 + kTimDier) == 0) return;
   const uint32_t next_ns = step_handler_(step_context_);
@@ -158,7 +162,9 @@ void Stm32Board::step_timer_irq() {
     stop_step_timer();
     return;
   }
-  const uint32_t compare = reg(kTim2 + kTimCcr1) + ticks_for(next_ns);
+  // Chained from the compare while on time; from this tick when it ran late (masked by a critical
+  // section, say), so that the next step keeps its interval from this one instead of bursting.
+  const uint32_t compare = hal::next_step_due<uint32_t>(reg(kTim2 + kTimCcr1), entered, ticks_for(next_ns), kLateStepTicks);
   reg(kTim2 + kTimCcr1) = compare;
   // Already due (the handler ran long, or the step is shorter than the handler): fire again now
   // rather than after the counter wraps in 44 s.
