@@ -15,6 +15,7 @@
 #include "host/cli/inspect_command.h"
 #include "host/cli/scan_command.h"
 #include "host/cli/segment_command.h"
+#include "host/cli/self_description.h"
 #include "host/cli/superquadric_command.h"
 
 namespace {
@@ -29,9 +30,10 @@ constexpr int kExitUsage = 2;
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"bench digitizer: scan parts on an XY table with a dial gauge"};
+  // Named here, so that usage lines say "digitizer" and not the path it was started by.
+  CLI::App app{"bench digitizer: scan parts on an XY table with a dial gauge", "digitizer"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", DIGITIZER_VERSION);
+  app.set_version_flag("--version", version_text());
 
   ScanArgs scan;
   CLI::App* scan_cmd = add_scan_command(app, scan);
@@ -59,6 +61,8 @@ int main(int argc, char** argv) {
   CLI::App* inspect_cmd = add_inspect_command(app, inspect_args);
   DeviceArgs device_args;
   add_device_commands(app, device_args);
+  SelfDescriptionArgs self_description;
+  add_self_description_commands(app, self_description);
 
   try {
     app.parse(argc, argv);
@@ -87,6 +91,8 @@ int main(int argc, char** argv) {
     if (*segment_cmd) return run_segment(segment_args);
     if (*fit_cmd) return run_fit(fit);
     if (*inspect_cmd) return run_inspect(inspect_args);
+    const int self_result = run_self_description(app, self_description);
+    if (self_result >= 0) return self_result;
     const int device_result = run_device_command(app, device_args);
     if (device_result >= 0) return device_result;
     if (*filter_cmd) return run_filter(filter);
