@@ -146,9 +146,9 @@ int run_export_surface(const std::string& input, const std::string& output, doub
 }  // namespace
 
 CLI::App* add_export_command(CLI::App& app, ExportArgs& a) {
-  CLI::App* cmd = app.add_subcommand("export", "write a scan's points as CSV or PLY, or a surface as IGES or STEP");
+  CLI::App* cmd = app.add_subcommand("export", "write a scan's points as CSV, XYZ or PLY, or a surface as IGES, STEP or a mesh (STL, OBJ, PLY)");
   cmd->add_option("input", a.input, "scan file, or SURF.json")->required()->check(CLI::ExistingFile);
-  cmd->add_option("-o,--output", a.output, "points: .csv or .ply; a surface: .igs, .stp, or a mesh .stl, .obj, .ply")->required();
+  cmd->add_option("-o,--output", a.output, "points: .csv, .xyz or .ply; a surface: .igs, .stp, or a mesh .stl, .obj, .ply")->required();
   cmd->add_option("--chord", a.chord_mm, "meshes: largest distance from the surface to its triangles, mm")
       ->capture_default_str()->check(CLI::PositiveNumber);
   cmd->add_flag("--edges", a.edges, "IGES/STEP: write the surface's four edges as B-spline curves instead");

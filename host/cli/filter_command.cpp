@@ -16,7 +16,8 @@ CLI::App* add_filter_command(CLI::App& app, FilterArgs& a) {
   CLI::App* cmd = app.add_subcommand("filter", "robust noise filter (Least-Trimmed-Squares); reports outliers");
   cmd->add_option("input", a.input, ".csv, .xyz, .ply or .scan points in mm")->required()->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", a.output, "filtered points (.csv)")->required();
-  cmd->add_flag("--lts", a.lts, "Least-Trimmed-Squares filter")->required();
+  // The LTS filter is the one method; --lts names it for scripts written when it had to be given.
+  cmd->add_flag("--lts", "the Least-Trimmed-Squares filter (the default)");
   cmd->add_option("--window", a.options.window, "neighbourhood side (odd)")->capture_default_str()->check(CLI::Range(3, 15));
   cmd->add_option("--order", a.options.order, "local model: 0 constant (the classic LTS filter), 1 plane, 2 quadratic")
       ->capture_default_str()->check(CLI::Range(0, 2));
@@ -31,7 +32,6 @@ CLI::App* add_filter_command(CLI::App& app, FilterArgs& a) {
 }
 
 int run_filter(const FilterArgs& a) {
-  if (!a.lts) throw std::invalid_argument("choose a filter: --lts");
   const PointCloud cloud = read_points(a.input);
   const LtsResult r = lts_filter(cloud.points, a.options);
   // An outlier's place is left empty unless asked otherwise: near a crease a point on a sliver of

@@ -9,7 +9,6 @@ namespace dg::host {
 
 struct FilterArgs {
   std::string input, output, outliers;
-  bool lts = false;
   bool replace_outliers = false;  // put the estimate in an outlier's place instead of leaving it out
   LtsOptions options;
 };

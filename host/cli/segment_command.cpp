@@ -11,7 +11,7 @@ namespace dg::host {
 
 CLI::App* add_segment_command(CLI::App& app, SegmentArgs& a) {
   CLI::App* cmd = app.add_subcommand("segment", "split a probe stream into scan lines (step-length ratio and turns)");
-  cmd->add_option("input", a.input, ".csv, .xyz or .scan points in mm")->required()->check(CLI::ExistingFile);
+  cmd->add_option("input", a.input, ".csv, .xyz, .ply or .scan points in mm")->required()->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", a.output, "output CSV with a 0-based line column")->required();
   cmd->add_option("--ratio", a.ratio, "a step this many times the line's typical step starts a line")
       ->capture_default_str()->check(CLI::Range(1.1, 1000.0));
