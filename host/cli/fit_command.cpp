@@ -381,6 +381,8 @@ int run_fit(const FitArgs& a) {
     if (!r.kept) {
       std::fprintf(stderr, "digitizer: tolerance refused: %s\n", r.reason.c_str());
       exit_code = kExitToleranceRefused;
+    } else if (!r.note.empty()) {
+      std::printf("refinement stopped short of the noise: %s\n", r.note.c_str());
     }
   } else {
     if (nu <= degree || nv <= degree) throw std::invalid_argument("--ctrl: a degree " + std::to_string(degree) + " net needs at least " + std::to_string(degree + 1) + " control points per direction");

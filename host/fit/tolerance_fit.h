@@ -30,6 +30,7 @@ struct ToleranceResult {
   BSplineSurface surface;         // the best surface found (the last one when kept)
   bool kept = false;              // every orthogonal distance <= tolerance
   std::string reason;             // why it was refused, when not kept
+  std::string note;               // when kept: why refinement stopped short of the noise, if it did
   double max_distance_mm = 0;     // largest orthogonal distance of `surface`
   double noise_sigma_mm = 0;      // estimated gauge noise (rounding to the reading step taken out)
   double resolution_mm = 0;       // the reading step it knew of
