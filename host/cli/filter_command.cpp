@@ -47,9 +47,13 @@ int run_filter(const FilterArgs& a) {
     if (cloud.line) kept.line->push_back((*cloud.line)[i]);
   }
   write_cloud_csv(a.output, kept.points, kept.line ? &*kept.line : nullptr);
+  char settled[96] = "";
+  if (!r.converged) {
+    std::snprintf(settled, sizeof settled, r.alternating > 0 ? " (stopped: %zu points alternate between trimmed fits)" : " (not converged)",
+                  r.alternating);
+  }
   std::printf("LTS %dx%d (%s neighbourhoods), %d iterations%s, residual sigma %.4f mm\n", a.options.window,
-              a.options.window, r.gridded ? "grid" : "nearest-point", r.iterations, r.converged ? "" : " (not converged)",
-              r.sigma_mm);
+              a.options.window, r.gridded ? "grid" : "nearest-point", r.iterations, settled, r.sigma_mm);
   std::printf("%zu outliers (|z - estimate| > %.1f sigma)%s\n", r.outliers.size(), a.options.outlier_sigmas,
               r.outliers.empty() ? "" : a.replace_outliers ? ", replaced by the estimate" : ", left out of the output");
   const auto& raw = cloud.points;

@@ -381,8 +381,11 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
     reference[i] = median_of(values);
   }
   std::vector<double> before(points.size(), HUGE_VAL);  // the output two iterations back
+  size_t previous_moved = SIZE_MAX;
+  double previous_largest = HUGE_VAL;
   for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
     double largest_change = 0;
+    size_t moved = 0;
     std::vector<double> next(points.size());
     for (size_t i = 0; i < points.size(); ++i) {
       const int n = static_cast<int>(hood[i].size());
@@ -423,6 +426,7 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
         }
       }
       largest_change = std::max(largest_change, std::fabs(next[i] - reference[i]));
+      moved += std::fabs(next[i] - reference[i]) > options.converged_mm;
     }
     // Heights quantised by the gauge make ties, and a tie can make a window alternate between two
     // trimmed subsets for ever (seen on a 1 um-resolution scan: one point swinging by 3.9 um). Two
@@ -442,6 +446,19 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
       result.converged = true;
       break;
     }
+    // Longer cycles, or a few windows flipping while the rest has settled: once neither the number
+    // of points that move nor the largest move shrinks, more iterations only repeat themselves
+    // (seen on 120,701 points: 6,585 moving by up to 5.9 um from the third iteration to the
+    // fiftieth, which took three quarters of the filter's time). Stop on the last state, without
+    // calling it converged: each alternating state is a trimmed fit of its window (over the
+    // outlier benchmark the mean of two states raised false alarms from 126 to 133; the last
+    // state gives what fifty iterations gave).
+    if (iteration > 3 && moved >= previous_moved && largest_change >= previous_largest) {
+      result.alternating = moved;
+      break;
+    }
+    previous_moved = moved;
+    previous_largest = largest_change;
   }
   // Outliers: leave-one-out residuals from the whole neighbourhood and its four sides (test_point).
   std::vector<PointTest> tests(points.size());

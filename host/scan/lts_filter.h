@@ -30,6 +30,7 @@ struct LtsResult {
   bool gridded = false;   // the points formed a regular XY grid
   int iterations = 0;
   bool converged = false;
+  size_t alternating = 0;  // not converged: this many points kept alternating when it stopped
   double sigma_mm = 0;    // robust scale of the residuals
 };
 
