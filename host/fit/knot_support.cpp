@@ -11,11 +11,40 @@
 
 namespace dg::host {
 
+namespace {
+
+// Sorts `values` through buckets of width `width` (a counting sort on the bucket, then each bucket
+// sorted on its own): every fit and every validation fold asks for the distinct sites of all its
+// points, and a comparison sort of 200,000 parameters each time was a fifth of a fit's time.
+void sort_by_buckets(std::vector<double>& values, double width) {
+  if (values.size() < 2) return;
+  const auto [lo_it, hi_it] = std::minmax_element(values.begin(), values.end());
+  const double lo = *lo_it, span = *hi_it - lo;
+  const size_t buckets = std::min<size_t>(4 * values.size(), width > 0 ? static_cast<size_t>(span / width) + 1 : 1);
+  if (!(span > 0) || buckets < 2) {
+    std::sort(values.begin(), values.end());
+    return;
+  }
+  auto bucket = [&](double v) { return std::min(buckets - 1, static_cast<size_t>((v - lo) / span * static_cast<double>(buckets))); };
+  std::vector<size_t> start(buckets + 1, 0);
+  for (double v : values) ++start[bucket(v) + 1];
+  for (size_t b = 0; b < buckets; ++b) start[b + 1] += start[b];
+  std::vector<double> sorted(values.size());
+  std::vector<size_t> next(start.begin(), start.end() - 1);
+  for (double v : values) sorted[next[bucket(v)]++] = v;
+  for (size_t b = 0; b < buckets; ++b) {
+    std::sort(sorted.begin() + static_cast<std::ptrdiff_t>(start[b]), sorted.begin() + static_cast<std::ptrdiff_t>(start[b + 1]));
+  }
+  values.swap(sorted);
+}
+
+}  // namespace
+
 std::vector<double> distinct_sites(const std::vector<UV>& uv, bool along_u, double merge) {
   std::vector<double> values;
   values.reserve(uv.size());
   for (const UV& p : uv) values.push_back(along_u ? p.u : p.v);
-  std::sort(values.begin(), values.end());
+  sort_by_buckets(values, merge);
   std::vector<double> sites;
   size_t start = 0;
   for (size_t k = 1; k <= values.size(); ++k) {
