@@ -78,10 +78,17 @@ Status StepGenerator::start(int64_t dx, int64_t dy, uint32_t rate_steps_s) {
   if (step_x_ != 0) board_.write_pin(hal::Pin::kDirX, step_x_ > 0);
   if (step_y_ != 0) board_.write_pin(hal::Pin::kDirY, step_y_ > 0);
   busy_ = true;
+  wait_left_ns_ = 0;
   const uint32_t first = period_ns(1);
-  board_.start_step_timer(first > config_.dir_setup_ns ? first : config_.dir_setup_ns,
+  board_.start_step_timer(until_next_step(first > config_.dir_setup_ns ? first : config_.dir_setup_ns),
                           &StepGenerator::on_tick, this);
   return Status::kOk;
+}
+
+uint32_t StepGenerator::until_next_step(uint32_t period) {
+  if (period <= kSafetyReadNs) return period;
+  wait_left_ns_ = period - kSafetyReadNs;
+  return kSafetyReadNs;
 }
 
 void StepGenerator::stop() {
@@ -116,6 +123,27 @@ uint32_t StepGenerator::period_ns(uint32_t step_index) const {
 uint32_t StepGenerator::on_tick(void* self) { return static_cast<StepGenerator*>(self)->tick(); }
 
 uint32_t StepGenerator::tick() {
+  if (wait_left_ns_ > 0) {
+    // A wake between two steps far apart (a ramp's first steps are milliseconds apart): only the
+    // e-stop is read, confirmed like before a step, so that it stops the table within
+    // kSafetyReadNs + kConfirmNs at any speed instead of at the next step.
+    if (board_.read_pin(hal::Pin::kEstop)) {
+      if (!confirming_) {
+        confirming_ = true;
+        return kConfirmNs;
+      }
+      confirming_ = false;
+      board_.enable_drivers(false);
+      trip_ = Trip::kEstop;
+      busy_ = false;
+      wait_left_ns_ = 0;
+      return 0;
+    }
+    confirming_ = false;
+    const uint32_t next = wait_left_ns_ > kSafetyReadNs ? kSafetyReadNs : wait_left_ns_;
+    wait_left_ns_ -= next;
+    return next;
+  }
   bool step_x = false, step_y = false;
   const int64_t error_before = error_;
   const bool takeup = takeup_x_ > 0 || takeup_y_ > 0;
@@ -185,7 +213,7 @@ uint32_t StepGenerator::tick() {
       --takeup_y_;
       board_.write_pin(hal::Pin::kStepY, false);
     }
-    return period_ns(1);
+    return until_next_step(period_ns(1));
   }
   if (step_x) {
     x_ = x_ + step_x_;
@@ -200,7 +228,7 @@ uint32_t StepGenerator::tick() {
     busy_ = false;
     return 0;
   }
-  return period_ns(done_ + 1);
+  return until_next_step(period_ns(done_ + 1));
 }
 
 }  // namespace dg

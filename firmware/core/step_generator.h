@@ -63,12 +63,16 @@ class StepGenerator {
   const MotionConfig& config() const { return config_; }
   // The delay between the two reads that confirm a safety input, ns.
   static constexpr uint32_t kConfirmNs = 20000;
+  // Steps further apart than this are waited for in parts of it, each ending in a read of the e-stop.
+  static constexpr uint32_t kSafetyReadNs = 250000;
 
  private:
   static uint32_t on_tick(void* self);
   uint32_t tick();
   Status start(int64_t dx, int64_t dy, uint32_t rate_steps_s);
   uint32_t period_ns(uint32_t step_index) const;
+  // The timer's next delay towards a step `period` away (the first part of it when it is long).
+  uint32_t until_next_step(uint32_t period);
   // Time from rest to step k at the configured acceleration, ns: ramp_ns_ * sqrt(k).
   uint64_t ramp_time_ns(uint32_t k) const;
 
@@ -90,6 +94,7 @@ class StepGenerator {
   volatile Trip trip_ = Trip::kNone;
   // A safety input was seen asserted on the last tick and is read again on this one.
   bool confirming_ = false;
+  uint32_t wait_left_ns_ = 0;  // of the wait for the next step, after the current part
   // The way each axis last moved; at power-up taken as positive, as homing's pull-off leaves it.
   int8_t last_dir_x_ = 1, last_dir_y_ = 1;
   uint32_t takeup_x_ = 0, takeup_y_ = 0;    // backlash steps still to take before this move

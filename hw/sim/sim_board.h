@@ -62,7 +62,10 @@ class SimBoard final : public hal::Board {
 
   void write_pin(hal::Pin pin, bool level) override;
   bool read_pin(hal::Pin pin) override;
-  void enable_drivers(bool on) override { drivers_on_ = on; }
+  void enable_drivers(bool on) override {
+    if (drivers_on_ && !on) drivers_cut_ns_ = now_ns_;
+    drivers_on_ = on;
+  }
   void on_rising_edge(hal::Pin pin, hal::EdgeHandler handler, void* context) override;
   void start_step_timer(uint32_t delay_ns, hal::TimerHandler handler, void* context) override;
   void stop_step_timer() override;
@@ -85,6 +88,8 @@ class SimBoard final : public hal::Board {
   // Steps the drivers were given against the mechanical stop (lost).
   uint64_t lost_steps() const { return lost_steps_; }
   bool drivers_on() const { return drivers_on_; }
+  // When the drivers were last switched off (virtual ns; 0: never).
+  uint64_t drivers_cut_ns() const { return drivers_cut_ns_; }
   // Step pulses given while the drivers were off (the motors did not turn).
   uint64_t steps_without_drivers() const { return steps_without_drivers_; }
   // Tests: the x switch's wire is cut at this virtual time.
@@ -117,6 +122,7 @@ class SimBoard final : public hal::Board {
   int64_t motor_[2] = {0, 0};  // where the motors have turned the screws to (equals the table without play)
   uint64_t lost_steps_ = 0;
   bool drivers_on_ = true;
+  uint64_t drivers_cut_ns_ = 0;
   uint64_t steps_without_drivers_ = 0;
   std::vector<uint64_t>* x_step_log_ = nullptr;
   uint64_t last_step_ns_[2] = {kNever, kNever};

@@ -163,6 +163,22 @@ TEST(Homing, TheEstopStopsAMoveAtOnce) {
   LONGS_EQUAL(rig.motion.x_steps(), rig.board.table_x_steps());
 }
 
+TEST(Homing, TheEstopStopsTheTableWithinAQuarterMillisecondWhileStepsAreMillisecondsApart) {
+  // Pressed 0.5 ms into a move from rest, whose first step comes 5 ms in: the step interrupt used to
+  // see it only then (4.5 ms). It now also wakes every 250 us between steps to read the e-stop.
+  dg::sim::SimConfig c = table_at(0, 0);
+  c.estop_at_ns = 500000;
+  c.estop_for_ns = 1000000000;
+  Rig rig(c);
+  CHECK(rig.motion.move_to(4000, 0, 0) == dg::Status::kOk);
+  while (rig.motion.busy() && rig.board.wait(UINT64_MAX)) {
+  }
+  CHECK(rig.motion.trip() == dg::Trip::kEstop);
+  CHECK_FALSE(rig.board.drivers_on());
+  CHECK(rig.board.drivers_cut_ns() - c.estop_at_ns <= dg::StepGenerator::kSafetyReadNs + dg::StepGenerator::kConfirmNs);
+  LONGS_EQUAL(0, rig.board.table_x_steps());
+}
+
 TEST(Homing, BacklashCompensationKeepsTheTableWhereTheStepsSay) {
   // 0.1 mm of play in both screws. With compensation every reversal takes it up uncounted; without,
   // the table lags the count by the play after each reversal.
