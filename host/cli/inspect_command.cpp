@@ -111,6 +111,7 @@ int run_inspect(const InspectArgs& a) {
     surface = read_surface_json(a.surface);
   }
   std::string alignment;
+  AlignmentSummary aligned;
   if (a.align && !surface.faces.empty()) {
     throw std::invalid_argument("--align: aligning to trimmed faces is not supported yet; align to a single-surface fit");
   }
@@ -124,6 +125,13 @@ int run_inspect(const InspectArgs& a) {
                   fit.transform.angle_deg(), fit.transform.translation.x, fit.transform.translation.y, fit.transform.translation.z,
                   fit.rms_before_mm, fit.rms_after_mm, fit.iterations, fit.converged ? "" : " (not converged)");
     alignment = text;
+    aligned.rotation = fit.transform.rotation;
+    aligned.translation_mm = fit.transform.translation;
+    aligned.rotation_deg = fit.transform.angle_deg();
+    aligned.rms_before_mm = fit.rms_before_mm;
+    aligned.rms_after_mm = fit.rms_after_mm;
+    aligned.iterations = fit.iterations;
+    aligned.converged = fit.converged;
   }
   std::vector<double> bands = a.bands_mm;
   std::sort(bands.begin(), bands.end());
@@ -140,7 +148,7 @@ int run_inspect(const InspectArgs& a) {
   }
   const bool uncertainty_drawn = !a.report_html.empty() && write_report(a, r, surface, alignment);
   if (a.json) {
-    std::fputs(inspection_json_text(r, a.points, a.surface).c_str(), stdout);
+    std::fputs(inspection_json_text(r, a.points, a.surface, a.align ? &aligned : nullptr).c_str(), stdout);
     return 0;
   }
   const DistanceStats& s = r.stats;

@@ -1,11 +1,26 @@
-// An inspection's summary as JSON: statistics and bands, with what was compared.
+// An inspection's summary as JSON: statistics and bands, with what was compared and how the points
+// were aligned to it.
 #pragma once
+#include <array>
 #include <string>
 
+#include "host/geometry/point3.h"
 #include "host/inspect/inspect.h"
 
 namespace dg::host {
 
-std::string inspection_json_text(const Inspection& inspection, const std::string& points_file, const std::string& surface_file);
+// A rigid alignment applied to the points before they were measured (measured -> nominal).
+struct AlignmentSummary {
+  std::array<std::array<double, 3>, 3> rotation{{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+  Point3 translation_mm;
+  double rotation_deg = 0;
+  double rms_before_mm = 0, rms_after_mm = 0;  // point-to-surface RMS before and after it
+  int iterations = 0;
+  bool converged = false;
+};
+
+// `alignment`: null when the points were measured where they are ("alignment": null).
+std::string inspection_json_text(const Inspection& inspection, const std::string& points_file, const std::string& surface_file,
+                                 const AlignmentSummary* alignment = nullptr);
 
 }  // namespace dg::host

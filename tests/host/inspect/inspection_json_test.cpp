@@ -1,0 +1,46 @@
+// The inspection summary as JSON: the statistics and bands as measured, and the alignment that
+// moved the points first (its transform and residuals), or null when there was none.
+#include "host/inspect/inspection_json.h"
+
+#include <CppUTest/TestHarness.h>
+
+#include <nlohmann/json.hpp>
+
+#include "tests/support/sample_surfaces.h"
+
+using namespace dg::host;
+
+namespace {
+
+Inspection plane_inspection() {
+  const BSplineSurface plane = dg::test::tilted_plane();
+  return inspect({{5, 5, 1.5}, {10, 8, 0.75}, {15, 12, 1.0}}, plane, {0.1, 1.0});
+}
+
+}  // namespace
+
+TEST_GROUP(InspectionJson){};
+
+TEST(InspectionJson, CarriesTheAlignmentsTransformAndResiduals) {
+  AlignmentSummary a;
+  a.rotation = {{{0, -1, 0}, {1, 0, 0}, {0, 0, 1}}};
+  a.translation_mm = {1.5, -2.0, 0.25};
+  a.rotation_deg = 90;
+  a.rms_before_mm = 0.4;
+  a.rms_after_mm = 0.003;
+  a.iterations = 7;
+  a.converged = true;
+  const nlohmann::json j = nlohmann::json::parse(inspection_json_text(plane_inspection(), "p.csv", "s.json", &a));
+  DOUBLES_EQUAL(-1.0, j["alignment"]["rotation"][0][1].get<double>(), 0);
+  DOUBLES_EQUAL(-2.0, j["alignment"]["translation_mm"][1].get<double>(), 0);
+  DOUBLES_EQUAL(0.003, j["alignment"]["rms_after_mm"].get<double>(), 0);
+  LONGS_EQUAL(7, j["alignment"]["iterations"].get<int>());
+  CHECK(j["alignment"]["converged"].get<bool>());
+  LONGS_EQUAL(3, j["deviation"]["count"].get<int>());
+}
+
+TEST(InspectionJson, SaysWhenThePointsWereNotAligned) {
+  const nlohmann::json j = nlohmann::json::parse(inspection_json_text(plane_inspection(), "p.csv", "s.json"));
+  CHECK(j.contains("alignment"));
+  CHECK(j["alignment"].is_null());
+}
