@@ -223,8 +223,9 @@ int run_scan(const ScanArgs& a) {
   // Acknowledge well before the device's ring is full (it pauses the scan when it is).
   if (device.point_ring_capacity > 0) options.ack_batch_points = std::max<uint32_t>(1, device.point_ring_capacity / 2);
   options.reconnect_timeout_ms = a.reconnect_s * 1000;
-  // A bar with rate and ETA on a terminal; a plain line every tenth of the scan otherwise.
-  ProgressPrinter progress(stdout, isatty(fileno(stdout)) != 0);
+  // A bar with rate and ETA on a terminal; a plain line every tenth of the scan otherwise. On
+  // standard error: standard output carries the results, for a pipe or a log to keep apart.
+  ProgressPrinter progress(stderr, isatty(fileno(stderr)) != 0);
   const uint32_t stored_points = stored ? static_cast<uint32_t>(stored->points.size()) : 0;
   progress.start_at(stored_points);
   if (!a.quiet) {
