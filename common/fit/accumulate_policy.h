@@ -53,7 +53,6 @@ struct FloatingPolicy {
   static Unit unit(int64_t offset, const UnitScale& scale) {
     return static_cast<T>(static_cast<double>(offset) / static_cast<double>(scale.range));
   }
-  static Basis narrow(Unit a) { return a; }
   static Accum scale(Accum sum, Unit b) { return sum * b; }
   // s = u * spans split into the span index (clamped to the last span) and the local t in [0, 1].
   static void split(Unit u, int spans, int& span, Unit& t) {
@@ -123,8 +122,6 @@ struct FixedPolicy {
     const int64_t u = (offset * scale.multiplier + (int64_t{1} << (scale.shift - 1))) >> scale.shift;
     return Unit::from_raw(static_cast<int32_t>(u > (int64_t{1} << 30) ? (int64_t{1} << 30) : u));
   }
-  // A one-dimensional basis value: kept at full precision.
-  static Basis narrow(Unit a) { return a; }
   // sum * b for b in [0, 1] (Q1.30), rounded; the result is no larger than the sum. The 64 x 32-bit
   // product is taken in two halves so nothing overflows: sum = hi 2^32 + lo, and hi b 2^2 is at
   // most the result. Q1.30, not Q1.F: a scan line's v products multiply all of its sums, so

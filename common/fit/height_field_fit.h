@@ -2,6 +2,8 @@
 #pragma once
 #include <stdint.h>
 
+#include <type_traits>
+
 #include "common/fit/accumulate_policy.h"
 #include "common/fit/bernstein.h"
 #include "common/fit/dense_ldlt.h"
@@ -42,6 +44,8 @@ class HeightFieldFit {
   using Solve = typename Policy::Solve;
   using Accum = typename Policy::Accum;
   static constexpr int kSide = Kind::kSide;
+  // Basis values enter the products at the parameters' precision (accumulate_policy.h says why).
+  static_assert(std::is_same<Basis, Unit>::value, "a policy's basis values are its parameters' type");
   static constexpr int kUnknowns = kSide * kSide;
 
   void begin(const FitRegion& region) {
@@ -86,11 +90,9 @@ class HeightFieldFit {
       line_open_ = true;
     }
     const Unit u = Policy::unit(int64_t{x_nm} - region_.x_min_nm, scale_u_);
-    Unit bu[4];
-    int span_u = 0;
-    Kind::template basis<Policy>(u, bu, span_u);
     Basis b[4];
-    for (int i = 0; i < 4; ++i) b[i] = Policy::narrow(bu[i]);
+    int span_u = 0;
+    Kind::template basis<Policy>(u, b, span_u);
     const Value value = Policy::value_from_nm(static_cast<int32_t>(dz));
     for (int i = 0; i < 4; ++i) {
       Accum* row = &line_matrix_[packed_index(span_u + i, span_u)];

@@ -112,6 +112,8 @@ class Device : private PointSink {
   void resume_scan(uint32_t id, const digitizer_ResumeScan& request);
   // Safety: the e-stop input, tripped limit switches and homing's end.
   void watch_motion();
+  // The e-stop pressed now and confirmed pressed by watch_motion (refuses unlock and home).
+  bool estop_held();
   void raise_alarm(digitizer_FaultCode code, const char* detail);
   // Queues the fault and returns true when the table may not move now (alarm, busy, not homed).
   bool refuse_motion(uint32_t id);
@@ -162,7 +164,6 @@ class Device : private PointSink {
   static constexpr uint64_t kNotSeen = UINT64_MAX;
   static constexpr uint64_t kEstopConfirmUs = StepGenerator::kConfirmNs / 1000;
   uint64_t estop_seen_us_ = kNotSeen;
-  bool estop_held();
   bool estop_confirmed_ = false;  // seen twice: the alarm is raised, no more looks needed
   RepeatabilityRun repeat_;
   bool touching_ = false;          // a CMD_TOUCH move is running

@@ -120,6 +120,15 @@ uint32_t StepGenerator::period_ns(uint32_t step_index) const {
   return period > 0xFFFFFFFFull ? 0xFFFFFFFFu : static_cast<uint32_t>(period);
 }
 
+uint32_t StepGenerator::halt(Trip trip) {
+  // The e-stop cuts the drivers here, in the interrupt, not when the main loop next looks.
+  if (trip == Trip::kEstop) board_.enable_drivers(false);
+  trip_ = trip;
+  busy_ = false;
+  wait_left_ns_ = 0;
+  return 0;
+}
+
 uint32_t StepGenerator::on_tick(void* self) { return static_cast<StepGenerator*>(self)->tick(); }
 
 uint32_t StepGenerator::tick() {
@@ -133,11 +142,7 @@ uint32_t StepGenerator::tick() {
         return kConfirmNs;
       }
       confirming_ = false;
-      board_.enable_drivers(false);
-      trip_ = Trip::kEstop;
-      busy_ = false;
-      wait_left_ns_ = 0;
-      return 0;
+      return halt(Trip::kEstop);
     }
     confirming_ = false;
     const uint32_t next = wait_left_ns_ > kSafetyReadNs ? kSafetyReadNs : wait_left_ns_;
@@ -181,13 +186,7 @@ uint32_t StepGenerator::tick() {
     return kConfirmNs;
   }
   confirming_ = false;
-  if (trip != Trip::kNone) {
-    // The e-stop cuts the drivers here, in the interrupt, not when the main loop next looks.
-    if (trip == Trip::kEstop) board_.enable_drivers(false);
-    trip_ = trip;
-    busy_ = false;
-    return 0;
-  }
+  if (trip != Trip::kNone) return halt(trip);
   // Touch probe: latch where the stylus was deflected, then brake to rest in the fewest steps the
   // acceleration allows (probe_to made sure they fit in the overtravel).
   if (probing_ && !touched_ && board_.read_pin(hal::Pin::kTouchProbe)) {

@@ -73,6 +73,9 @@ class StepGenerator {
   uint32_t period_ns(uint32_t step_index) const;
   // The timer's next delay towards a step `period` away (the first part of it when it is long).
   uint32_t until_next_step(uint32_t period);
+  // Ends the move on a confirmed safety input: kept as trip(); the e-stop also cuts the drivers.
+  // Returns the timer's 0 (stop).
+  uint32_t halt(Trip trip);
   // Time from rest to step k at the configured acceleration, ns: ramp_ns_ * sqrt(k).
   uint64_t ramp_time_ns(uint32_t k) const;
 

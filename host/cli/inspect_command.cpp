@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <optional>
 #include <stdexcept>
 
 #include "host/io/file_name.h"
@@ -63,6 +64,17 @@ std::vector<std::string> scan_facts(const std::string& path) {
   return facts;
 }
 
+// The alignment for the printed summary and the report.
+std::string alignment_text(const AlignmentSummary& s) {
+  char text[256];
+  std::snprintf(text, sizeof text,
+                "aligned by a rigid best fit: rotation %.4f deg, translation (%.4f, %.4f, %.4f) mm, RMS %.4f -> %.4f mm "
+                "in %d steps%s",
+                s.rotation_deg, s.translation_mm.x, s.translation_mm.y, s.translation_mm.z, s.rms_before_mm, s.rms_after_mm,
+                s.iterations, s.converged ? "" : " (not converged)");
+  return text;
+}
+
 // Returns whether the uncertainty map was drawn (the surface, or every face, carries its grid).
 bool write_report(const InspectArgs& a, const Inspection& r, const FittedSurface& surface, const std::string& alignment) {
   std::string svg;
@@ -110,29 +122,17 @@ int run_inspect(const InspectArgs& a) {
   } else {
     surface = read_surface_json(a.surface);
   }
-  std::string alignment;
-  AlignmentSummary aligned;
+  std::optional<AlignmentSummary> aligned;
   if (a.align && !surface.faces.empty()) {
     throw std::invalid_argument("--align: aligning to trimmed faces is not supported yet; align to a single-surface fit");
   }
   if (a.align) {
     const Alignment fit = align_to_surface(cloud.points, SurfaceLocator(surface.surface));
     for (Point3& p : cloud.points) p = fit.transform.apply(p);
-    char text[256];
-    std::snprintf(text, sizeof text,
-                  "aligned by a rigid best fit: rotation %.4f deg, translation (%.4f, %.4f, %.4f) mm, RMS %.4f -> %.4f mm "
-                  "in %d steps%s",
-                  fit.transform.angle_deg(), fit.transform.translation.x, fit.transform.translation.y, fit.transform.translation.z,
-                  fit.rms_before_mm, fit.rms_after_mm, fit.iterations, fit.converged ? "" : " (not converged)");
-    alignment = text;
-    aligned.rotation = fit.transform.rotation;
-    aligned.translation_mm = fit.transform.translation;
-    aligned.rotation_deg = fit.transform.angle_deg();
-    aligned.rms_before_mm = fit.rms_before_mm;
-    aligned.rms_after_mm = fit.rms_after_mm;
-    aligned.iterations = fit.iterations;
-    aligned.converged = fit.converged;
+    aligned = AlignmentSummary{fit.transform.rotation, fit.transform.translation, fit.transform.angle_deg(),
+                               fit.rms_before_mm, fit.rms_after_mm, fit.iterations, fit.converged};
   }
+  const std::string alignment = aligned ? alignment_text(*aligned) : std::string();
   std::vector<double> bands = a.bands_mm;
   std::sort(bands.begin(), bands.end());
   const Inspection r =
@@ -148,7 +148,7 @@ int run_inspect(const InspectArgs& a) {
   }
   const bool uncertainty_drawn = !a.report_html.empty() && write_report(a, r, surface, alignment);
   if (a.json) {
-    std::fputs(inspection_json_text(r, a.points, a.surface, a.align ? &aligned : nullptr).c_str(), stdout);
+    std::fputs(inspection_json_text(r, a.points, a.surface, aligned ? &*aligned : nullptr).c_str(), stdout);
     return 0;
   }
   const DistanceStats& s = r.stats;

@@ -2,13 +2,13 @@
 #include "host/cli/self_description.h"
 
 #include <cstdio>
-#include <fstream>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
 
 #include "digitizer.pb.h"
 #include "host/cli/build_info.h"
+#include "host/io/atomic_file.h"
 
 namespace dg::host {
 
@@ -61,13 +61,6 @@ std::string man_page(const std::string& title, const std::string& name_line, con
   return page.str();
 }
 
-void write_file(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out << text;
-  out.close();
-  if (!out) throw std::runtime_error(path + ": cannot write");
-}
-
 }  // namespace
 
 std::string version_text() {
@@ -114,12 +107,12 @@ int write_man_pages(const CLI::App& app, const std::string& directory) {
   for (const CLI::App* sub : listed_subcommands(app)) {
     see_also += (see_also.empty() ? "" : ",\n") + std::string("\\fBdigitizer\\-") + sub->get_name() + "\\fR(1)";
   }
-  write_file(directory + "/digitizer.1",
+  write_file_atomically(directory + "/digitizer.1",
              man_page("digitizer", "digitizer - " + app.get_description(), app.help("", CLI::AppFormatMode::Normal),
                       see_also));
   int pages = 1;
   for (const CLI::App* sub : listed_subcommands(app)) {
-    write_file(directory + "/digitizer-" + sub->get_name() + ".1",
+    write_file_atomically(directory + "/digitizer-" + sub->get_name() + ".1",
                man_page("digitizer-" + sub->get_name(), "digitizer-" + sub->get_name() + " - " + sub->get_description(),
                         sub->help("digitizer"), "\\fBdigitizer\\fR(1)"));
     ++pages;
@@ -140,7 +133,7 @@ void add_self_description_commands(CLI::App& app, SelfDescriptionArgs& args) {
 int run_self_description(const CLI::App& app, const SelfDescriptionArgs& args) {
   if (app.got_subcommand("completion")) {
     if (args.output.empty()) std::fputs(bash_completion(app).c_str(), stdout);
-    else write_file(args.output, bash_completion(app));
+    else write_file_atomically(args.output, bash_completion(app));
     return 0;
   }
   if (app.got_subcommand("manpages")) {

@@ -14,7 +14,8 @@ std::string version_text();
 std::string bash_completion(const CLI::App& app);
 
 // Writes digitizer.1 and digitizer-SUBCOMMAND.1 for each listed subcommand into `directory`
-// (which must exist). Returns how many pages; throws std::runtime_error if a file cannot be written.
+// (which must exist), each whole or not at all (host/io/atomic_file.h). Returns how many pages;
+// throws std::runtime_error if a file cannot be written.
 int write_man_pages(const CLI::App& app, const std::string& directory);
 
 struct SelfDescriptionArgs {

@@ -32,7 +32,7 @@ struct SimConfig {
   // The table starts here (steps); the part sits with its corner at table (0, 0).
   int32_t start_x_steps = 0;
   int32_t start_y_steps = 0;
-  // The min limit switches close below table 0; the table hits its mechanical stop this far below
+  // The min limit switches trip below table 0; the table hits its mechanical stop this far below
   // (steps towards it are lost, as a stalled motor loses them).
   int32_t hard_stop_steps = -800;
   // The min switches are normally closed, as the docs wire them: the input reads "tripped" whenever
