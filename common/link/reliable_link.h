@@ -128,6 +128,17 @@ class ReliableLink {
     return false;
   }
 
+  // The sequence number the next in-order data frame must carry.
+  uint16_t expected_seq() const { return rx_expected_; }
+  // A receiver with memory to spare may keep data frames that arrived ahead of a gap. Once the
+  // gap is filled and expected_seq() is a kept frame's number, this hands that frame up: it is
+  // counted delivered and acknowledged as if it had just arrived.
+  void deliver_kept() {
+    ++rx_expected_;
+    ++counters_.delivered;
+    ack_owed_ = true;
+  }
+
   // The next frame to put on the wire, if any is due: a retransmission (all unacknowledged frames
   // from the oldest, once its timer has run out), then new frames, then an ack-only frame when an
   // acknowledgement is owed. The caller transmits `wire` completely before asking again.

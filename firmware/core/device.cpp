@@ -496,6 +496,18 @@ bool Device::send_reply(const Reply& reply) {
   return send(message);
 }
 
+void Device::adapt_batch_size() {
+  const uint32_t resent = link_.counters().retransmitted;
+  if (resent != seen_retransmits_) {
+    seen_retransmits_ = resent;
+    batch_points_ = batch_points_ > 1 ? static_cast<uint16_t>(batch_points_ / 2) : 1;
+    clean_batches_ = 0;
+  } else if (batch_points_ < kMaxPointsPerBatch && ++clean_batches_ >= kCleanBatchesToGrow) {
+    batch_points_ = static_cast<uint16_t>(batch_points_ * 2 < kMaxPointsPerBatch ? batch_points_ * 2 : kMaxPointsPerBatch);
+    clean_batches_ = 0;
+  }
+}
+
 bool Device::send_points() {
   const size_t held = ring_.size();
   size_t offset = first_unsent_offset();
@@ -506,16 +518,17 @@ bool Device::send_points() {
   const PointSample& first = ring_.at(offset);
   point_batch_begin(&batch, first.seq, first.line);
   bool line_end = false;
-  for (; offset < held && !line_end; ++offset) {
+  for (; offset < held && !line_end && point_batch_size(batch) < batch_points_; ++offset) {
     if (point_batch_append(&batch, ring_.at(offset)) != Status::kOk) break;
     line_end = (ring_.at(offset).flags & digitizer_PointFlag_POINT_LINE_END) != 0;
   }
   const size_t count = point_batch_size(batch);
   // Send a full batch, a line's end, or whatever waits when the scan is over or it is old.
-  const bool due = count == kMaxPointsPerBatch || line_end || !scan_.active() ||
+  const bool due = count >= batch_points_ || line_end || !scan_.active() ||
                    board_.now_us() >= first.t_us + kBatchMaxAgeUs;
   if (!due) return false;
   if (!send(message)) return false;
+  adapt_batch_size();
   next_send_seq_ = first.seq + static_cast<uint32_t>(count);
   if (line_end) {
     line_done_ = digitizer_LineDone_init_zero;

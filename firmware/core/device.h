@@ -137,6 +137,8 @@ class Device : private PointSink {
   void transmit();
   bool send_reply(const Reply& reply);
   bool send_points();
+  // Shrinks or grows batch_points_ from the link's retransmissions since the last batch.
+  void adapt_batch_size();
   // Ring index of the first point not yet sent (== ring size when all are sent).
   size_t first_unsent_offset() const;
 
@@ -152,6 +154,13 @@ class Device : private PointSink {
   uint32_t next_seq_ = 1;        // next point sequence number
   uint32_t next_send_seq_ = 1;   // first point not yet sent
   uint32_t line_first_seq_ = 1;  // first point of the line being sent
+  // Points per batch, halved whenever the link has resent a frame and doubled again after
+  // kCleanBatchesToGrow batches without one: on a line that damages bytes, a short frame gets
+  // through where a full one almost never does.
+  static constexpr uint16_t kCleanBatchesToGrow = 16;
+  uint16_t batch_points_ = kMaxPointsPerBatch;
+  uint16_t clean_batches_ = 0;
+  uint32_t seen_retransmits_ = 0;  // the link's retransmission count when last looked at
   bool line_done_pending_ = false;
   digitizer_LineDone line_done_ = digitizer_LineDone_init_zero;
   bool alarm_ = false;

@@ -52,7 +52,11 @@ class Capture {
   CaptureResult run(uint32_t request_id, bool resuming) {
     request_id_ = request_id;
     resuming_ = resuming;
+    // When the last new message came, when the last whole frame came (of any kind), and how many
+    // damaged frames had arrived by the last message.
     auto last_heard = Clock::now();
+    auto last_frame = last_heard;
+    uint32_t damaged_at_message = session_.frames_damaged();
     digitizer_Envelope message;
     for (;;) {
       try {
@@ -69,20 +73,33 @@ class Capture {
             continue;
           }
           if (stop_ != Stop::kNone) continue;
-          const int64_t silent_ms = ms_since(last_heard);
+          if (session_.frames_whole() != frames_seen_) {
+            frames_seen_ = session_.frames_whole();
+            last_frame = Clock::now();
+          }
+          const int64_t silent_ms = ms_since(last_frame);
           if (silent_ms >= options_.silence_timeout_ms) {
             throw DeviceError(session_.device_name() + ": device silent for " + std::to_string(silent_ms) +
-                              " ms after " + std::to_string(result_.points) + " points; they are in " + file_.path());
+                              " ms after " + std::to_string(result_.points) + " points" + damage_since(damaged_at_message) +
+                              "; they are in " + file_.path());
+          }
+          const int64_t stuck_ms = ms_since(last_heard);
+          if (stuck_ms >= options_.no_progress_timeout_ms) {
+            throw DeviceError(session_.device_name() + ": the link brought nothing new for " + std::to_string(stuck_ms / 1000) +
+                              " s after " + std::to_string(result_.points) + " points" + damage_since(damaged_at_message) +
+                              "; they are in " + file_.path());
           }
           // A slow scan (long settling, many samples) may have nothing to say: ask for a sign of life.
           send_command(digitizer_CommandKind_CMD_STATUS);
           continue;
         }
-        last_heard = quiet_since_ = Clock::now();
+        last_heard = last_frame = quiet_since_ = Clock::now();
+        damaged_at_message = session_.frames_damaged();
         if (handle(message)) return result_;
       } catch (const TransportError& e) {
         reconnect(e);
-        last_heard = Clock::now();
+        last_heard = last_frame = Clock::now();
+        damaged_at_message = session_.frames_damaged();
       }
     }
     // Stopped on request: everything that arrived is stored and acknowledged.
@@ -95,6 +112,15 @@ class Capture {
 
  private:
   enum class Stop { kNone, kAsked, kPaused };
+
+  // ", and 12 damaged frames arrived (check the cable)" when frames arrived damaged since the
+  // last message, else "".
+  std::string damage_since(uint32_t damaged_before) const {
+    const uint32_t damaged = session_.frames_damaged() - damaged_before;
+    if (damaged == 0) return "";
+    return ", while " + std::to_string(damaged) + " damaged frame" + (damaged == 1 ? "" : "s") +
+           " arrived (check the cable)";
+  }
 
   uint32_t send_command(digitizer_CommandKind kind) {
     digitizer_Envelope command = digitizer_Envelope_init_zero;
@@ -296,6 +322,7 @@ class Capture {
   bool resuming_ = false;
   bool accepted_ = false;
   uint32_t expected_seq_ = 0;  // 0: take the first batch's numbering
+  uint32_t frames_seen_ = 0;  // whole frames counted when last looked at
   bool have_last_line_ = false;
   uint32_t last_line_ = 0;
   // The line of the last stored point: its number, its points so far, whether that point ends it.

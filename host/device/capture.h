@@ -37,9 +37,12 @@ struct CaptureResult {
 
 struct CaptureOptions {
   // Heartbeat: after heartbeat_ms without a message the host asks for the device's status; a
-  // device that answers nothing for silence_timeout_ms is declared silent.
+  // device from which not one whole frame arrives for silence_timeout_ms is declared silent.
   int heartbeat_ms = 300;
   int silence_timeout_ms = 1000;
+  // A device whose frames arrive but bring nothing new for this long (a line that damages nearly
+  // every frame) is given up on too, with the damage counted.
+  int no_progress_timeout_ms = 30000;
   // When the link breaks (a pulled cable, a device reset) on a transport that can reconnect, try
   // for this long to reach the device again and resume; 0 gives up at once.
   int reconnect_timeout_ms = 30000;

@@ -52,12 +52,16 @@ void Session::reopen() {
   transport_.reconnect();
   decoder_ = FrameDecoder{};
   inbox_.clear();
+  kept_.clear();
   pending_size_ = pending_offset_ = 0;
 }
 
 Session::Session(Transport& transport) : transport_(transport), name_(transport.describe()) {}
 
 namespace {
+
+// A device's window is a handful of frames (Hello does not say how many); 64 covers any.
+constexpr int16_t kMaxKeptAhead = 64;
 
 uint64_t now_us() {
   return static_cast<uint64_t>(
@@ -87,14 +91,42 @@ bool Session::pump(int wait_ms) {
     const Status status = decoder_.feed(pending_ + pending_offset_, pending_size_ - pending_offset_, &used);
     pending_offset_ += used;
     if (status != Status::kOk) continue;  // kNeedMore or a damaged frame (counted)
-    if (!link_.receive(decoder_.header())) continue;
-    // A frame with a good CRC whose message does not decode came from a sender with another
-    // message set; it is skipped like a damaged frame (the link has acknowledged it).
-    digitizer_Envelope message;
-    if (decode_envelope(decoder_.payload(), decoder_.payload_size(), &message) == Status::kOk) inbox_.push_back(message);
+    if (!link_.receive(decoder_.header())) {
+      keep_ahead(decoder_.header(), decoder_.payload(), decoder_.payload_size());
+      continue;
+    }
+    deliver(decoder_.payload(), decoder_.payload_size());
+    deliver_kept();
   }
   transmit();  // acknowledge promptly
   return true;
+}
+
+void Session::deliver(const uint8_t* payload, size_t size) {
+  // A frame with a good CRC whose message does not decode came from a sender with another
+  // message set; it is skipped like a damaged frame (the link has acknowledged it).
+  digitizer_Envelope message;
+  if (decode_envelope(payload, size, &message) == Status::kOk) inbox_.push_back(message);
+}
+
+void Session::keep_ahead(const FrameHeader& header, const uint8_t* payload, size_t size) {
+  if (header.kind != FrameKind::kData) return;
+  // Only frames a sender's window can hold ahead of the gap: anything farther is stale.
+  const int16_t ahead = static_cast<int16_t>(header.seq - link_.expected_seq());
+  if (ahead <= 0 || ahead > kMaxKeptAhead) return;
+  kept_[header.seq].assign(payload, payload + size);
+}
+
+void Session::deliver_kept() {
+  for (auto kept = kept_.find(link_.expected_seq()); kept != kept_.end(); kept = kept_.find(link_.expected_seq())) {
+    link_.deliver_kept();
+    deliver(kept->second.data(), kept->second.size());
+    kept_.erase(kept);
+  }
+  // Frames now behind the expected one were delivered on their own.
+  for (auto k = kept_.begin(); k != kept_.end();) {
+    k = static_cast<int16_t>(k->first - link_.expected_seq()) < 0 ? kept_.erase(k) : std::next(k);
+  }
 }
 
 uint32_t Session::queue(digitizer_Envelope& message, bool sync) {
@@ -105,6 +137,7 @@ uint32_t Session::queue(digitizer_Envelope& message, bool sync) {
     throw DeviceError(name_ + ": message too large to encode");
   }
   if (sync) {
+    kept_.clear();  // frames of the old session
     // A session id from the clock: different from the last session's, never 0.
     const uint16_t id = static_cast<uint16_t>(now_us() % 65535 + 1);
     link_.send_sync(payload, payload_size, now_us(), id);

@@ -5,6 +5,8 @@
 #include <string>
 
 #include <deque>
+#include <map>
+#include <vector>
 
 #include "common/link/frame.h"
 #include "common/link/reliable_link.h"
@@ -49,6 +51,10 @@ class Session {
 
   uint64_t bytes_received() const { return bytes_in_; }
   const std::string& device_name() const { return name_; }
+  // Frames that arrived whole (their CRC held), whatever they carried, and frames that arrived
+  // damaged: a device whose frames arrive is alive, even when none of them brings a new message.
+  uint32_t frames_whole() const { return decoder_.counters().frames; }
+  uint32_t frames_damaged() const { return decoder_.counters().bad_crc + decoder_.counters().bad_encoding; }
 
  private:
   Transport& transport_;
@@ -59,9 +65,16 @@ class Session {
   // Reads for up to wait_ms and hands in-order messages to the inbox; false when nothing came.
   bool pump(int wait_ms);
   uint32_t queue(digitizer_Envelope& message, bool sync);
+  // Decodes a delivered payload into the inbox.
+  void deliver(const uint8_t* payload, size_t size);
+  // Keeps a data frame that came ahead of a gap, and hands up the kept frames the gap's filling
+  // makes next: on a line that damages frames, those after a lost one need not be sent again.
+  void keep_ahead(const FrameHeader& header, const uint8_t* payload, size_t size);
+  void deliver_kept();
 
   ReliableLink<8> link_{50000};
   std::deque<digitizer_Envelope> inbox_;
+  std::map<uint16_t, std::vector<uint8_t>> kept_;  // frames ahead of a gap, by sequence number
   uint8_t pending_[512] = {};
   size_t pending_size_ = 0, pending_offset_ = 0;
   uint32_t next_id_ = 1;

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include <chrono>
 #include <csignal>
 #include <memory>
 
@@ -13,6 +14,16 @@
 #include "hw/sim/listen_link.h"
 #include "hw/sim/sim_device.h"
 #include "hw/sim/sim_options.h"
+
+namespace {
+
+uint64_t real_ms() {
+  return static_cast<uint64_t>(std::chrono::duration_cast<std::chrono::milliseconds>(
+                                   std::chrono::steady_clock::now().time_since_epoch())
+                                   .count());
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"digitizer-sim: the device firmware on a simulated table and gauge, in virtual time"};
@@ -60,6 +71,7 @@ int main(int argc, char** argv) {
     link = std::make_unique<dg::sim::FdLink>(read_fd, write_fd);
   }
   dg::sim::SimBoard board(options.config, link.get());
+  board.set_real_clock(real_ms);
   dg::DeviceConfig device = dg::sim::simulated_device(options);
   device.board = "sim";
   static dg::Device firmware(board, device);

@@ -130,6 +130,11 @@ size_t SimBoard::link_read(uint8_t* data, size_t capacity) {
   return got;
 }
 
+namespace {
+// Real time a firmware deadline may wait for the host before virtual time jumps to it.
+constexpr long kStallRealMs = 250;
+}  // namespace
+
 bool SimBoard::wait(uint64_t deadline_us) {
   const uint64_t deadline_ns = deadline_us == kNever ? kNever : deadline_us * 1000;
   for (;;) {
@@ -155,9 +160,22 @@ bool SimBoard::wait(uint64_t deadline_us) {
     if (link_ != nullptr && next == deadline_ns && timer_next_ns_ == kNever && gauge_ns == kNever) {
       // Only the firmware's own deadline is pending: a retransmission timer while it waits for
       // the host. Virtual time stands still while the host answers (so a scan stays the same
-      // whatever the machine's load); only a host silent for 250 ms of real time (a lost
-      // frame) lets the timer run out, however long the timer is in virtual time.
-      if (link_->wait_readable(250)) {
+      // whatever the machine's load); 250 ms of real time spent waiting for this deadline (a
+      // lost frame) lets the timer run out, however long the timer is in virtual time. With a
+      // real clock the 250 ms count from the first wait for it, not from the host's last byte:
+      // a host that keeps talking (acknowledgements, status requests) while a frame of ours was
+      // lost must not hold the timer back for ever.
+      long wait_ms = kStallRealMs;
+      if (real_ms_ != nullptr) {
+        const uint64_t real_now_ms = real_ms_();
+        if (stalled_deadline_ns_ != deadline_ns) {
+          stalled_deadline_ns_ = deadline_ns;
+          stalled_since_ms_ = real_now_ms;
+        }
+        const uint64_t waited_ms = real_now_ms - stalled_since_ms_;
+        wait_ms = waited_ms < static_cast<uint64_t>(kStallRealMs) ? kStallRealMs - static_cast<long>(waited_ms) : 0;
+      }
+      if (wait_ms > 0 && link_->wait_readable(static_cast<int>(wait_ms))) {
         link_hint_ = true;
         return true;
       }

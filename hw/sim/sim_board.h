@@ -59,6 +59,10 @@ struct SimConfig {
 class SimBoard final : public hal::Board {
  public:
   SimBoard(const SimConfig& config, LinkPort* link);
+  // A real-time clock in milliseconds (a host program has one; the emulated board does not).
+  // With it, a firmware deadline that waits for the host runs out after 250 ms of real time
+  // however much the host says meanwhile; without it, only after 250 ms of host silence.
+  void set_real_clock(uint64_t (*now_ms)()) { real_ms_ = now_ms; }
 
   void write_pin(hal::Pin pin, bool level) override;
   bool read_pin(hal::Pin pin) override;
@@ -131,6 +135,10 @@ class SimBoard final : public hal::Board {
   uint64_t steps_ = 0;
   uint64_t last_link_poll_ns_ = 0;
   bool link_hint_ = true;
+  // The firmware's deadline that virtual time is standing still for, and since when (real ms).
+  uint64_t stalled_deadline_ns_ = 0;
+  uint64_t stalled_since_ms_ = 0;
+  uint64_t (*real_ms_)() = nullptr;
 };
 
 }  // namespace dg::sim

@@ -97,6 +97,28 @@ TEST(SimScan, LosesNothingOverALineThatCorruptsDropsRepeatsAndGoesDead) {
                   "corrupt=0.001,drop=0.01,dup=0.01,outages=3,outage_ms=200,every=150,seed=5");
 }
 
+TEST(SimScan, RidesOutALineThatDamagesTwoBytesInEveryHundred) {
+  // At 2 % a full 16-point batch (about 290 bytes on the wire) arrives whole 3 times in 1000:
+  // the device shortens its batches while frames are resent, the host keeps the frames that
+  // arrive after a lost one, and a device whose frames arrive damaged is not taken for silent.
+  const std::string path = temp_path("damaging.scan");
+  const digitizer_ScanRequest request = dg::test::grid_request(7, 0, 10000000, 5000000, 1000000, digitizer_ScanPattern_PATTERN_RASTER);
+  const dg::host::ScanData data = scan("fault:corrupt=0.02,seed=4;sim:seed=3,part=dome", request, path);
+  std::remove(path.c_str());
+  dg::sim::Part part;
+  part.kind = dg::sim::PartKind::kDome;
+  LONGS_EQUAL(11 * 6, data.points.size());
+  LONGS_EQUAL(6, data.lines.size());
+  for (size_t i = 0; i < data.points.size(); ++i) {
+    const dg::PointSample& p = data.points[i];
+    LONGS_EQUAL(data.points[0].seq + i, p.seq);
+    LONGS_EQUAL(static_cast<int32_t>((i % 11) * 1000000), p.x_nm);
+    LONGS_EQUAL(static_cast<int32_t>((i / 11) * 1000000), p.y_nm);
+    const double expected_nm = part.height_mm(p.x_nm * 1e-6, p.y_nm * 1e-6) * 1e6;
+    CHECK(std::fabs(p.z_nm - expected_nm) <= 500.0 + 1e-6);
+  }
+}
+
 TEST(SimScan, SameSeedGivesTheSameScan) {
   const std::string a = temp_path("a.scan"), b = temp_path("b.scan");
   digitizer_ScanRequest r = grid_41_by_31(digitizer_ScanPattern_PATTERN_SERPENTINE);

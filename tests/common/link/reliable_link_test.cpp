@@ -257,3 +257,35 @@ TEST(ReliableLink, TwoAcksThatFreeNothingResendBeforeTheTimer) {
   LONGS_EQUAL(1, link.counters().fast_retransmits);
   LONGS_EQUAL(1, link.counters().retransmitted);
 }
+
+TEST(ReliableLink, FramesKeptAheadOfAGapAreDeliveredAndAcknowledgedOnceItFills) {
+  Link receiver;
+  dg::FrameHeader data;
+  data.kind = dg::FrameKind::kData;
+  // Frame 1 is lost; 2 and 3 arrive first and a receiver with memory keeps them.
+  data.seq = 2;
+  CHECK_FALSE(receiver.receive(data));
+  data.seq = 3;
+  CHECK_FALSE(receiver.receive(data));
+  LONGS_EQUAL(1, receiver.expected_seq());
+  data.seq = 1;
+  CHECK(receiver.receive(data));
+  LONGS_EQUAL(2, receiver.expected_seq());
+  receiver.deliver_kept();  // 2
+  receiver.deliver_kept();  // 3
+  LONGS_EQUAL(4, receiver.expected_seq());
+  LONGS_EQUAL(3, receiver.counters().delivered);
+  // One acknowledgement covers all three, so the sender need not send 2 and 3 again.
+  uint8_t wire[dg::kFrameMaxWire];
+  size_t size = 0;
+  CHECK(receiver.next_frame(0, wire, sizeof wire, &size));
+  dg::FrameDecoder decoder;
+  size_t used = 0;
+  CHECK(dg::Status::kOk == decoder.feed(wire, size, &used));
+  CHECK(decoder.header().kind == dg::FrameKind::kAckOnly);
+  LONGS_EQUAL(3, decoder.header().ack);
+  // Frame 2 sent again after all is an old duplicate.
+  data.seq = 2;
+  CHECK_FALSE(receiver.receive(data));
+  LONGS_EQUAL(1, receiver.counters().duplicates);
+}

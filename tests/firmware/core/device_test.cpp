@@ -19,7 +19,9 @@ namespace {
 class MemoryLink final : public dg::hal::LinkPort {
  public:
   size_t write(const uint8_t* data, size_t size) override {
-    if (connected) to_host.insert(to_host.end(), data, data + size);
+    // The device writes a frame at a time; a line that loses frames drops every drop_every-th.
+    const bool lost = drop_every > 0 && ++writes % drop_every == 0;
+    if (connected && !lost) to_host.insert(to_host.end(), data, data + size);
     return size;
   }
   size_t read(uint8_t* data, size_t capacity) override {
@@ -34,6 +36,8 @@ class MemoryLink final : public dg::hal::LinkPort {
   bool closed() const override { return false; }
 
   bool connected = true;
+  unsigned drop_every = 0;  // 0: none lost
+  unsigned writes = 0;
   std::deque<uint8_t> to_device;
   std::vector<uint8_t> to_host;
 };
@@ -215,6 +219,16 @@ struct Bench {
 void check_every_point_once(const std::vector<dg::PointSample>& stored, size_t expected) {
   LONGS_EQUAL(expected, stored.size());
   for (size_t i = 0; i < stored.size(); ++i) LONGS_EQUAL(stored.front().seq + i, stored[i].seq);
+}
+
+// The most points one batch among received[from..] held.
+size_t largest_batch(const std::vector<digitizer_Envelope>& received, size_t from) {
+  size_t largest = 0;
+  for (size_t i = from; i < received.size(); ++i) {
+    const digitizer_Envelope& m = received[i];
+    if (m.which_body == digitizer_Envelope_points_tag && m.body.points.dx_nm_count > largest) largest = m.body.points.dx_nm_count;
+  }
+  return largest;
 }
 
 }  // namespace
@@ -506,4 +520,39 @@ TEST(DeviceSafety, RepeatabilityReadsOnePointAgainAndAgain) {
   bench.run_for(100000);
   CHECK(bench.fault_for(61) != nullptr);
   STRCMP_CONTAINS("2 to 64", bench.fault_for(61)->body.fault.detail);
+}
+
+TEST_GROUP(DeviceLink){};
+
+TEST(DeviceLink, ShortensItsBatchesWhileFramesAreLostAndLengthensThemAgain) {
+  Bench bench;
+  // Long lines, so that points pile up into full batches behind the lost frames.
+  bench.request = dg::test::grid_request(77, 0, 120000000, 4000000, 1000000, digitizer_ScanPattern_PATTERN_SERPENTINE);
+  bench.hello(1);
+  bench.start_scan();
+  bench.run_for(2000000);
+  auto largest_batch_since = [&](size_t from) { return largest_batch(bench.host.received, from); };
+  // One frame in three is lost for a while: once the device has seen its frames resent, its
+  // batches are at most two points long.
+  bench.wire.drop_every = 3;
+  bench.run_for(20000000);
+  const size_t lossy_from = bench.host.received.size();
+  bench.run_for(40000000);
+  CHECK(bench.host.received.size() > lossy_from + 10);
+  CHECK(largest_batch_since(lossy_from) <= 2);
+  // A clean line again: the batches grow back to as long as a line that never lost a frame
+  // gives (a batch goes out when full, at a line's end or once its oldest point is a second old).
+  bench.wire.drop_every = 0;
+  const size_t clean_from = bench.host.received.size();
+  bench.run_until_done(2000000000);
+  Bench clean;
+  clean.request = bench.request;
+  clean.hello(1);
+  clean.start_scan();
+  clean.run_until_done(2000000000);
+  const size_t clean_largest = largest_batch(clean.host.received, 0);
+  CHECK(clean_largest > 2);
+  LONGS_EQUAL(clean_largest, largest_batch_since(clean_from));
+  check_every_point_once(bench.host.stored, 121 * 5);
+  LONGS_EQUAL(digitizer_ScanEnd_SCAN_COMPLETED, bench.host.done.reason);
 }
