@@ -36,8 +36,15 @@ class ReliableLink {
   // A power of two divides 2^16, so the slots of any kWindow consecutive sequence numbers differ,
   // across the wrap from 65535 to 0 too.
   static_assert(kWindow >= 1 && kWindow <= 16384 && (kWindow & (kWindow - 1)) == 0, "the window must be a power of two");
+  static_assert(kFrameMaxPayload <= UINT16_MAX, "a slot keeps its payload size in 16 bits");
 
-  explicit ReliableLink(uint32_t retransmit_us = 50000) : retransmit_us_(retransmit_us) {}
+  // `retransmit_us` is the shortest retransmission timeout and the one used until round trips
+  // have been measured; the timeout then follows the measured round trip (RFC 6298's estimator:
+  // smoothed round trip plus four times its mean deviation, never below `retransmit_us` nor above
+  // kMaxTimeoutFactor times it) and doubles after each timeout, so a slow line is not flooded with
+  // copies of frames that are still on their way.
+  static constexpr uint32_t kMaxTimeoutFactor = 16;
+  explicit ReliableLink(uint32_t retransmit_us = 50000) : retransmit_us_(retransmit_us), timeout_us_(retransmit_us) {}
 
   // Forgets everything in flight and starts numbering again (a new session).
   void reset() {
@@ -50,11 +57,15 @@ class ReliableLink {
     resending_ = false;
     duplicate_acks_ = 0;
     counters_ = LinkCounters{};
+    srtt_us_ = rttvar_us_ = 0;
+    timeout_us_ = retransmit_us_;
   }
 
   bool window_full() const { return count_ == kWindow; }
   bool all_acknowledged() const { return count_ == 0; }
   size_t in_flight() const { return count_; }
+  // The retransmission timeout in use now.
+  uint32_t timeout_us() const { return timeout_us_; }
   const LinkCounters& counters() const { return counters_; }
 
   // Queues a payload as the next data frame. kBusy when the window is full: try again once
@@ -64,9 +75,10 @@ class ReliableLink {
     if (window_full()) return Status::kBusy;
     Slot& slot = slots_[index(next_seq_)];
     for (size_t i = 0; i < size; ++i) slot.payload[i] = payload[i];
-    slot.size = size;
+    slot.size = static_cast<uint16_t>(size);
     slot.seq = next_seq_;
     slot.sent = false;
+    slot.resent = false;
     slot.sync = false;
     slot.sent_us = now_us;
     ++next_seq_;
@@ -91,42 +103,12 @@ class ReliableLink {
     return restarted;
   }
 
-  // A decoded frame from the other side. Returns true when its payload is new and in order: the
-  // caller hands it up. The ack field frees our acknowledged frames either way.
-  bool receive(const FrameHeader& header) {
-    if (header.kind == FrameKind::kSync) {
-      if (header.ack != session_) {
-        reset();
-        start_session(header.ack);
-        rx_expected_ = header.seq;
-        restarted_ = true;
-      }
-    } else {
-      const bool progressed = acknowledge(header.ack);
-      // Fast retransmission: an ack-only frame that frees nothing answers a frame that arrived
-      // after a gap (or twice). Two of them mean a frame of ours was lost: resend from the oldest
-      // now instead of waiting for the timer.
-      if (header.kind == FrameKind::kAckOnly && !progressed && count_ > 0) {
-        if (++duplicate_acks_ >= 2 && !resending_) {
-          resending_ = true;
-          resend_next_ = oldest_;
-          duplicate_acks_ = 0;
-          ++counters_.fast_retransmits;
-        }
-      }
-    }
-    if (header.kind == FrameKind::kAckOnly) return false;
-    ack_owed_ = true;  // every data frame is answered, so a lost ack is repaired by the next one
-    if (header.seq == rx_expected_) {
-      ++rx_expected_;
-      ++counters_.delivered;
-      return true;
-    }
-    // Behind: already delivered (our ack was lost). Ahead: a frame before it was lost.
-    if (static_cast<int16_t>(header.seq - rx_expected_) < 0) ++counters_.duplicates;
-    else ++counters_.out_of_order;
-    return false;
-  }
+  // A decoded frame from the other side, arrived at `now_us`. Returns true when its payload is new
+  // and in order: the caller hands it up. The ack field frees our acknowledged frames either way
+  // and, for a frame sent only once, measures the round trip.
+  bool receive(const FrameHeader& header, uint64_t now_us) { return receive_at(header, now_us, true); }
+  // The same without a time: nothing is measured.
+  bool receive(const FrameHeader& header) { return receive_at(header, 0, false); }
 
   // The sequence number the next in-order data frame must carry.
   uint16_t expected_seq() const { return rx_expected_; }
@@ -145,9 +127,13 @@ class ReliableLink {
   bool next_frame(uint64_t now_us, uint8_t* wire, size_t capacity, size_t* wire_size) {
     if (count_ > 0 && !resending_) {
       const Slot& oldest = slots_[index(oldest_)];
-      if (oldest.sent && now_us - oldest.sent_us >= retransmit_us_) {
+      if (oldest.sent && now_us - oldest.sent_us >= timeout_us_) {
         resending_ = true;
         resend_next_ = oldest_;
+        // No answer in time: wait twice as long for the next one (RFC 6298, 5.5).
+        const uint64_t doubled = 2ull * timeout_us_;
+        const uint64_t most = static_cast<uint64_t>(kMaxTimeoutFactor) * retransmit_us_;
+        timeout_us_ = static_cast<uint32_t>(doubled < most ? doubled : most);
       }
     }
     if (resending_) {
@@ -156,6 +142,7 @@ class ReliableLink {
         if (!encode_data(slot, wire, capacity, wire_size)) return false;
         ++counters_.retransmitted;
         slot.sent_us = now_us;
+        slot.resent = true;
         ++resend_next_;
         return true;
       }
@@ -185,15 +172,51 @@ class ReliableLink {
   uint64_t next_deadline_us(uint64_t never) const {
     if (count_ == 0) return never;
     const Slot& oldest = slots_[index(oldest_)];
-    return oldest.sent ? oldest.sent_us + retransmit_us_ : never;
+    return oldest.sent ? oldest.sent_us + timeout_us_ : never;
   }
 
  private:
+  bool receive_at(const FrameHeader& header, uint64_t now_us, bool timed) {
+    if (header.kind == FrameKind::kSync) {
+      if (header.ack != session_) {
+        reset();
+        start_session(header.ack);
+        rx_expected_ = header.seq;
+        restarted_ = true;
+      }
+    } else {
+      const bool progressed = acknowledge(header.ack, now_us, timed);
+      // Fast retransmission: an ack-only frame that frees nothing answers a frame that arrived
+      // after a gap (or twice). Two of them mean a frame of ours was lost: resend from the oldest
+      // now instead of waiting for the timer.
+      if (header.kind == FrameKind::kAckOnly && !progressed && count_ > 0) {
+        if (++duplicate_acks_ >= 2 && !resending_) {
+          resending_ = true;
+          resend_next_ = oldest_;
+          duplicate_acks_ = 0;
+          ++counters_.fast_retransmits;
+        }
+      }
+    }
+    if (header.kind == FrameKind::kAckOnly) return false;
+    ack_owed_ = true;  // every data frame is answered, so a lost ack is repaired by the next one
+    if (header.seq == rx_expected_) {
+      ++rx_expected_;
+      ++counters_.delivered;
+      return true;
+    }
+    // Behind: already delivered (our ack was lost). Ahead: a frame before it was lost.
+    if (static_cast<int16_t>(header.seq - rx_expected_) < 0) ++counters_.duplicates;
+    else ++counters_.out_of_order;
+    return false;
+  }
+
   struct Slot {
     uint8_t payload[kFrameMaxPayload];
-    size_t size = 0;
+    uint16_t size = 0;  // <= kFrameMaxPayload; 16 bits keep a slot to its payload plus 16 bytes
     uint16_t seq = 0;
     bool sent = false;
+    bool resent = false;  // sent more than once: its ack cannot tell which copy it answers
     bool sync = false;  // sent as kSync: the session's first frame
     uint64_t sent_us = 0;
   };
@@ -220,10 +243,12 @@ class ReliableLink {
 
   // Frees every frame up to and including `ack` (cumulative); acks outside the window are stale.
   // True when it freed something.
-  bool acknowledge(uint16_t ack) {
+  bool acknowledge(uint16_t ack, uint64_t now_us, bool timed) {
     const int16_t ahead = static_cast<int16_t>(ack - oldest_);
     if (ahead < 0 || static_cast<size_t>(ahead) >= count_) return false;
     duplicate_acks_ = 0;
+    const Slot& newest = slots_[index(ack)];
+    if (timed && newest.sent && !newest.resent && now_us >= newest.sent_us) measure(now_us - newest.sent_us);
     const uint16_t freed = static_cast<uint16_t>(ahead + 1);
     oldest_ = static_cast<uint16_t>(oldest_ + freed);
     count_ -= freed;
@@ -231,8 +256,31 @@ class ReliableLink {
     return true;
   }
 
+  // One round-trip sample (Karn: only frames sent once): the smoothed round trip and its mean
+  // deviation, in integers (RFC 6298, 2.2-2.3), and the timeout from them.
+  void measure(uint64_t sample_us) {
+    // Samples beyond 268 s are cut there, so 7 * srtt and 4 * rttvar stay within 32 bits.
+    constexpr uint64_t kLongest = 1u << 28;
+    const int32_t r = static_cast<int32_t>(sample_us < kLongest ? sample_us : kLongest);
+    if (srtt_us_ == 0 && rttvar_us_ == 0) {
+      srtt_us_ = r;
+      rttvar_us_ = r / 2;
+    } else {
+      const int32_t deviation = srtt_us_ > r ? srtt_us_ - r : r - srtt_us_;
+      rttvar_us_ = (3 * rttvar_us_ + deviation) / 4;
+      srtt_us_ = (7 * srtt_us_ + r) / 8;
+    }
+    const int64_t timeout = static_cast<int64_t>(srtt_us_) + 4 * static_cast<int64_t>(rttvar_us_);
+    const int64_t least = retransmit_us_;
+    const int64_t most = static_cast<int64_t>(kMaxTimeoutFactor) * retransmit_us_;
+    timeout_us_ = static_cast<uint32_t>(timeout < least ? least : timeout > most ? most : timeout);
+  }
+
   Slot slots_[kWindow];
   uint32_t retransmit_us_;
+  uint32_t timeout_us_;       // the retransmission timeout in use
+  int32_t srtt_us_ = 0;       // smoothed round trip (0 with rttvar_us_ 0: none measured yet)
+  int32_t rttvar_us_ = 0;     // its mean deviation
   uint16_t next_seq_ = 1;     // seq of the next new frame
   uint16_t oldest_ = 1;       // seq of the oldest unacknowledged frame
   size_t count_ = 0;          // frames in the window

@@ -190,7 +190,7 @@ void Device::receive() {
         silence_paused_ = false;
         scan_.set_paused(false);
       }
-      const bool deliver = link_.receive(decoder_.header());
+      const bool deliver = link_.receive(decoder_.header(), board_.now_us());
       if (link_.take_restart()) restart_session();
       if (!deliver) continue;  // an ack, a duplicate, or a frame after a gap (it will come again)
       digitizer_Envelope message;

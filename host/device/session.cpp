@@ -91,7 +91,7 @@ bool Session::pump(int wait_ms) {
     const Status status = decoder_.feed(pending_ + pending_offset_, pending_size_ - pending_offset_, &used);
     pending_offset_ += used;
     if (status != Status::kOk) continue;  // kNeedMore or a damaged frame (counted)
-    if (!link_.receive(decoder_.header())) {
+    if (!link_.receive(decoder_.header(), now_us())) {
       keep_ahead(decoder_.header(), decoder_.payload(), decoder_.payload_size());
       continue;
     }

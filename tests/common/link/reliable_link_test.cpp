@@ -147,7 +147,43 @@ TEST(ReliableLink, RetransmitsOnlyAfterTheTimeout) {
   CHECK_FALSE(link.next_frame(49999, wire, sizeof wire, &size));
   CHECK(link.next_frame(50000, wire, sizeof wire, &size));
   LONGS_EQUAL(1, link.counters().retransmitted);
-  LONGS_EQUAL(100000, link.next_deadline_us(~0ull));
+  // No answer to the first copy: the next waits twice as long.
+  LONGS_EQUAL(150000, link.next_deadline_us(~0ull));
+}
+
+TEST(ReliableLink, TheTimeoutFollowsTheMeasuredRoundTripSoASlowLineIsNotFlooded) {
+  Link link(50000);
+  uint8_t wire[dg::kFrameMaxWire];
+  size_t size = 0;
+  const uint8_t payload[1] = {1};
+  dg::FrameHeader ack;
+  ack.kind = dg::FrameKind::kAckOnly;
+  // Acknowledgements come 120 ms after each frame: more than the 50 ms the link starts with.
+  uint64_t now_us = 0;
+  uint16_t seq = 1;
+  for (int i = 0; i < 20; ++i, ++seq) {
+    CHECK(dg::Status::kOk == link.send(payload, 1, now_us));
+    CHECK(link.next_frame(now_us, wire, sizeof wire, &size));
+    now_us += 120000;
+    // Before the round trip is known the timer fires (and its copy's ack measures nothing);
+    // the next frame still finds the doubled timeout short, but from its ack on it is long enough.
+    if (i == 0) CHECK(link.next_frame(now_us, wire, sizeof wire, &size));
+    if (i >= 2) CHECK_FALSE(link.next_frame(now_us, wire, sizeof wire, &size));
+    ack.ack = seq;
+    link.receive(ack, now_us);
+  }
+  LONGS_EQUAL(1, link.counters().retransmitted);
+  CHECK(link.timeout_us() >= 120000);
+  CHECK(link.timeout_us() <= 16 * 50000);
+  // A fast line again: the timeout comes back down, never below the configured 50 ms.
+  for (int i = 0; i < 40; ++i, ++seq) {
+    CHECK(dg::Status::kOk == link.send(payload, 1, now_us));
+    CHECK(link.next_frame(now_us, wire, sizeof wire, &size));
+    now_us += 1000;
+    ack.ack = seq;
+    link.receive(ack, now_us);
+  }
+  LONGS_EQUAL(50000, link.timeout_us());
 }
 
 TEST(ReliableLink, SurvivesTheSequenceNumberWrap) {
