@@ -10,6 +10,9 @@
 
 #include <chrono>
 #include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <vector>
 #include <string>
 #include <thread>
 
@@ -292,6 +295,20 @@ class PowerFailingSink : public dg::host::ScanSink {
   uint64_t synced_bytes_ = 0;
 };
 
+// Scans `request` into `path` from the device at `uri` until the power fails after `records`
+// records; *synced is the file's size at its last sync, *written its size when the power went.
+void scan_until_the_power_fails(const std::string& uri, const digitizer_ScanRequest& request, size_t records,
+                                const std::string& path, uint64_t* synced, uint64_t* written) {
+  auto transport = dg::host::open_transport(uri);
+  dg::host::Session session(*transport);
+  const digitizer_Hello hello = session.hello(5000);
+  dg::host::ScanFileWriter file = dg::host::ScanFileWriter::when_accepted(path, false);
+  PowerFailingSink sink(file, records);
+  CHECK_THROWS(dg::host::ScanFileError, dg::host::capture_scan(session, hello, request, sink, dg::host::CaptureOptions{}));
+  *synced = sink.synced_bytes();
+  *written = file.bytes_written();
+}
+
 // Scans until the power fails after `records` records, cuts the file `cut` bytes after the last
 // sync (a negative `cut`: that many bytes before the end, but not before the sync), and resumes:
 // every point must still be had, since the device was told only of points that were synced.
@@ -302,16 +319,7 @@ void check_power_loss(size_t records, int64_t cut, const char* name) {
   const std::string uri = "unix:" + socket_path;
   const digitizer_ScanRequest request = long_scan();
   uint64_t synced = 0, written = 0;
-  {
-    auto transport = dg::host::open_transport(uri);
-    dg::host::Session session(*transport);
-    const digitizer_Hello hello = session.hello(5000);
-    dg::host::ScanFileWriter file = dg::host::ScanFileWriter::when_accepted(path, false);
-    PowerFailingSink sink(file, records);
-    CHECK_THROWS(dg::host::ScanFileError, dg::host::capture_scan(session, hello, request, sink, dg::host::CaptureOptions{}));
-    synced = sink.synced_bytes();
-    written = file.bytes_written();
-  }
+  scan_until_the_power_fails(uri, request, records, path, &synced, &written);
   CHECK(written > synced);  // an unsynced tail exists to lose
   const uint64_t keep = cut >= 0 ? std::min<uint64_t>(written, synced + static_cast<uint64_t>(cut))
                                  : std::max<uint64_t>(synced, written - static_cast<uint64_t>(-cut));
@@ -327,7 +335,67 @@ void check_power_loss(size_t records, int64_t cut, const char* name) {
   std::remove(path.c_str());
 }
 
+// A resuming host whose power fails again at the first points it is sent, before it syncs: the
+// device is told of nothing and keeps them. Remembers where those points began.
+class FirstPointsSink : public dg::host::ScanSink {
+ public:
+  void append(const digitizer_Envelope& message) override {
+    if (message.which_body != digitizer_Envelope_points_tag) return;
+    first_seq = message.body.points.first_seq;
+    throw dg::host::ScanFileError("the power failed again");
+  }
+  void sync() override {}
+  const std::string& path() const override { return path_; }
+  uint32_t first_seq = 0;
+
+ private:
+  std::string path_ = "resumed.scan";
+};
+
+// Resumes the scan in `path` and returns the sequence number of the first point the device sends
+// for it (0: none came).
+uint32_t first_point_resumed(const std::string& uri, const std::string& path) {
+  auto transport = dg::host::open_transport(uri);
+  dg::host::Session session(*transport);
+  session.hello(5000, digitizer_Capability_CAP_RESUME);
+  const dg::host::ScanData stored = dg::host::read_scan_file(path);
+  FirstPointsSink sink;
+  CHECK_THROWS(dg::host::ScanFileError, dg::host::resume_capture(session, stored, sink, dg::host::CaptureOptions{}));
+  return sink.first_seq;
+}
+
 }  // namespace
+
+// The same at every byte of the tail a power loss may take: whatever it leaves (a cut record, whole
+// records, none of the tail), the device still has the next point the file lacks, and sends it.
+TEST(SimResume, APowerLossCutAtEveryByteOfTheUnsyncedTailLosesNoPoint) {
+  const std::string socket_path = temp_path("everycut.sock"), path = temp_path("everycut.scan"),
+                    copy = temp_path("everycut-copy.scan");
+  std::remove(path.c_str());
+  ListeningSim sim("unix:" + socket_path);
+  const std::string uri = "unix:" + socket_path;
+  uint64_t synced = 0, written = 0;
+  scan_until_the_power_fails(uri, long_scan(), 400, path, &synced, &written);
+  CHECK(written > synced);
+  std::ifstream in(path, std::ios::binary);
+  const std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  LONGS_EQUAL(written, bytes.size());
+  size_t cuts = 0;
+  // Cuts from the sync up, so each resume asks for no point before the last one's.
+  for (uint64_t keep = synced; keep <= written; ++keep, ++cuts) {
+    {
+      std::ofstream out(copy, std::ios::binary | std::ios::trunc);
+      out.write(bytes.data(), static_cast<std::streamsize>(keep));
+    }
+    const dg::host::ScanData stored = dg::host::read_scan_file(copy);
+    CHECK(!stored.points.empty());
+    const uint32_t next = stored.points.back().seq + 1;
+    LONGS_EQUAL(next, first_point_resumed(uri, copy));
+  }
+  CHECK(cuts > 1);
+  std::remove(copy.c_str());
+  std::remove(path.c_str());
+}
 
 // A power loss keeps what was synced and may lose everything after it: cut exactly there, in the
 // middle of the next record, and 7 bytes before the end, the resume finds every point.
