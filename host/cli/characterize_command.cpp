@@ -6,6 +6,7 @@
 
 #include "host/scan/point_reader.h"
 #include "host/io/atomic_file.h"
+#include "host/io/standard_output.h"
 #include "host/fit/characterize.h"
 
 namespace dg::host {
@@ -49,7 +50,7 @@ int run_characterize(const CharacterizeArgs& a) {
     std::printf("suggested cubic B-spline net: --ctrl %dx%d\n", c.suggested_control_x, c.suggested_control_y);
     for (double x : c.creases_x_mm) std::printf("crease or step across the scan at x = %.3f mm\n", x);
     for (double y : c.creases_y_mm) std::printf("crease or step across the scan at y = %.3f mm\n", y);
-    std::printf("wrote %s\n", a.output.c_str());
+    std::printf("wrote %s\n", output_name(a.output).c_str());
   }
   return 0;
 }

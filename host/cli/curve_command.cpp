@@ -8,6 +8,7 @@
 #include "host/io/file_name.h"
 #include "host/scan/point_reader.h"
 #include "host/io/atomic_file.h"
+#include "host/io/standard_output.h"
 #include "host/cad/iges_writer.h"
 #include "host/fit/profile_curve.h"
 #include "host/cad/step_writer.h"
@@ -130,7 +131,7 @@ int run_curve(const CurveArgs& a) {
     std::printf("%s: clamped cubic B-spline, %zu control points\n", curve_method_name(a.method), curve.control.size());
     print_stats("distance along normals", all);
     print_stats("the same without the two end points", inside);
-    std::printf("wrote %s\n", a.output.c_str());
+    std::printf("wrote %s\n", output_name(a.output).c_str());
   }
   return 0;
 }

@@ -14,6 +14,7 @@
 #include "host/geometry/bspline_curve.h"
 #include "host/geometry/clamp.h"
 #include "host/io/file_name.h"
+#include "host/io/standard_output.h"
 #include "host/scan/point_export.h"
 #include "host/scan/scan_file.h"
 
@@ -56,7 +57,7 @@ int export_faces(const FittedSurface& surface, const std::string& output, FileFo
     const Mesh mesh = tessellate_faces(surface.faces, chord_mm, std::max(0.1, extent / 200));
     write_mesh(output, mesh);
     std::printf("wrote %zu triangles of %zu trimmed faces (chord error %.4f mm, asked %.4f) to %s\n", mesh.triangles.size(),
-                surface.faces.size(), mesh.chord_error_mm, chord_mm, output.c_str());
+                surface.faces.size(), mesh.chord_error_mm, chord_mm, output_name(output).c_str());
     return 0;
   }
   if (!iges && !step) {
@@ -79,7 +80,7 @@ int export_faces(const FittedSurface& surface, const std::string& output, FileFo
     }
     write_curves(output, iges, curves);
     std::printf("wrote the %zu boundaries of %zu trimmed faces as curves to %s\n", curves.size(), surface.faces.size(),
-                output.c_str());
+                output_name(output).c_str());
     return 0;
   }
   if (iges) {
@@ -93,7 +94,7 @@ int export_faces(const FittedSurface& surface, const std::string& output, FileFo
     options.timestamp = utc_stamp("%Y-%m-%dT%H:%M:%S");
     write_step_faces(output, surface.faces, options);
   }
-  std::printf("wrote %zu trimmed faces to %s\n", surface.faces.size(), output.c_str());
+  std::printf("wrote %zu trimmed faces to %s\n", surface.faces.size(), output_name(output).c_str());
   return 0;
 }
 
@@ -108,7 +109,7 @@ int run_export_surface(const std::string& input, const std::string& output, doub
     const Mesh mesh = tessellate(surface.surface, chord_mm);
     write_mesh(output, mesh);
     std::printf("wrote %zu triangles (chord error %.4f mm, asked %.4f) to %s\n", mesh.triangles.size(),
-                mesh.chord_error_mm, chord_mm, output.c_str());
+                mesh.chord_error_mm, chord_mm, output_name(output).c_str());
     return 0;
   }
   if (!iges && !step) {
@@ -118,7 +119,7 @@ int run_export_surface(const std::string& input, const std::string& output, doub
     // The four edges as curves: IGES entity 126 or a STEP curve set, for trimming or sketching in CAD.
     const std::vector<BSplineCurve> curves = boundary_curves(clamp_ends(surface.surface));
     write_curves(output, iges, curves);
-    std::printf("wrote the surface's 4 edges as B-spline curves to %s\n", output.c_str());
+    std::printf("wrote the surface's 4 edges as B-spline curves to %s\n", output_name(output).c_str());
     return 0;
   }
   const std::string name = base_name(output);
@@ -139,7 +140,7 @@ int run_export_surface(const std::string& input, const std::string& output, doub
   }
   std::printf("wrote %s surface (%d x %d control points, degree %d x %d) to %s\n", surface.model.c_str(),
               surface.surface.count_u, surface.surface.count_v, surface.surface.degree_u, surface.surface.degree_v,
-              output.c_str());
+              output_name(output).c_str());
   return 0;
 }
 
@@ -148,7 +149,10 @@ int run_export_surface(const std::string& input, const std::string& output, doub
 CLI::App* add_export_command(CLI::App& app, ExportArgs& a) {
   CLI::App* cmd = app.add_subcommand("export", "write a scan's points as CSV, XYZ or PLY, or a surface as IGES, STEP or a mesh (STL, OBJ, PLY)");
   cmd->add_option("input", a.input, "scan file, or SURF.json")->required()->check(CLI::ExistingFile);
-  cmd->add_option("-o,--output", a.output, "points: .csv, .xyz or .ply; a surface: .igs, .stp, or a mesh .stl, .obj, .ply")->required();
+  cmd->add_option("-o,--output", a.output,
+                  "points: .csv, .xyz or .ply; a surface: .igs, .stp, or a mesh .stl, .obj, .ply; - is standard output "
+                  "(points as CSV; -.EXT picks the format)")
+      ->required();
   cmd->add_option("--chord", a.chord_mm, "meshes: largest distance from the surface to its triangles, mm")
       ->capture_default_str()->check(CLI::PositiveNumber);
   cmd->add_flag("--edges", a.edges, "IGES/STEP: write the surface's four edges as B-spline curves instead");
@@ -157,13 +161,18 @@ CLI::App* add_export_command(CLI::App& app, ExportArgs& a) {
 
 int run_export(const ExportArgs& a) {
   const std::string& input = a.input;
-  const std::string& output = a.output;
-  if (file_format(input) == FileFormat::kJson) return run_export_surface(input, output, a.chord_mm, a.edges);
+  if (file_format(input) == FileFormat::kJson) {
+    if (a.output == "-") {
+      throw std::invalid_argument("a surface to standard output needs its format: -o -.igs, -.stp, -.stl, -.obj or -.ply");
+    }
+    return run_export_surface(input, a.output, a.chord_mm, a.edges);
+  }
+  const std::string output = with_default_format(a.output, ".csv");
   if (a.edges) throw std::invalid_argument("--edges exports a surface's edges: give a SURF.json");
   const ScanData data = read_scan_file(input);
   for (const auto& w : data.warnings) std::fprintf(stderr, "digitizer: warning: %s\n", w.c_str());
   write_points(output, data.points);
-  std::printf("wrote %zu points to %s\n", data.points.size(), output.c_str());
+  std::printf("wrote %zu points to %s\n", data.points.size(), output_name(output).c_str());
   return 0;
 }
 

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "host/io/file_name.h"
+#include "host/io/standard_output.h"
 #include "host/scan/point_export.h"
 #include "host/scan/point_reader.h"
 
@@ -64,13 +65,16 @@ int run_filter(const FilterArgs& a) {
   }
   if (r.outliers.size() > 10) std::printf("  ... all in the outliers file\n");
   if (!r.outliers.empty()) {
-    const std::string list = a.outliers.empty() ? without_extension(a.output) + ".outliers.csv" : a.outliers;
+    // Beside the output; with the output on standard output, in the current directory after the input.
+    const std::string list = !a.outliers.empty()            ? a.outliers
+                             : is_standard_output(a.output) ? without_extension(base_name(a.input)) + ".outliers.csv"
+                                                            : without_extension(a.output) + ".outliers.csv";
     std::vector<Point3> bad;
     for (const auto& o : r.outliers) bad.push_back(raw[o.index]);
     write_cloud_csv(list, bad, nullptr);
     std::printf("wrote the outliers (measured values) to %s\n", list.c_str());
   }
-  std::printf("wrote %zu filtered points to %s\n", kept.points.size(), a.output.c_str());
+  std::printf("wrote %zu filtered points to %s\n", kept.points.size(), output_name(a.output).c_str());
   return 0;
 }
 

@@ -1,6 +1,8 @@
 // The fit subcommand: read points, parameterize, fit, measure orthogonal distances, write SURF.json.
 #include "host/cli/fit_command.h"
 
+#include "host/io/standard_output.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -106,7 +108,7 @@ void print_summary(const FitArgs& a, const FittedSurface& out, const std::string
   if (a.tolerance_mm > 0) {
     std::printf("tolerance %.4f mm %s after %d fits\n", a.tolerance_mm, out.tolerance_kept ? "kept" : "NOT kept", out.iterations);
   }
-  std::printf("wrote %s\n", a.output.c_str());
+  std::printf("wrote %s\n", output_name(a.output).c_str());
 }
 
 // The points' standard uncertainties for a Monte Carlo: the sigma column (unless --ignore-sigma),
@@ -263,7 +265,7 @@ int finish_regions(const FitArgs& a, const PointCloud& cloud, FittedSurface out,
                   "the points cannot refit)\n", out.faces.size() - with_u, out.faces.size());
     }
     std::printf("tolerance %.4f mm %s\n", a.tolerance_mm, r.kept ? "kept" : "NOT kept");
-    std::printf("wrote %s\n", a.output.c_str());
+    std::printf("wrote %s\n", output_name(a.output).c_str());
   }
   if (!r.kept) {
     std::fprintf(stderr, "digitizer: tolerance refused: %s\n", r.reason.c_str());

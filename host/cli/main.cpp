@@ -17,6 +17,7 @@
 #include "host/cli/segment_command.h"
 #include "host/cli/self_description.h"
 #include "host/cli/superquadric_command.h"
+#include "host/io/standard_output.h"
 
 namespace {
 
@@ -74,6 +75,26 @@ int main(int argc, char** argv) {
     // falls back to the simulator.
     for (const char* name : {"status", "home", "unlock", "abort", "jog", "repeatability", "touch"}) {
       if (app.got_subcommand(name)) device_args.device = chosen_device(device_args.device);
+    }
+    // -o - writes the data to standard output, in the command's format (or -o -.EXT), and moves
+    // what the command says to standard error so that the data stays clean.
+    if (*scan_cmd && is_standard_output(scan.output)) {
+      throw std::invalid_argument("scan -o: a scan file is appended to as points arrive, locked and resumed; give it a file name");
+    }
+    const struct {
+      CLI::App* command;
+      std::string* output;
+      const char* default_extension;  // nullptr: the command decides (export: points or a surface)
+    } outputs[] = {
+        {export_cmd, &export_args.output, nullptr}, {pull_cmd, &pull.output, ".json"},
+        {curve_cmd, &curve.output, ".json"},      {superquadric_cmd, &superquadric.output, ".json"},
+        {characterize_cmd, &characterize_args.output, ".csv"}, {segment_cmd, &segment_args.output, ".csv"},
+        {fit_cmd, &fit.output, ".json"},          {filter_cmd, &filter.output, ".csv"},
+    };
+    for (const auto& o : outputs) {
+      if (!*o.command || !is_standard_output(*o.output)) continue;
+      if (o.default_extension != nullptr) *o.output = with_default_format(*o.output, o.default_extension);
+      reserve_standard_output_for_data();
     }
     if (*scan_cmd) {
       scan.device = chosen_device(scan.device);

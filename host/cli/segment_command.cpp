@@ -3,6 +3,7 @@
 
 #include <cstdio>
 
+#include "host/io/standard_output.h"
 #include "host/scan/point_export.h"
 #include "host/scan/point_reader.h"
 #include "host/scan/segment.h"
@@ -30,7 +31,7 @@ int run_segment(const SegmentArgs& a) {
   const std::vector<uint32_t> lines = segment_lines(cloud.points, options);
   write_lines_csv(output, cloud.points, lines);
   std::printf("%zu points in %u lines -> %s\n", cloud.points.size(),
-              lines.empty() ? 0u : lines.back() + 1, output.c_str());
+              lines.empty() ? 0u : lines.back() + 1, output_name(output).c_str());
   return 0;
 }
 

@@ -6,6 +6,7 @@
 
 #include "host/scan/point_reader.h"
 #include "host/io/atomic_file.h"
+#include "host/io/standard_output.h"
 #include "host/fit/superquadric.h"
 #include "host/cad/surface_json.h"
 
@@ -98,7 +99,7 @@ int run_superquadric(const SuperquadricArgs& a) {
     return 1;
   }
   write_file_atomically(a.output, j.dump(1) + "\n");
-  if (!a.quiet) std::printf("wrote %s\n", a.output.c_str());
+  if (!a.quiet) std::printf("wrote %s\n", output_name(a.output).c_str());
   return 0;
 }
 

@@ -14,6 +14,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "host/io/standard_output.h"
+
 namespace dg::host {
 
 namespace {
@@ -64,6 +66,10 @@ std::string resolved(const std::string& path) {
 }  // namespace
 
 void write_file_atomically(const std::string& path, const std::string& bytes) {
+  if (is_standard_output(path)) {
+    if (!write_all(standard_output_fd(), bytes)) throw std::runtime_error("standard output: write failed: " + reason(errno));
+    return;
+  }
   const std::string target = resolved(path);
   struct stat existing {};
   const bool exists = ::stat(target.c_str(), &existing) == 0;

@@ -8,7 +8,7 @@ namespace dg::host {
 // synced and renamed into place: a failure (a full disk) leaves the old file or none, never a part
 // or a truncated file. A symbolic link is followed: its target is written, the link stays. A
 // device, pipe or socket is written through, never replaced. Throws std::runtime_error naming the
-// path and the reason.
+// path and the reason. "-" or "-.EXT" is standard output (host/io/standard_output.h).
 void write_file_atomically(const std::string& path, const std::string& bytes);
 
 }  // namespace dg::host
