@@ -7,6 +7,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "host/geometry/face_mesh.h"
 #include "host/geometry/vec3.h"
 
 namespace dg::host {
@@ -133,21 +134,7 @@ Mesh tessellate_faces(const std::vector<TrimmedFace>& faces, double chord_mm, do
       nu = 2 * nu - 1;
       nv = 2 * nv - 1;
     }
-    std::vector<uint32_t> index(mesh.vertices.size(), UINT32_MAX);
-    for (const auto& t : mesh.triangles) {
-      const Point3 &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
-      if (!inside_face(face, (a.x + b.x + c.x) / 3, (a.y + b.y + c.y) / 3)) continue;
-      std::array<uint32_t, 3> kept{};
-      for (int k = 0; k < 3; ++k) {
-        uint32_t& slot = index[t[static_cast<size_t>(k)]];
-        if (slot == UINT32_MAX) {
-          slot = static_cast<uint32_t>(out.vertices.size());
-          out.vertices.push_back(mesh.vertices[t[static_cast<size_t>(k)]]);
-        }
-        kept[static_cast<size_t>(k)] = slot;
-      }
-      out.triangles.push_back(kept);
-    }
+    append_face_mesh(face, mesh, nu, nv, out);
     if (out.triangles.size() > max_triangles) {
       throw std::invalid_argument("the faces need more than " + std::to_string(max_triangles) + " triangles");
     }

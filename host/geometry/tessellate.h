@@ -25,9 +25,8 @@ double distance_to_triangle(const Point3& p, const Point3& a, const Point3& b, c
 Mesh tessellate(const BSplineSurface& surface, double chord_mm, size_t max_triangles = 20000000);
 
 // Trimmed faces in one mesh: each face's surface on a uniform grid no coarser than `cell_mm` in XY,
-// halved until within `chord_mm` at the cells' centres, keeping the triangles whose centre lies
-// inside the face. Along a trim the
-// mesh's edge follows the boundary to within one triangle; it is not cut exactly along it.
+// halved until within `chord_mm` at the cells' centres, cut at the face's loops (face_mesh.h): the
+// mesh ends on the trims, and two faces that share a boundary share its vertices' XY.
 Mesh tessellate_faces(const std::vector<TrimmedFace>& faces, double chord_mm, double cell_mm,
                       size_t max_triangles = 20000000);
 
