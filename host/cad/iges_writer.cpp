@@ -76,8 +76,8 @@ std::string document(const std::vector<Entity>& entities, double max_coordinate,
                      const std::string& start) {
   std::string out = section_line(start, 'S', 1);
   const std::vector<std::string> global = {
-      "1H,", "1H;", hollerith(options.file_name), hollerith(options.file_name), hollerith("bench digitizer"),
-      hollerith("bench digitizer IGES writer 1"), "32", "38", "6", "308", "15", hollerith(options.file_name),
+      "1H,", "1H;", hollerith(options.product), hollerith(options.file_name), hollerith("bench digitizer"),
+      hollerith("bench digitizer IGES writer 1"), "32", "38", "6", "308", "15", hollerith(options.product),
       "1.0", "2", hollerith("MM"), "1", "0.01", hollerith(options.timestamp), iges_real(options.resolution_mm),
       iges_real(max_coordinate), hollerith(options.author), hollerith(options.organization), "11", "0",
       hollerith(options.timestamp)};

@@ -12,6 +12,7 @@ namespace dg::host {
 
 struct IgesOptions {
   std::string file_name = "surface.igs";
+  std::string product = "surface";  // the part's name: the product identification of sender and receiver
   std::string timestamp = "20260101.000000";  // YYYYMMDD.HHNNSS, the file's creation time
   std::string author = "bench digitizer";
   std::string organization = "bench digitizer";

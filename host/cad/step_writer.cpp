@@ -12,11 +12,12 @@
 namespace dg::host {
 namespace {
 
-// A STEP string: apostrophes doubled; we write ASCII only.
+// A STEP string: apostrophes and backslashes (the escape character) doubled; we write ASCII only.
 std::string quoted(const std::string& text) {
   std::string out = "'";
   for (char c : text) {
     if (c == '\'') out += "''";
+    else if (c == '\\') out += "\\\\";
     else if (c >= 32 && c < 127) out += c;
   }
   return out + "'";

@@ -22,14 +22,24 @@ namespace dg::host {
 namespace {
 
 // Curves to IGES (entity 126) or STEP (a curve set).
-void write_curves(const std::string& output, bool iges, const std::vector<BSplineCurve>& curves) {
+// The name a CAD file records for itself: the output's, or the part's with the extension when the
+// output is standard output.
+std::string recorded_file_name(const std::string& output, const std::string& part) {
+  if (!is_standard_output(output)) return base_name(output);
+  const size_t dot = output.find('.');
+  return part + (dot == std::string::npos ? "" : output.substr(dot));
+}
+
+void write_curves(const std::string& output, const std::string& part, bool iges, const std::vector<BSplineCurve>& curves) {
   if (iges) {
     IgesOptions options;
-    options.file_name = base_name(output);
+    options.file_name = recorded_file_name(output, part);
+    options.product = part;
     write_iges_curves(output, curves, options);
   } else {
     StepOptions options;
-    options.file_name = base_name(output);
+    options.file_name = recorded_file_name(output, part);
+    options.product = part;
     write_step_curves(output, curves, options);
   }
 }
@@ -43,7 +53,8 @@ std::string utc_stamp(const char* format) {
 
 // Trimmed faces (a scan split at creases and steps): IGES entity 144, a STEP shell of advanced
 // faces, a mesh of the triangles inside the faces, or the faces' boundaries as curves.
-int export_faces(const FittedSurface& surface, const std::string& output, FileFormat format, double chord_mm, bool edges) {
+int export_faces(const FittedSurface& surface, const std::string& output, const std::string& part, FileFormat format, double chord_mm,
+                 bool edges) {
   const bool iges = format == FileFormat::kIges, step = format == FileFormat::kStep;
   if (format == FileFormat::kStl || format == FileFormat::kObj || format == FileFormat::kPly) {
     if (edges) throw std::invalid_argument("--edges writes curves: give an .igs or .stp output");
@@ -78,19 +89,21 @@ int export_faces(const FittedSurface& surface, const std::string& output, FileFo
         curves.push_back(std::move(c));
       }
     }
-    write_curves(output, iges, curves);
+    write_curves(output, part, iges, curves);
     std::printf("wrote the %zu boundaries of %zu trimmed faces as curves to %s\n", curves.size(), surface.faces.size(),
                 output_name(output).c_str());
     return 0;
   }
   if (iges) {
     IgesOptions options;
-    options.file_name = base_name(output);
+    options.file_name = recorded_file_name(output, part);
+    options.product = part;
     options.timestamp = utc_stamp("%Y%m%d.%H%M%S");
     write_iges_faces(output, surface.faces, options);
   } else {
     StepOptions options;
-    options.file_name = base_name(output);
+    options.file_name = recorded_file_name(output, part);
+    options.product = part;
     options.timestamp = utc_stamp("%Y-%m-%dT%H:%M:%S");
     write_step_faces(output, surface.faces, options);
   }
@@ -99,12 +112,12 @@ int export_faces(const FittedSurface& surface, const std::string& output, FileFo
 }
 
 // A surface file to CAD (IGES 5.3 entity 128, STEP AP214) or a mesh (STL, OBJ, PLY), in millimetres.
-int run_export_surface(const std::string& input, const std::string& output, double chord_mm, bool edges) {
+int run_export_surface(const std::string& input, const std::string& output, const std::string& part, double chord_mm, bool edges) {
   const FileFormat format = file_format(output);
   const FittedSurface surface = read_surface_json(input);
   const bool iges = format == FileFormat::kIges;
   const bool step = format == FileFormat::kStep;
-  if (!surface.faces.empty()) return export_faces(surface, output, format, chord_mm, edges);
+  if (!surface.faces.empty()) return export_faces(surface, output, part, format, chord_mm, edges);
   if (format == FileFormat::kStl || format == FileFormat::kObj || format == FileFormat::kPly) {
     const Mesh mesh = tessellate(surface.surface, chord_mm);
     write_mesh(output, mesh);
@@ -118,22 +131,24 @@ int run_export_surface(const std::string& input, const std::string& output, doub
   if (edges) {
     // The four edges as curves: IGES entity 126 or a STEP curve set, for trimming or sketching in CAD.
     const std::vector<BSplineCurve> curves = boundary_curves(clamp_ends(surface.surface));
-    write_curves(output, iges, curves);
+    write_curves(output, part, iges, curves);
     std::printf("wrote the surface's 4 edges as B-spline curves to %s\n", output_name(output).c_str());
     return 0;
   }
-  const std::string name = base_name(output);
+  const std::string name = recorded_file_name(output, part);
   const std::time_t now = std::time(nullptr);
   char stamp[32];
   if (iges) {
     IgesOptions options;
     options.file_name = name;
+    options.product = part;
     std::strftime(stamp, sizeof stamp, "%Y%m%d.%H%M%S", std::gmtime(&now));
     options.timestamp = stamp;
     write_iges(output, surface.surface, options);
   } else {
     StepOptions options;
     options.file_name = name;
+    options.product = part;
     std::strftime(stamp, sizeof stamp, "%Y-%m-%dT%H:%M:%S", std::gmtime(&now));
     options.timestamp = stamp;
     write_step(output, surface.surface, options);
@@ -142,6 +157,16 @@ int run_export_surface(const std::string& input, const std::string& output, doub
               surface.surface.count_u, surface.surface.count_v, surface.surface.degree_u, surface.surface.degree_v,
               output_name(output).c_str());
   return 0;
+}
+
+// The part's name in IGES and STEP: --name, else the input's file name without its extension.
+std::string part_name(const ExportArgs& a) {
+  const std::string name = a.name.empty() ? without_extension(base_name(a.input)) : a.name;
+  if (name.empty() || name.size() > 64) throw std::invalid_argument("--name: a part name of 1 to 64 characters");
+  for (char c : name) {
+    if (c < 0x20 || c > 0x7e) throw std::invalid_argument("--name: a part name of printable ASCII characters (IGES and STEP carry no other)");
+  }
+  return name;
 }
 
 }  // namespace
@@ -156,6 +181,7 @@ CLI::App* add_export_command(CLI::App& app, ExportArgs& a) {
   cmd->add_option("--chord", a.chord_mm, "meshes: largest distance from the surface to its triangles, mm")
       ->capture_default_str()->check(CLI::PositiveNumber);
   cmd->add_flag("--edges", a.edges, "IGES/STEP: write the surface's four edges as B-spline curves instead");
+  cmd->add_option("--name", a.name, "IGES/STEP: the part's name (default: the input's file name without its extension)");
   return cmd;
 }
 
@@ -165,7 +191,7 @@ int run_export(const ExportArgs& a) {
     if (a.output == "-") {
       throw std::invalid_argument("a surface to standard output needs its format: -o -.igs, -.stp, -.stl, -.obj or -.ply");
     }
-    return run_export_surface(input, a.output, a.chord_mm, a.edges);
+    return run_export_surface(input, a.output, part_name(a), a.chord_mm, a.edges);
   }
   const std::string output = with_default_format(a.output, ".csv");
   if (a.edges) throw std::invalid_argument("--edges exports a surface's edges: give a SURF.json");

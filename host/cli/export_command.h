@@ -9,6 +9,7 @@ struct ExportArgs {
   std::string input, output;
   double chord_mm = 0.01;  // meshes: largest distance from the surface to its triangles
   bool edges = false;      // IGES/STEP: the surface's four edges as curves instead
+  std::string name;        // IGES/STEP: the part's name; empty: the input's file name
 };
 
 CLI::App* add_export_command(CLI::App& app, ExportArgs& args);

@@ -6,6 +6,9 @@
 #include <Geom_BSplineSurface.hxx>
 #include <IFSelect_ReturnStatus.hxx>
 #include <IGESControl_Reader.hxx>
+#include <IGESData_GlobalSection.hxx>
+#include <IGESData_IGESModel.hxx>
+#include <TCollection_HAsciiString.hxx>
 #include <Standard_Version.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
@@ -72,4 +75,17 @@ TEST(IgesOcct, WritesTheFixedColumnLayout) {
   STRCMP_EQUAL("3.", iges_real(3.0).c_str());
   STRCMP_EQUAL("1.E-05", iges_real(1e-5).c_str());
   STRCMP_EQUAL("0.1", iges_real(0.1).c_str());
+}
+
+TEST(IgesOcct, OpenCascadeReadsThePartsName) {
+  const std::string path = std::string(P_tmpdir) + "/dg_iges_name_" + std::to_string(getpid()) + ".igs";
+  IgesOptions options;
+  options.product = "bracket rev 2";
+  write_iges(path, dg::test::clamped_sample(), options);
+  IGESControl_Reader reader;
+  CHECK_EQUAL(IFSelect_RetDone, reader.ReadFile(path.c_str()));
+  std::remove(path.c_str());
+  const IGESData_GlobalSection& global = reader.IGESModel()->GlobalSection();
+  STRCMP_EQUAL("bracket rev 2", global.SendName()->ToCString());
+  STRCMP_EQUAL("bracket rev 2", global.ReceiveName()->ToCString());
 }

@@ -8,6 +8,9 @@
 #include <Geom_BSplineSurface.hxx>
 #include <IFSelect_ReturnStatus.hxx>
 #include <STEPControl_Reader.hxx>
+#include <StepBasic_Product.hxx>
+#include <StepData_StepModel.hxx>
+#include <TCollection_HAsciiString.hxx>
 #include <STEPControl_Writer.hxx>
 #include <TColStd_Array1OfInteger.hxx>
 #include <TColStd_Array1OfReal.hxx>
@@ -104,4 +107,21 @@ TEST(StepOcct, OurReaderReadsAStepFileOpenCascadeWrote) {
       DOUBLES_EQUAL(p.y, q.y, 1e-9);
       DOUBLES_EQUAL(p.z, q.z, 1e-9);
     }
+}
+
+TEST(StepOcct, OpenCascadeReadsThePartsName) {
+  const std::string path = std::string(P_tmpdir) + "/dg_step_name_" + std::to_string(getpid()) + ".stp";
+  StepOptions options;
+  options.product = "bracket 'B' \\ rev 2";
+  write_step(path, dg::test::clamped_sample(), options);
+  STEPControl_Reader reader;
+  CHECK_EQUAL(IFSelect_RetDone, reader.ReadFile(path.c_str()));
+  std::remove(path.c_str());
+  const Handle(StepData_StepModel) model = reader.StepModel();
+  std::string name;
+  for (int i = 1; i <= model->NbEntities(); ++i) {
+    const Handle(StepBasic_Product) product = Handle(StepBasic_Product)::DownCast(model->Value(i));
+    if (!product.IsNull()) name = product->Name()->ToCString();
+  }
+  STRCMP_EQUAL("bracket 'B' \\ rev 2", name.c_str());
 }
