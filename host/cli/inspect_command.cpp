@@ -14,8 +14,11 @@
 #include "host/io/atomic_file.h"
 #include "host/inspect/html_report.h"
 #include "host/cad/iges_reader.h"
+#include "host/fit/noise_estimate.h"
+#include "host/fit/parameterize.h"
 #include "host/fit/rigid_align.h"
 #include "host/cad/step_reader.h"
+#include "host/inspect/decision.h"
 #include "host/inspect/inspect.h"
 #include "host/inspect/inspection_json.h"
 #include "host/cad/surface_json.h"
@@ -32,6 +35,13 @@ CLI::App* add_inspect_command(CLI::App& app, InspectArgs& a) {
   cmd->add_option("--deviations", a.deviations_csv, "write x,y,z,deviation per point to this CSV");
   cmd->add_flag("--align", a.align, "rigid best-fit alignment of the points to the surface before measuring");
   cmd->add_option("-o,--report", a.report_html, "write a self-contained HTML report (and its pictures as PNG/SVG beside it)");
+  cmd->add_option("--tolerance", a.tolerance_mm, "decide a profile tolerance of +-MM: pass, fail or inconclusive per point and for the part")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--upper", a.upper_mm, "the tolerance's upper limit of the signed deviation, mm (with --lower)");
+  cmd->add_option("--lower", a.lower_mm, "the tolerance's lower limit of the signed deviation, mm (with --upper)");
+  cmd->add_option("--point-u", a.point_u_mm,
+                  "the points' standard uncertainty, mm, when the points carry no sigma column (default: the noise estimated from the scan)")
+      ->check(CLI::PositiveNumber);
   return cmd;
 }
 
@@ -76,7 +86,8 @@ std::string alignment_text(const AlignmentSummary& s) {
 }
 
 // Returns whether the uncertainty map was drawn (the surface, or every face, carries its grid).
-bool write_report(const InspectArgs& a, const Inspection& r, const FittedSurface& surface, const std::string& alignment) {
+bool write_report(const InspectArgs& a, const Inspection& r, const FittedSurface& surface, const std::string& alignment,
+                  const Decision* decision) {
   std::string svg;
   ReportInputs in;
   in.pictures = inspection_pictures(r, &svg);
@@ -90,6 +101,7 @@ bool write_report(const InspectArgs& a, const Inspection& r, const FittedSurface
   if (!alignment.empty()) in.scan_facts.push_back(alignment);
   in.surface = &surface;
   in.inspection = &r;
+  in.decision = decision;
   const std::string stem = without_extension(a.report_html);
   const char* names[] = {"-deviation.png", "-error-x.png", "-error-y.png", "-error-z.png"};
   for (size_t k = 0; k < in.pictures.size() && k < 4; ++k) write_file_atomically(stem + names[k], in.pictures[k].png);
@@ -104,6 +116,89 @@ bool write_report(const InspectArgs& a, const Inspection& r, const FittedSurface
   return drawn;
 }
 
+
+// The tolerance asked, if any: --tolerance T is -T..+T; --upper and --lower go together.
+std::optional<ToleranceLimits> tolerance_limits(const InspectArgs& a) {
+  const bool upper = !std::isnan(a.upper_mm), lower = !std::isnan(a.lower_mm);
+  if (a.tolerance_mm > 0 && (upper || lower)) throw std::invalid_argument("give --tolerance or --upper and --lower, not both");
+  if (upper != lower) throw std::invalid_argument("--upper and --lower go together (or give --tolerance for +-MM)");
+  if (a.tolerance_mm > 0) return ToleranceLimits{-a.tolerance_mm, a.tolerance_mm};
+  if (!upper) return std::nullopt;
+  if (!std::isfinite(a.upper_mm) || !std::isfinite(a.lower_mm) || !(a.lower_mm < a.upper_mm)) {
+    throw std::invalid_argument("--lower must be a number below --upper");
+  }
+  return ToleranceLimits{a.lower_mm, a.upper_mm};
+}
+
+// The standard uncertainty of each point's deviation: the point's own (its sigma column, else
+// --point-u, else the noise estimated from the scan with its reading step) combined with the
+// surface's (a fit's u where the point's foot lies; a CAD nominal is exact; trimmed faces the
+// largest u of any face, a bound). Throws when the points' own cannot be had.
+std::vector<double> deviation_uncertainty(const InspectArgs& a, const PointCloud& cloud, const FittedSurface& surface,
+                                          bool nominal, const Inspection& r, std::string* from) {
+  std::vector<double> point_u(cloud.points.size(), a.point_u_mm);
+  if (cloud.sigma) {
+    point_u = *cloud.sigma;
+    *from = "the points' sigma column";
+  } else if (a.point_u_mm > 0) {
+    *from = "--point-u";
+  } else {
+    double sigma = 0;
+    try {
+      sigma = estimate_gauge_noise(cloud, parameterize(cloud, Parameterization::kTableXy)).reading_sigma_mm;
+    } catch (const std::exception&) {
+      sigma = 0;
+    }
+    if (!(sigma > 0) || !std::isfinite(sigma)) {
+      throw std::runtime_error(a.points + ": no uncertainty for the points to decide the tolerance with (their noise "
+                               "cannot be estimated from them): give a sigma column or --point-u");
+    }
+    point_u.assign(cloud.points.size(), sigma);
+    char text[96];
+    std::snprintf(text, sizeof text, "the noise estimated from the scan with its reading step, %.4f mm", sigma);
+    *from = text;
+  }
+  if (nominal) {
+    *from += "; the nominal is exact";
+    return point_u;
+  }
+  std::vector<double> out(point_u.size());
+  double bound = 0;
+  for (const TrimmedFace& f : surface.faces) bound = std::max(bound, f.uncertainty.computed ? f.uncertainty.max_mm : 0.0);
+  const BSplineSurface& s = surface.surface;
+  for (size_t i = 0; i < out.size(); ++i) {
+    double u_surface = 0;
+    if (!surface.faces.empty()) {
+      u_surface = bound;
+    } else if (surface.uncertainty.computed) {
+      u_surface = surface.uncertainty.max_mm;
+      if (surface.height_field) {
+        double pu = 0, pv = 0, value = 0;
+        table_to_parameters(s, r.points[i].foot.x, r.points[i].foot.y, pu, pv);
+        const double ua = (pu - s.u_min()) / (s.u_max() - s.u_min()), vb = (pv - s.v_min()) / (s.v_max() - s.v_min());
+        if (uncertainty_at(surface.uncertainty, ua, vb, value)) u_surface = value;
+      }
+    }
+    out[i] = std::sqrt(point_u[i] * point_u[i] + u_surface * u_surface);
+  }
+  *from += surface.faces.empty() ? (surface.uncertainty.computed ? "; with the fitted surface's own u at each point" : "; the surface carries no uncertainty")
+                                 : "; with the largest u of the fitted faces";
+  return out;
+}
+
+// The verdict's lines for a reader.
+void print_decision(const Decision& d, const Inspection& r) {
+  std::printf("tolerance %+.4f..%+.4f mm, decided with U = 2u up to %.4f mm (u from %s): %s\n", d.limits.lower_mm,
+              d.limits.upper_mm, d.max_expanded_mm, d.uncertainty_from.c_str(), verdict_name(d.verdict));
+  std::printf("  %zu pass, %zu fail, %zu inconclusive (ISO 14253-1: pass inside the tolerance shrunk by U, fail outside it "
+              "widened by U)\n",
+              d.pass, d.fail, d.inconclusive);
+  for (size_t i : d.worst) {
+    const PointDeviation& p = r.points[i];
+    std::printf("  point %zu at (%.3f, %.3f, %.4f): deviation %+.4f mm, U %.4f: %s\n", i + 1, p.point.x, p.point.y, p.point.z,
+                p.distance, d.expanded_mm[i], verdict_name(d.points[i]));
+  }
+}
 }  // namespace
 
 int run_inspect(const InspectArgs& a) {
@@ -133,6 +228,7 @@ int run_inspect(const InspectArgs& a) {
                                fit.rms_before_mm, fit.rms_after_mm, fit.iterations, fit.converged};
   }
   const std::string alignment = aligned ? alignment_text(*aligned) : std::string();
+  const std::optional<ToleranceLimits> limits = tolerance_limits(a);
   std::vector<double> bands = a.bands_mm;
   std::sort(bands.begin(), bands.end());
   const Inspection r =
@@ -146,10 +242,21 @@ int run_inspect(const InspectArgs& a) {
     }
     write_file_atomically(a.deviations_csv, text);
   }
-  const bool uncertainty_drawn = !a.report_html.empty() && write_report(a, r, surface, alignment);
+  std::optional<Decision> decision;
+  if (limits) {
+    std::string from;
+    const std::vector<double> u = deviation_uncertainty(a, cloud, surface, iges || step, r, &from);
+    decision = decide(r, *limits, u, from);
+  }
+  const int exit_code = !decision                                  ? 0
+                        : decision->verdict == Verdict::kFail         ? kExitInspectionFail
+                        : decision->verdict == Verdict::kInconclusive ? kExitInspectionInconclusive
+                                                                      : 0;
+  const bool uncertainty_drawn = !a.report_html.empty() && write_report(a, r, surface, alignment, decision ? &*decision : nullptr);
   if (a.json) {
-    std::fputs(inspection_json_text(r, a.points, a.surface, aligned ? &*aligned : nullptr).c_str(), stdout);
-    return 0;
+    std::fputs(inspection_json_text(r, a.points, a.surface, aligned ? &*aligned : nullptr, decision ? &*decision : nullptr).c_str(),
+               stdout);
+    return exit_code;
   }
   const DistanceStats& s = r.stats;
   if (!alignment.empty()) std::printf("%s\n", alignment.c_str());
@@ -163,12 +270,13 @@ int run_inspect(const InspectArgs& a) {
   std::printf("orthogonal deviation: mean %.4f median %.4f std %.4f rms %.4f max %.4f min %.4f mm\n", s.mean, s.median,
               s.stddev, s.rms, s.max, s.min);
   for (const Band& b : r.bands) std::printf("within %.4f mm: %zu points (%.1f %%)\n", b.limit_mm, b.count, 100.0 * b.share);
+  if (decision) print_decision(*decision, r);
   if (!a.deviations_csv.empty()) std::printf("wrote %s\n", a.deviations_csv.c_str());
   if (!a.report_html.empty()) {
     std::printf("wrote %s (pictures beside it: %s-deviation.png/.svg, -error-x/y/z.png%s)\n", a.report_html.c_str(),
                 without_extension(a.report_html).c_str(), uncertainty_drawn ? ", -uncertainty.png" : "");
   }
-  return 0;
+  return exit_code;
 }
 
 }  // namespace dg::host

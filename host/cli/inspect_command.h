@@ -1,6 +1,7 @@
 // `digitizer inspect`: deviations of measured points from a surface, with statistics and bands.
 #pragma once
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -13,7 +14,16 @@ struct InspectArgs {
   std::string deviations_csv;    // per point: x,y,z,deviation
   std::string report_html;       // the report, with its pictures beside it
   bool align = false;            // rigid best fit of the points to the surface first
+  // A profile tolerance to decide: --tolerance T (symmetric, +-T), or --upper and --lower (NaN: not
+  // given), and the points' standard uncertainty when neither a sigma column nor the scan gives it.
+  double tolerance_mm = 0;
+  double upper_mm = NAN, lower_mm = NAN;
+  double point_u_mm = 0;
 };
+
+// inspect's exit codes beyond 0, 1 and 2: a tolerance proven not kept, or not proven either way.
+constexpr int kExitInspectionFail = 4;
+constexpr int kExitInspectionInconclusive = 5;
 
 CLI::App* add_inspect_command(CLI::App& app, InspectArgs& args);
 int run_inspect(const InspectArgs& args);

@@ -21,4 +21,11 @@ struct SurfaceUncertainty {
 // The value of a grid node that lies outside a trimmed face.
 constexpr double kOffFace = -1.0;
 
+// True when `u` holds a grid to interpolate.
+bool has_uncertainty_grid(const SurfaceUncertainty& u);
+
+// u at (a, b) in [0, 1]^2 of the parameter domain by bilinear interpolation between the grid's
+// nodes, over those of the four that lie on the face (renormalized); false when none does.
+bool uncertainty_at(const SurfaceUncertainty& u, double a, double b, double& value);
+
 }  // namespace dg::host

@@ -2,6 +2,7 @@
 #include "host/inspect/html_report.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 
@@ -74,35 +75,6 @@ std::vector<ReportPicture> inspection_pictures(const Inspection& inspection, std
           {"Z error map (Fig. 17c)", deviation_map_png(ez, small)}};
 }
 
-namespace {
-
-// u at (a, b) in [0, 1]^2 by bilinear interpolation between the grid's nodes, over those of the
-// four that lie on the face (renormalized); false when none does.
-bool grid_value(const SurfaceUncertainty& u, double a, double b, double& value) {
-  const double gc = a * (u.cols - 1), gr = b * (u.rows - 1);
-  const int c0 = std::clamp(static_cast<int>(gc), 0, u.cols - 2), r0 = std::clamp(static_cast<int>(gr), 0, u.rows - 2);
-  const double fc = gc - c0, fr = gr - r0;
-  double sum = 0, weight = 0;
-  for (int dr = 0; dr <= 1; ++dr) {
-    for (int dc = 0; dc <= 1; ++dc) {
-      const double node = u.u_mm[static_cast<size_t>(r0 + dr) * u.cols + (c0 + dc)];
-      const double w = (dr ? fr : 1 - fr) * (dc ? fc : 1 - fc);
-      if (node == kOffFace) continue;
-      sum += w * node;
-      weight += w;
-    }
-  }
-  if (!(weight > 1e-9)) return false;
-  value = sum / weight;
-  return true;
-}
-
-bool has_grid(const SurfaceUncertainty& u) {
-  return u.computed && u.rows >= 2 && u.cols >= 2 && u.u_mm.size() == static_cast<size_t>(u.rows) * u.cols;
-}
-
-}  // namespace
-
 ReportPicture uncertainty_picture(const FittedSurface& f) {
   ReportPicture out;
   std::vector<MapPoint> points;
@@ -111,13 +83,13 @@ ReportPicture uncertainty_picture(const FittedSurface& f) {
   std::string sigma_from;
   if (f.faces.empty()) {
     const SurfaceUncertainty& u = f.uncertainty;
-    if (!has_grid(u)) return out;
+    if (!has_uncertainty_grid(u)) return out;
     const BSplineSurface& s = f.surface;
     for (int r = 0; r <= samples; ++r) {
       for (int c = 0; c <= samples; ++c) {
         const double a = static_cast<double>(c) / samples, b = static_cast<double>(r) / samples;
         double value = 0;
-        if (!grid_value(u, a, b, value)) continue;
+        if (!uncertainty_at(u, a, b, value)) continue;
         const Point3 p = s.evaluate(s.u_min() + a * (s.u_max() - s.u_min()), s.v_min() + b * (s.v_max() - s.v_min()));
         points.push_back({p.x, p.y, 2 * value});
       }
@@ -129,7 +101,7 @@ ReportPicture uncertainty_picture(const FittedSurface& f) {
     // the point's parameters. Every face must carry its grid, or the map would be blank there.
     double x0 = HUGE_VAL, x1 = -HUGE_VAL, y0 = HUGE_VAL, y1 = -HUGE_VAL;
     for (const TrimmedFace& face : f.faces) {
-      if (!has_grid(face.uncertainty)) return out;
+      if (!has_uncertainty_grid(face.uncertainty)) return out;
       for (const TrimLoop& loop : face.loops) {
         for (const Point2& q : loop) x0 = std::min(x0, q.x), x1 = std::max(x1, q.x), y0 = std::min(y0, q.y), y1 = std::max(y1, q.y);
       }
@@ -145,7 +117,7 @@ ReportPicture uncertainty_picture(const FittedSurface& f) {
           const BSplineSurface& s = face.surface;
           a = (a - s.u_min()) / (s.u_max() - s.u_min());
           b = (b - s.v_min()) / (s.v_max() - s.v_min());
-          if (grid_value(face.uncertainty, std::clamp(a, 0.0, 1.0), std::clamp(b, 0.0, 1.0), value)) {
+          if (uncertainty_at(face.uncertainty, std::clamp(a, 0.0, 1.0), std::clamp(b, 0.0, 1.0), value)) {
             points.push_back({x, y, 2 * value});
           }
           break;
@@ -175,6 +147,29 @@ std::string html_report(const ReportInputs& in) {
   h += "<h2>What was measured</h2>\n<table>\n" + row("points", in.points_file) + row("surface", in.surface_file);
   for (const std::string& fact : in.scan_facts) h += "<tr><td colspan=\"2\">" + escape(fact) + "</td></tr>\n";
   h += "</table>\n";
+  if (in.inspection && in.decision) {
+    const Decision& d = *in.decision;
+    const char* colour = d.verdict == Verdict::kPass ? "#1a7f37" : d.verdict == Verdict::kFail ? "#c62828" : "#b26a00";
+    std::string verdict = verdict_name(d.verdict);
+    for (char& c : verdict) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    h += "<h2>Verdict: <span style=\"color:" + std::string(colour) + "\">" + verdict + "</span></h2>\n<table>\n" +
+         row("tolerance (mm)", number(d.limits.lower_mm) + " to " + number(d.limits.upper_mm)) +
+         row("decision rule", "ISO 14253-1: pass inside the tolerance shrunk by U, fail outside it widened by U") +
+         row("expanded uncertainty U = 2u, largest (mm)", number(d.max_expanded_mm)) + row("u from", d.uncertainty_from) +
+         row("points pass / fail / inconclusive",
+             std::to_string(d.pass) + " / " + std::to_string(d.fail) + " / " + std::to_string(d.inconclusive)) +
+         "</table>\n";
+    if (!d.worst.empty()) {
+      h += "<table><tr><th>point</th><th>x</th><th>y</th><th>z</th><th>deviation</th><th>U</th><th>verdict</th></tr>\n";
+      for (size_t i : d.worst) {
+        const PointDeviation& p = in.inspection->points[i];
+        h += "<tr><td>" + std::to_string(i + 1) + "</td><td>" + number(p.point.x) + "</td><td>" + number(p.point.y) + "</td><td>" +
+             number(p.point.z) + "</td><td>" + number(p.distance) + "</td><td>" + number(d.expanded_mm[i]) + "</td><td>" +
+             verdict_name(d.points[i]) + "</td></tr>\n";
+      }
+      h += "</table>\n";
+    }
+  }
   if (in.inspection) {
     const DistanceStats& s = in.inspection->stats;
     h += "<h2>Orthogonal deviation (mm)</h2>\n<table>\n" + row("points", std::to_string(s.count)) + row("mean", number(s.mean)) +

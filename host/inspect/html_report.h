@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "host/inspect/decision.h"
 #include "host/inspect/inspect.h"
 #include "host/geometry/fitted_surface.h"
 
@@ -21,6 +22,7 @@ struct ReportInputs {
   std::vector<std::string> scan_facts;  // lines about the scan (device, points, lines, time)
   const FittedSurface* surface = nullptr;
   const Inspection* inspection = nullptr;
+  const Decision* decision = nullptr;  // the tolerance's verdict, when one was asked
   std::vector<ReportPicture> pictures;
 };
 

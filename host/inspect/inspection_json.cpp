@@ -6,7 +6,7 @@
 namespace dg::host {
 
 std::string inspection_json_text(const Inspection& r, const std::string& points_file, const std::string& surface_file,
-                                 const AlignmentSummary* alignment) {
+                                 const AlignmentSummary* alignment, const Decision* decision) {
   nlohmann::json j;
   j["format"] = "digitizer-inspection";
   j["version"] = 1;
@@ -30,6 +30,33 @@ std::string inspection_json_text(const Inspection& r, const std::string& points_
                       {"converged", a.converged}};
   } else {
     j["alignment"] = nullptr;
+  }
+  if (decision) {
+    const Decision& d = *decision;
+    nlohmann::json worst = nlohmann::json::array();
+    for (size_t i : d.worst) {
+      const PointDeviation& p = r.points[i];
+      worst.push_back({{"point", i + 1},
+                       {"x", p.point.x},
+                       {"y", p.point.y},
+                       {"z", p.point.z},
+                       {"deviation", p.distance},
+                       {"expanded_uncertainty", d.expanded_mm[i]},
+                       {"verdict", verdict_name(d.points[i])}});
+    }
+    j["decision"] = {{"rule", "ISO 14253-1"},
+                     {"lower_limit", d.limits.lower_mm},
+                     {"upper_limit", d.limits.upper_mm},
+                     {"verdict", verdict_name(d.verdict)},
+                     {"pass", d.pass},
+                     {"fail", d.fail},
+                     {"inconclusive", d.inconclusive},
+                     {"coverage_factor", 2},
+                     {"max_expanded_uncertainty", d.max_expanded_mm},
+                     {"uncertainty_from", d.uncertainty_from},
+                     {"worst", worst}};
+  } else {
+    j["decision"] = nullptr;
   }
   return j.dump(1) + "\n";
 }

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "host/geometry/point3.h"
+#include "host/inspect/decision.h"
 #include "host/inspect/inspect.h"
 
 namespace dg::host {
@@ -20,7 +21,8 @@ struct AlignmentSummary {
 };
 
 // `alignment`: null when the points were measured where they are ("alignment": null).
+// `decision`: the tolerance's verdict (null in the JSON when no tolerance was given).
 std::string inspection_json_text(const Inspection& inspection, const std::string& points_file, const std::string& surface_file,
-                                 const AlignmentSummary* alignment = nullptr);
+                                 const AlignmentSummary* alignment = nullptr, const Decision* decision = nullptr);
 
 }  // namespace dg::host
