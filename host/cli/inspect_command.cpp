@@ -2,6 +2,7 @@
 #include "host/cli/inspect_command.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <optional>
 #include <stdexcept>
@@ -90,7 +91,7 @@ bool write_report(const InspectArgs& a, const Inspection& r, const FittedSurface
                   const Decision* decision) {
   std::string svg;
   ReportInputs in;
-  in.pictures = inspection_pictures(r, &svg);
+  in.pictures = inspection_pictures(r, &svg, decision ? std::max(std::fabs(decision->limits.lower_mm), std::fabs(decision->limits.upper_mm)) : 0);
   const std::time_t now = std::time(nullptr);
   char stamp[48];
   std::strftime(stamp, sizeof stamp, "%Y-%m-%d %H:%M:%S UTC", std::gmtime(&now));

@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "host/inspect/deviation_map.h"
+#include "host/inspect/histogram.h"
 
 namespace dg::host {
 
@@ -55,7 +56,7 @@ std::string base64(const std::string& bytes) {
   return out;
 }
 
-std::vector<ReportPicture> inspection_pictures(const Inspection& inspection, std::string* svg) {
+std::vector<ReportPicture> inspection_pictures(const Inspection& inspection, std::string* svg, double range_mm) {
   std::vector<MapPoint> deviation, ex, ey, ez;
   for (const PointDeviation& d : inspection.points) {
     deviation.push_back({d.point.x, d.point.y, d.distance});
@@ -63,12 +64,14 @@ std::vector<ReportPicture> inspection_pictures(const Inspection& inspection, std
     ey.push_back({d.point.x, d.point.y, d.point.y - d.foot.y});
     ez.push_back({d.point.x, d.point.y, d.point.z - d.foot.z});
   }
-  const MapPicture picture;
+  MapPicture picture;
+  picture.range_mm = range_mm;
   if (svg) *svg = deviation_map_svg(deviation, picture, "signed orthogonal deviation, mm");
   MapPicture small;
   small.width = 600;
   small.height = 400;
-  return {{"Signed orthogonal deviation over the part (red: material above the surface, blue: below)",
+  const std::string scale = range_mm > 0 ? "; colours fixed to the tolerance, +-" + number(range_mm) + " mm, darkest at and beyond it" : "";
+  return {{"Signed orthogonal deviation over the part (red: material above the surface, blue: below" + scale + ")",
            deviation_map_png(deviation, picture)},
           {"X error map: x of each point minus x of its closest surface point", deviation_map_png(ex, small)},
           {"Y error map (Fig. 17b)", deviation_map_png(ey, small)},
@@ -171,6 +174,11 @@ std::string html_report(const ReportInputs& in) {
     }
   }
   if (in.inspection) {
+    h += "<h2>Histogram of the deviations</h2>\n<figure>" + deviation_histogram_svg(*in.inspection, in.decision) +
+         "<figcaption>" +
+         std::string(in.decision ? "Red lines: the tolerance's limits; shaded: within U of a limit, where a point is inconclusive."
+                                 : "No tolerance was given (inspect --tolerance).") +
+         "</figcaption></figure>\n";
     const DistanceStats& s = in.inspection->stats;
     h += "<h2>Orthogonal deviation (mm)</h2>\n<table>\n" + row("points", std::to_string(s.count)) + row("mean", number(s.mean)) +
          row("median", number(s.median)) + row("standard deviation", number(s.stddev)) + row("RMS", number(s.rms)) +

@@ -31,7 +31,9 @@ std::string base64(const std::string& bytes);
 
 // The report's pictures for an inspection: the signed deviation and Hamdan's (2010) X, Y and Z error
 // maps (the components of point - foot), each as PNG; `svg` receives the deviation map as SVG.
-std::vector<ReportPicture> inspection_pictures(const Inspection& inspection, std::string* svg);
+// `range_mm` > 0 fixes the deviation map's colours to +-range_mm (the tolerance), so a part in
+// tolerance looks it whatever its largest deviation; 0 stretches them to the data.
+std::vector<ReportPicture> inspection_pictures(const Inspection& inspection, std::string* svg, double range_mm = 0);
 
 // The map of the fitted surface's expanded uncertainty U = 2u over the part (from the u grid in
 // SURF.json, interpolated bilinearly and placed at the surface's x, y); empty png when the surface

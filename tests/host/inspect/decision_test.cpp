@@ -9,25 +9,10 @@
 
 #include "host/inspect/inspection_json.h"
 #include <nlohmann/json.hpp>
+#include "tests/support/inspection_at.h"
 
 using namespace dg::host;
-
-namespace {
-
-// An inspection whose points lie at the given signed deviations (their coordinates are their index).
-Inspection at_deviations(const std::vector<double>& deviations) {
-  Inspection r;
-  for (size_t i = 0; i < deviations.size(); ++i) {
-    PointDeviation p{};
-    p.point = Point3{static_cast<double>(i), 0, deviations[i]};
-    p.foot = Point3{static_cast<double>(i), 0, 0};
-    p.distance = deviations[i];
-    r.points.push_back(p);
-  }
-  return r;
-}
-
-}  // namespace
+using dg::test::at_deviations;
 
 TEST_GROUP(Decision){};
 
