@@ -48,6 +48,31 @@ std::vector<std::string> split(const std::string& row, char separator) {
   return fields;
 }
 
+// A row split at `separator`, or at runs of spaces and tabs when it is ' '.
+std::vector<std::string> split_fields(const std::string& row, char separator) {
+  if (separator != ' ') return split(row, separator);
+  std::vector<std::string> fields;
+  std::string field;
+  std::istringstream in(row);
+  while (in >> field) fields.push_back(field);
+  return fields;
+}
+
+std::string lower_case(std::string s) {
+  for (char& c : s) c = static_cast<char>(c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c);
+  return s;
+}
+
+// Columns other tools write that carry nothing a surface needs (colours, intensity, CloudCompare's
+// scalar fields): read past, not refused.
+bool ignored_column(const std::string& name) {
+  static const char* kIgnored[] = {"r", "g", "b", "a", "red", "green", "blue", "alpha", "intensity"};
+  for (const char* k : kIgnored) {
+    if (name == k) return true;
+  }
+  return name.rfind("scalar", 0) == 0 || name.rfind("sf", 0) == 0;
+}
+
 std::string trim(std::string s) {
   while (!s.empty() && (s.back() == ' ' || s.back() == '\r' || s.back() == '\t')) s.pop_back();
   size_t start = 0;
@@ -77,18 +102,30 @@ PointCloud parse_csv_points(const std::string& text, const std::string& name) {
     if (!trim(row).empty()) break;
   }
   if (trim(row).empty()) throw PointFileError(name + ": empty file");
-  for (auto& c : split(row, ',')) columns.push_back(trim(c));
+  // CloudCompare's ASCII export starts its header with "//" and may separate by spaces, tabs or
+  // semicolons; names are matched ignoring case (X, Nx). The header's separator is the rows'.
+  std::string header = trim(row);
+  if (header.rfind("//", 0) == 0) header = trim(header.substr(2));
+  const char separator = header.find(',') != std::string::npos   ? ','
+                         : header.find(';') != std::string::npos ? ';'
+                                                                 : ' ';
+  std::vector<std::string> as_written;
+  for (auto& c : split_fields(header, separator)) {
+    as_written.push_back(trim(c));
+    columns.push_back(lower_case(as_written.back()));
+  }
   static const char* kKnown[] = {"x", "y", "z", "line", "nx", "ny", "nz", "sigma"};
   std::map<std::string, size_t> index;
   for (size_t i = 0; i < columns.size(); ++i) {
     bool known = false;
     for (const char* k : kKnown) known = known || columns[i] == k;
+    if (!known && ignored_column(columns[i])) continue;
     if (!known) {
-      throw PointFileError(where(name, line_no) + ": unknown column " + quoted(columns[i]) +
-                           " (known: x,y,z,line,nx,ny,nz,sigma)");
+      throw PointFileError(where(name, line_no) + ": unknown column " + quoted(as_written[i]) +
+                           " (known: x,y,z,line,nx,ny,nz,sigma; colours, intensity and scalar fields are read past)");
     }
     if (!index.emplace(columns[i], i).second) {
-      throw PointFileError(where(name, line_no) + ": column " + quoted(columns[i]) + " appears twice");
+      throw PointFileError(where(name, line_no) + ": column " + quoted(as_written[i]) + " appears twice");
     }
   }
   for (const char* required : {"x", "y", "z"}) {
@@ -108,7 +145,7 @@ PointCloud parse_csv_points(const std::string& text, const std::string& name) {
   while (std::getline(in, row)) {
     ++line_no;
     if (trim(row).empty()) continue;
-    const std::vector<std::string> fields = split(row, ',');
+    const std::vector<std::string> fields = split_fields(row, separator);
     if (fields.size() != columns.size()) {
       throw PointFileError(where(name, line_no) + ": " + std::to_string(fields.size()) +
                            " values, the header has " + std::to_string(columns.size()));
@@ -139,6 +176,14 @@ PointCloud parse_csv_points(const std::string& text, const std::string& name) {
 
 PointCloud parse_xyz_points(const std::string& text, const std::string& name) {
   check_no_nul(text, name);
+  // A CloudCompare export names its columns on a first line starting "//": read by those names.
+  {
+    std::istringstream first(text);
+    std::string row;
+    while (std::getline(first, row) && trim(row).empty()) {
+    }
+    if (trim(row).rfind("//", 0) == 0) return parse_csv_points(text, name);
+  }
   std::istringstream in(text);
   std::string row;
   size_t line_no = 0;

@@ -33,6 +33,26 @@ TEST(PointReader, ReadsCsvWithOptionalColumnsInAnyOrder) {
   CHECK_FALSE(c.normal.has_value());
 }
 
+TEST(PointReader, ReadsCloudComparesAsciiExportsWithAnySeparator) {
+  // "//" before the header, upper-case names, colours and a scalar field to read past.
+  const dg::host::PointCloud spaces =
+      dg::host::parse_csv_points("//X Y Z R G B Scalar_field\n1.5 2 3 255 0 0 0.7\n4\t5  6 0 255 0 0.1\n", "cc.txt");
+  LONGS_EQUAL(2, spaces.points.size());
+  DOUBLES_EQUAL(1.5, spaces.points[0].x, 0);
+  DOUBLES_EQUAL(6, spaces.points[1].z, 0);
+  const dg::host::PointCloud semicolons = dg::host::parse_csv_points("//X;Y;Z;Nx;Ny;Nz\n1;2;3;0;0;1\n", "cc.asc");
+  LONGS_EQUAL(1, semicolons.points.size());
+  CHECK(semicolons.normal.has_value());
+  DOUBLES_EQUAL(1, (*semicolons.normal)[0].z, 0);
+  const dg::host::PointCloud commas = dg::host::parse_csv_points("//X,Y,Z\n7,8,9\n", "cc.csv");
+  DOUBLES_EQUAL(9, commas.points[0].z, 0);
+  // The same as .txt or .xyz: a "//" header is read by its names.
+  const dg::host::PointCloud txt = dg::host::parse_xyz_points("//X Y Z R G B\n1 2 3 10 20 30\n", "cc.txt");
+  DOUBLES_EQUAL(3, txt.points[0].z, 0);
+  // A decimal comma with semicolons is not a number here: said, not guessed.
+  STRCMP_CONTAINS("not a finite decimal number: '1,5'", error_of("//X;Y;Z\n1,5;2;3\n").c_str());
+}
+
 TEST(PointReader, NamesTheLineOfEveryBadRow) {
   STRCMP_CONTAINS("in.csv:3: column 'z' is not a finite decimal number: 'nan'", error_of("x,y,z\n1,2,3\n1,2,nan\n").c_str());
   STRCMP_CONTAINS("in.csv:2: column 'y' is not a finite decimal number: 'inf'", error_of("x,y,z\n1,inf,3\n").c_str());
