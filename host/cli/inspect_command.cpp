@@ -268,8 +268,10 @@ int run_inspect(const InspectArgs& a) {
     std::printf("%zu points against %s (%zu trimmed %s faces; each point measured to the face above it)\n", s.count,
                 a.surface.c_str(), surface.faces.size(), surface.model.c_str());
   }
-  std::printf("orthogonal deviation: mean %.4f median %.4f std %.4f rms %.4f max %.4f min %.4f mm\n", s.mean, s.median,
-              s.stddev, s.rms, s.max, s.min);
+  // A value that prints as zero is printed as 0.0000, not -0.0000.
+  auto shown = [](double v) { return std::fabs(v) < 0.00005 ? 0.0 : v; };
+  std::printf("orthogonal deviation: mean %.4f median %.4f std %.4f rms %.4f max %.4f min %.4f mm\n", shown(s.mean),
+              shown(s.median), s.stddev, s.rms, shown(s.max), shown(s.min));
   for (const Band& b : r.bands) std::printf("within %.4f mm: %zu points (%.1f %%)\n", b.limit_mm, b.count, 100.0 * b.share);
   if (decision) print_decision(*decision, r);
   if (!a.deviations_csv.empty()) std::printf("wrote %s\n", a.deviations_csv.c_str());
