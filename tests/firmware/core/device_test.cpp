@@ -557,3 +557,28 @@ TEST(DeviceLink, ShortensItsBatchesWhileFramesAreLostAndLengthensThemAgain) {
   check_every_point_once(bench.host.stored, 121 * 5);
   LONGS_EQUAL(digitizer_ScanEnd_SCAN_COMPLETED, bench.host.done.reason);
 }
+
+TEST(DeviceLink, HelloCarriesTheBoardsWholeName) {
+  // The STM32 board says when it runs without its crystal; the name used to be cut at 15 bytes.
+  MemoryLink wire;
+  dg::sim::SimBoard board(Bench::sim_config(), &wire);
+  dg::DeviceConfig config = device_config(dg::HostSilence::kPause);
+  config.board = "stm32f411-blackpill (no crystal: HSI clock)";
+  dg::Device device(board, config);
+  device.begin();
+  ScriptedHost host(wire);
+  digitizer_Envelope m = digitizer_Envelope_init_zero;
+  m.id = 5;
+  m.which_body = digitizer_Envelope_host_hello_tag;
+  m.body.host_hello.protocol_version = digitizer_ProtocolVersion_PROTOCOL_VERSION;
+  m.body.host_hello.min_protocol_version = digitizer_ProtocolVersion_PROTOCOL_VERSION;
+  host.send(m, true, 1);
+  for (int round = 0; round < 20 && host.last(digitizer_Envelope_hello_tag) == nullptr; ++round) {
+    host.exchange();
+    device.poll();
+    host.exchange();
+  }
+  const digitizer_Envelope* hello = host.last(digitizer_Envelope_hello_tag);
+  CHECK(hello != nullptr);
+  STRCMP_EQUAL("stm32f411-blackpill (no crystal: HSI clock)", hello->body.hello.board);
+}
