@@ -1,6 +1,7 @@
 // Fuzzes what comes after parsing: a point set built from the bytes goes through one stage (the
 // first byte picks it): the LTS filter, line splitting, characterization, the tolerance fit,
-// profile curves, the superquadric, the noise estimate, inspection and tessellation. Every stage
+// profile curves, the superquadric, the noise estimate, inspection, tessellation and the mesh of
+// trimmed faces cut at fuzzed loops. Every stage
 // ends with a result or a clear error (FitError, std::invalid_argument, std::runtime_error); any
 // other exception, a crash, a hang (libFuzzer's -timeout) or a blow-up (-rss_limit_mb) is a
 // finding, and so is a non-finite number in a result.
@@ -73,7 +74,7 @@ ToleranceResult tolerance_fit(const PointCloud& cloud, double tolerance_mm, int 
 }
 
 void run(uint8_t stage, const PointCloud& cloud) {
-  switch (stage % 9) {
+  switch (stage % 10) {
     case 0: {
       const LtsResult r = lts_filter(cloud.points, LtsOptions{});
       for (double z : r.z) finite_or_trap(z);
@@ -127,6 +128,25 @@ void run(uint8_t stage, const PointCloud& cloud) {
       const ToleranceResult r = tolerance_fit(cloud, 0.05, 3);
       const Mesh m = tessellate(r.surface, 0.05, 200000);
       for (const Point3& v : m.vertices) finite_or_trap(v.x + v.y + v.z);
+      break;
+    }
+    case 9: {
+      // The points' XY as a trim loop (any shape: crossing itself, on grid lines, off the plate)
+      // over the 40 x 30 mm plate, and the plate with that loop as its hole.
+      TrimmedFace inner, outer;
+      inner.surface = outer.surface = dg::test::tilted_plane();
+      TrimLoop loop;
+      for (size_t i = 0; i < cloud.points.size() && loop.size() < 80; ++i) loop.push_back({cloud.points[i].x, cloud.points[i].y});
+      if (loop.size() < 3) break;
+      inner.loops = {loop};
+      outer.loops = {{{0, 0}, {40, 0}, {40, 30}, {0, 30}}, TrimLoop(loop.rbegin(), loop.rend())};
+      const Mesh m = tessellate_faces({inner, outer}, 0.05, 1.0, 200000);
+      for (const Point3& v : m.vertices) finite_or_trap(v.x + v.y + v.z);
+      for (const auto& t : m.triangles) {
+        for (uint32_t k : t) {
+          if (k >= m.vertices.size()) __builtin_trap();
+        }
+      }
       break;
     }
   }
