@@ -164,26 +164,35 @@ std::vector<double> deviation_uncertainty(const InspectArgs& a, const PointCloud
     return point_u;
   }
   std::vector<double> out(point_u.size());
+  // A face's or the surface's u where a height field lies above (x, y); `fallback` off its grid.
+  auto u_above = [](const BSplineSurface& s, const SurfaceUncertainty& u, double x, double y, double fallback) {
+    double pu = 0, pv = 0, value = 0;
+    table_to_parameters(s, x, y, pu, pv);
+    const double ua = (pu - s.u_min()) / (s.u_max() - s.u_min()), vb = (pv - s.v_min()) / (s.v_max() - s.v_min());
+    return uncertainty_at(u, ua, vb, value) ? value : fallback;
+  };
   double bound = 0;
   for (const TrimmedFace& f : surface.faces) bound = std::max(bound, f.uncertainty.computed ? f.uncertainty.max_mm : 0.0);
-  const BSplineSurface& s = surface.surface;
   for (size_t i = 0; i < out.size(); ++i) {
+    const PointDeviation& d = r.points[i];
     double u_surface = 0;
     if (!surface.faces.empty()) {
+      // The face that holds the point's XY, as inspect_faces measures it; beyond every face (or on
+      // a face without a grid) the largest u of any face, a bound.
       u_surface = bound;
-    } else if (surface.uncertainty.computed) {
-      u_surface = surface.uncertainty.max_mm;
-      if (surface.height_field) {
-        double pu = 0, pv = 0, value = 0;
-        table_to_parameters(s, r.points[i].foot.x, r.points[i].foot.y, pu, pv);
-        const double ua = (pu - s.u_min()) / (s.u_max() - s.u_min()), vb = (pv - s.v_min()) / (s.v_max() - s.v_min());
-        if (uncertainty_at(surface.uncertainty, ua, vb, value)) u_surface = value;
+      for (const TrimmedFace& f : surface.faces) {
+        if (!inside_face(f, d.point.x, d.point.y)) continue;
+        if (f.uncertainty.computed) u_surface = u_above(f.surface, f.uncertainty, d.foot.x, d.foot.y, bound);
+        break;
       }
+    } else if (surface.uncertainty.computed) {
+      u_surface = surface.height_field ? u_above(surface.surface, surface.uncertainty, d.foot.x, d.foot.y, surface.uncertainty.max_mm)
+                                       : surface.uncertainty.max_mm;
     }
     out[i] = std::sqrt(point_u[i] * point_u[i] + u_surface * u_surface);
   }
   *from += surface.faces.empty() ? (surface.uncertainty.computed ? "; with the fitted surface's own u at each point" : "; the surface carries no uncertainty")
-                                 : "; with the largest u of the fitted faces";
+                                 : "; with the u of the face each point is measured to";
   return out;
 }
 
