@@ -113,7 +113,7 @@ class Capture {
  private:
   enum class Stop { kNone, kAsked, kPaused };
 
-  // ", and 12 damaged frames arrived (check the cable)" when frames arrived damaged since the
+  // ", while 12 damaged frames arrived (check the cable)" when frames arrived damaged since the
   // last message, else "".
   std::string damage_since(uint32_t damaged_before) const {
     const uint32_t damaged = session_.frames_damaged() - damaged_before;
