@@ -106,9 +106,40 @@ class ReliableLink {
   // A decoded frame from the other side, arrived at `now_us`. Returns true when its payload is new
   // and in order: the caller hands it up. The ack field frees our acknowledged frames either way
   // and, for a frame sent only once, measures the round trip.
-  bool receive(const FrameHeader& header, uint64_t now_us) { return receive_at(header, now_us, true); }
-  // The same without a time: nothing is measured.
-  bool receive(const FrameHeader& header) { return receive_at(header, 0, false); }
+  bool receive(const FrameHeader& header, uint64_t now_us) {
+    if (header.kind == FrameKind::kSync) {
+      if (header.ack != session_) {
+        reset();
+        start_session(header.ack);
+        rx_expected_ = header.seq;
+        restarted_ = true;
+      }
+    } else {
+      const bool progressed = acknowledge(header.ack, now_us);
+      // Fast retransmission: an ack-only frame that frees nothing answers a frame that arrived
+      // after a gap (or twice). Two of them mean a frame of ours was lost: resend from the oldest
+      // now instead of waiting for the timer.
+      if (header.kind == FrameKind::kAckOnly && !progressed && count_ > 0) {
+        if (++duplicate_acks_ >= 2 && !resending_) {
+          resending_ = true;
+          resend_next_ = oldest_;
+          duplicate_acks_ = 0;
+          ++counters_.fast_retransmits;
+        }
+      }
+    }
+    if (header.kind == FrameKind::kAckOnly) return false;
+    ack_owed_ = true;  // every data frame is answered, so a lost ack is repaired by the next one
+    if (header.seq == rx_expected_) {
+      ++rx_expected_;
+      ++counters_.delivered;
+      return true;
+    }
+    // Behind: already delivered (our ack was lost). Ahead: a frame before it was lost.
+    if (static_cast<int16_t>(header.seq - rx_expected_) < 0) ++counters_.duplicates;
+    else ++counters_.out_of_order;
+    return false;
+  }
 
   // The sequence number the next in-order data frame must carry.
   uint16_t expected_seq() const { return rx_expected_; }
@@ -176,41 +207,6 @@ class ReliableLink {
   }
 
  private:
-  bool receive_at(const FrameHeader& header, uint64_t now_us, bool timed) {
-    if (header.kind == FrameKind::kSync) {
-      if (header.ack != session_) {
-        reset();
-        start_session(header.ack);
-        rx_expected_ = header.seq;
-        restarted_ = true;
-      }
-    } else {
-      const bool progressed = acknowledge(header.ack, now_us, timed);
-      // Fast retransmission: an ack-only frame that frees nothing answers a frame that arrived
-      // after a gap (or twice). Two of them mean a frame of ours was lost: resend from the oldest
-      // now instead of waiting for the timer.
-      if (header.kind == FrameKind::kAckOnly && !progressed && count_ > 0) {
-        if (++duplicate_acks_ >= 2 && !resending_) {
-          resending_ = true;
-          resend_next_ = oldest_;
-          duplicate_acks_ = 0;
-          ++counters_.fast_retransmits;
-        }
-      }
-    }
-    if (header.kind == FrameKind::kAckOnly) return false;
-    ack_owed_ = true;  // every data frame is answered, so a lost ack is repaired by the next one
-    if (header.seq == rx_expected_) {
-      ++rx_expected_;
-      ++counters_.delivered;
-      return true;
-    }
-    // Behind: already delivered (our ack was lost). Ahead: a frame before it was lost.
-    if (static_cast<int16_t>(header.seq - rx_expected_) < 0) ++counters_.duplicates;
-    else ++counters_.out_of_order;
-    return false;
-  }
-
   struct Slot {
     uint8_t payload[kFrameMaxPayload];
     uint16_t size = 0;  // <= kFrameMaxPayload; 16 bits keep a slot to its payload plus 16 bytes
@@ -243,12 +239,12 @@ class ReliableLink {
 
   // Frees every frame up to and including `ack` (cumulative); acks outside the window are stale.
   // True when it freed something.
-  bool acknowledge(uint16_t ack, uint64_t now_us, bool timed) {
+  bool acknowledge(uint16_t ack, uint64_t now_us) {
     const int16_t ahead = static_cast<int16_t>(ack - oldest_);
     if (ahead < 0 || static_cast<size_t>(ahead) >= count_) return false;
     duplicate_acks_ = 0;
     const Slot& newest = slots_[index(ack)];
-    if (timed && newest.sent && !newest.resent && now_us >= newest.sent_us) measure(now_us - newest.sent_us);
+    if (newest.sent && !newest.resent && now_us >= newest.sent_us) measure(now_us - newest.sent_us);
     const uint16_t freed = static_cast<uint16_t>(ahead + 1);
     oldest_ = static_cast<uint16_t>(oldest_ + freed);
     count_ -= freed;

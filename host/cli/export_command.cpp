@@ -21,7 +21,6 @@
 namespace dg::host {
 namespace {
 
-// Curves to IGES (entity 126) or STEP (a curve set).
 // The name a CAD file records for itself: the output's, or the part's with the extension when the
 // output is standard output.
 std::string recorded_file_name(const std::string& output, const std::string& part) {
@@ -30,25 +29,35 @@ std::string recorded_file_name(const std::string& output, const std::string& par
   return part + (dot == std::string::npos ? "" : output.substr(dot));
 }
 
-void write_curves(const std::string& output, const std::string& part, bool iges, const std::vector<BSplineCurve>& curves) {
-  if (iges) {
-    IgesOptions options;
-    options.file_name = recorded_file_name(output, part);
-    options.product = part;
-    write_iges_curves(output, curves, options);
-  } else {
-    StepOptions options;
-    options.file_name = recorded_file_name(output, part);
-    options.product = part;
-    write_step_curves(output, curves, options);
-  }
-}
-
+// Now, in UTC, as `format` (strftime) says.
 std::string utc_stamp(const char* format) {
   const std::time_t now = std::time(nullptr);
   char stamp[32];
   std::strftime(stamp, sizeof stamp, format, std::gmtime(&now));
   return stamp;
+}
+
+// IGES's and STEP's time stamps; nullptr keeps the writer's default.
+constexpr const char* kIgesStamp = "%Y%m%d.%H%M%S";
+constexpr const char* kStepStamp = "%Y-%m-%dT%H:%M:%S";
+
+// IgesOptions or StepOptions naming the file and the part, and stamped with the time as `stamp`.
+template <typename Options>
+Options cad_options(const std::string& output, const std::string& part, const char* stamp) {
+  Options options;
+  options.file_name = recorded_file_name(output, part);
+  options.product = part;
+  if (stamp != nullptr) options.timestamp = utc_stamp(stamp);
+  return options;
+}
+
+// Curves to IGES (entity 126) or STEP (a curve set).
+void write_curves(const std::string& output, const std::string& part, bool iges, const std::vector<BSplineCurve>& curves) {
+  if (iges) {
+    write_iges_curves(output, curves, cad_options<IgesOptions>(output, part, nullptr));
+  } else {
+    write_step_curves(output, curves, cad_options<StepOptions>(output, part, nullptr));
+  }
 }
 
 // Trimmed faces (a scan split at creases and steps): IGES entity 144, a STEP shell of advanced
@@ -95,17 +104,9 @@ int export_faces(const FittedSurface& surface, const std::string& output, const 
     return 0;
   }
   if (iges) {
-    IgesOptions options;
-    options.file_name = recorded_file_name(output, part);
-    options.product = part;
-    options.timestamp = utc_stamp("%Y%m%d.%H%M%S");
-    write_iges_faces(output, surface.faces, options);
+    write_iges_faces(output, surface.faces, cad_options<IgesOptions>(output, part, kIgesStamp));
   } else {
-    StepOptions options;
-    options.file_name = recorded_file_name(output, part);
-    options.product = part;
-    options.timestamp = utc_stamp("%Y-%m-%dT%H:%M:%S");
-    write_step_faces(output, surface.faces, options);
+    write_step_faces(output, surface.faces, cad_options<StepOptions>(output, part, kStepStamp));
   }
   std::printf("wrote %zu trimmed faces to %s\n", surface.faces.size(), output_name(output).c_str());
   return 0;
@@ -135,23 +136,10 @@ int run_export_surface(const std::string& input, const std::string& output, cons
     std::printf("wrote the surface's 4 edges as B-spline curves to %s\n", output_name(output).c_str());
     return 0;
   }
-  const std::string name = recorded_file_name(output, part);
-  const std::time_t now = std::time(nullptr);
-  char stamp[32];
   if (iges) {
-    IgesOptions options;
-    options.file_name = name;
-    options.product = part;
-    std::strftime(stamp, sizeof stamp, "%Y%m%d.%H%M%S", std::gmtime(&now));
-    options.timestamp = stamp;
-    write_iges(output, surface.surface, options);
+    write_iges(output, surface.surface, cad_options<IgesOptions>(output, part, kIgesStamp));
   } else {
-    StepOptions options;
-    options.file_name = name;
-    options.product = part;
-    std::strftime(stamp, sizeof stamp, "%Y-%m-%dT%H:%M:%S", std::gmtime(&now));
-    options.timestamp = stamp;
-    write_step(output, surface.surface, options);
+    write_step(output, surface.surface, cad_options<StepOptions>(output, part, kStepStamp));
   }
   std::printf("wrote %s surface (%d x %d control points, degree %d x %d) to %s\n", surface.model.c_str(),
               surface.surface.count_u, surface.surface.count_v, surface.surface.degree_u, surface.surface.degree_v,

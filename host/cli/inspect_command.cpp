@@ -133,8 +133,8 @@ std::optional<ToleranceLimits> tolerance_limits(const InspectArgs& a) {
 
 // The standard uncertainty of each point's deviation: the point's own (its sigma column, else
 // --point-u, else the noise estimated from the scan with its reading step) combined with the
-// surface's (a fit's u where the point's foot lies; a CAD nominal is exact; trimmed faces the
-// largest u of any face, a bound). Throws when the points' own cannot be had.
+// surface's (a fit's u where the point's foot lies, on trimmed faces the u of the face that holds
+// the point; a CAD nominal is exact). Throws when the points' own cannot be had.
 std::vector<double> deviation_uncertainty(const InspectArgs& a, const PointCloud& cloud, const FittedSurface& surface,
                                           bool nominal, const Inspection& r, std::string* from) {
   std::vector<double> point_u(cloud.points.size(), a.point_u_mm);
@@ -164,12 +164,10 @@ std::vector<double> deviation_uncertainty(const InspectArgs& a, const PointCloud
     return point_u;
   }
   std::vector<double> out(point_u.size());
-  // A face's or the surface's u where a height field lies above (x, y); `fallback` off its grid.
+  // A face's or the surface's u above (x, y); `fallback` off its grid.
   auto u_above = [](const BSplineSurface& s, const SurfaceUncertainty& u, double x, double y, double fallback) {
-    double pu = 0, pv = 0, value = 0;
-    table_to_parameters(s, x, y, pu, pv);
-    const double ua = (pu - s.u_min()) / (s.u_max() - s.u_min()), vb = (pv - s.v_min()) / (s.v_max() - s.v_min());
-    return uncertainty_at(u, ua, vb, value) ? value : fallback;
+    double value = 0;
+    return uncertainty_above(s, u, x, y, value) ? value : fallback;
   };
   double bound = 0;
   for (const TrimmedFace& f : surface.faces) bound = std::max(bound, f.uncertainty.computed ? f.uncertainty.max_mm : 0.0);

@@ -76,25 +76,35 @@ int main(int argc, char** argv) {
     for (const char* name : {"status", "home", "unlock", "abort", "jog", "repeatability", "touch"}) {
       if (app.got_subcommand(name)) device_args.device = chosen_device(device_args.device);
     }
-    // -o - writes the data to standard output, in the command's format (or -o -.EXT), and moves
-    // what the command says to standard error so that the data stays clean.
+    // An output named "-" (or "-.EXT") is standard output, as write_file_atomically writes it: at
+    // most one per command, and then what the command says moves to standard error so that the
+    // data stays clean. A scan file cannot be one.
     if (*scan_cmd && is_standard_output(scan.output)) {
       throw std::invalid_argument("scan -o: a scan file is appended to as points arrive, locked and resumed; give it a file name");
     }
+    for (const CLI::App* command : app.get_subcommands()) {
+      size_t to_standard_output = 0;
+      for (const CLI::Option* option : command->get_options()) {
+        const bool output = option->check_lname("output") || option->check_lname("report") ||
+                            option->check_lname("deviations") || option->check_lname("outliers");
+        for (const std::string& value : option->results()) to_standard_output += output && is_standard_output(value) ? 1 : 0;
+      }
+      if (to_standard_output > 1) throw std::invalid_argument(command->get_name() + ": only one output can be standard output");
+      if (to_standard_output == 1) reserve_standard_output_for_data();
+    }
+    // "-" alone takes the command's format.
     const struct {
       CLI::App* command;
       std::string* output;
-      const char* default_extension;  // nullptr: the command decides (export: points or a surface)
+      const char* default_extension;
     } outputs[] = {
-        {export_cmd, &export_args.output, nullptr}, {pull_cmd, &pull.output, ".json"},
+        {pull_cmd, &pull.output, ".json"},
         {curve_cmd, &curve.output, ".json"},      {superquadric_cmd, &superquadric.output, ".json"},
         {characterize_cmd, &characterize_args.output, ".csv"}, {segment_cmd, &segment_args.output, ".csv"},
         {fit_cmd, &fit.output, ".json"},          {filter_cmd, &filter.output, ".csv"},
     };
     for (const auto& o : outputs) {
-      if (!*o.command || !is_standard_output(*o.output)) continue;
-      if (o.default_extension != nullptr) *o.output = with_default_format(*o.output, o.default_extension);
-      reserve_standard_output_for_data();
+      if (*o.command) *o.output = with_default_format(*o.output, o.default_extension);
     }
     if (*scan_cmd) {
       scan.device = chosen_device(scan.device);

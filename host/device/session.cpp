@@ -123,10 +123,6 @@ void Session::deliver_kept() {
     deliver(kept->second.data(), kept->second.size());
     kept_.erase(kept);
   }
-  // Frames now behind the expected one were delivered on their own.
-  for (auto k = kept_.begin(); k != kept_.end();) {
-    k = static_cast<int16_t>(k->first - link_.expected_seq()) < 0 ? kept_.erase(k) : std::next(k);
-  }
 }
 
 uint32_t Session::queue(digitizer_Envelope& message, bool sync) {

@@ -15,15 +15,6 @@ double cross(const Point2& o, const Point2& a, const Point2& b) {
   return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
 }
 
-double signed_area(const std::vector<Point2>& polygon) {
-  double twice = 0;
-  for (size_t i = 0, n = polygon.size(); i < n; ++i) {
-    const Point2 &a = polygon[i], &b = polygon[(i + 1) % n];
-    twice += a.x * b.y - b.x * a.y;
-  }
-  return 0.5 * twice;
-}
-
 // Where edge p-q meets loop segment r-s: t along p-q, w along r-s. Half-open in both, so a
 // crossing exactly at a vertex is counted on one edge and one segment only; `closed_end` also
 // takes the segment's end (a segment that ends on the domain's edge, whose next one is left out).
@@ -108,7 +99,7 @@ class FaceCutter {
     index_segments();
   }
 
-  void cut(const std::array<uint32_t, 3>& t, size_t* tangled) {
+  void cut(const std::array<uint32_t, 3>& t) {
     Node corner[3];
     for (size_t k = 0; k < 3; ++k) corner[k] = Node{xy(t[k]), grid_key(t[k])};
     const Point2 centre{(corner[0].at.x + corner[1].at.x + corner[2].at.x) / 3, (corner[0].at.y + corner[1].at.y + corner[2].at.y) / 3};
@@ -128,7 +119,7 @@ class FaceCutter {
       }
     }
     if (crossings.empty()) {
-      if (inside_face(shifted_, centre.x, centre.y)) keep_whole(t);
+      keep_whole_if_inside(t, centre);
       return;
     }
     std::sort(crossings.begin(), crossings.end(), [](const Crossing& a, const Crossing& b) { return a.at < b.at; });
@@ -151,18 +142,18 @@ class FaceCutter {
       size_t exit = 0;
       std::vector<size_t> run;
       if (!walk_inside(crossings, c, corner, nodes, run, &exit) || !split(pieces, outline_of[c], outline_of[exit], run)) {
-        if (tangled) ++*tangled;
-        if (inside_face(shifted_, centre.x, centre.y)) keep_whole(t);
+        keep_whole_if_inside(t, centre);
         return;
       }
       ++splits;
     }
-    if (2 * splits != crossings.size()) {
-      if (tangled) ++*tangled;
-      if (inside_face(shifted_, centre.x, centre.y)) keep_whole(t);
+    // Every piece triangulated before any is kept, so a piece that cannot be leaves no hole.
+    std::vector<std::array<Node, 3>> parts;
+    if (2 * splits != crossings.size() || !triangulate_pieces(pieces, nodes, parts)) {
+      keep_whole_if_inside(t, centre);
       return;
     }
-    for (const std::vector<size_t>& piece : pieces) emit(piece, nodes, orientation > 0);
+    for (const std::array<Node, 3>& part : parts) keep(part, orientation > 0);
   }
 
  private:
@@ -207,11 +198,14 @@ class FaceCutter {
   // Every moved loop segment listed in each grid cell its bounding box touches (one cell of margin).
   void index_segments() {
     cells_.assign(static_cast<size_t>(nu_ - 1) * (nv_ - 1), {});
+    segment_of_.assign(face_.loops.size(), {});
     for (size_t k = 0; k < face_.loops.size(); ++k) {
       const TrimLoop& loop = shifted_.loops[k];
+      segment_of_[k].assign(loop.size(), kNone);
       for (size_t i = 0; i < loop.size(); ++i) {
         const size_t next = (i + 1) % loop.size();
         if (along_domain_edge(face_.loops[k][i], face_.loops[k][next])) continue;
+        segment_of_[k][i] = segments_.size();
         // A segment that ends on the domain's edge leaves there: the segment after it (along the
         // edge) is left out, so this one counts its end as a crossing.
         const Segment s{k, i, loop[i], loop[next], on_domain_edge(face_.loops[k][next])};
@@ -251,26 +245,12 @@ class FaceCutter {
       if (!strictly_inside_triangle(loop[v], corner[0].at, corner[1].at, corner[2].at)) return false;
       run.push_back(nodes.size());
       nodes.push_back(Node{loop[v], VertexKey{2, first.loop, v, 0, 0}});
-      // The next segment of the loop (segment ids of one loop are consecutive).
-      const size_t next = segment_after(segment);
-      if (next == SIZE_MAX) return false;
-      segment = next;
+      // On along the loop (a segment on the domain's edge has none: the run cannot go on).
+      segment = segment_of_[first.loop][v];
+      if (segment == kNone) return false;
       after = -1;
     }
     return false;
-  }
-  size_t segment_after(size_t segment) const {
-    const Segment& s = segments_[segment];
-    const size_t n = shifted_.loops[s.loop].size();
-    const size_t want = (s.index + 1) % n;
-    // Ids of one loop's segments run in order, with the domain-edge ones left out.
-    for (size_t candidate : {segment + 1, segment + 1 - n}) {
-      if (candidate < segments_.size() && segments_[candidate].loop == s.loop && segments_[candidate].index == want) return candidate;
-    }
-    for (size_t k = 0; k < segments_.size(); ++k) {
-      if (segments_[k].loop == s.loop && segments_[k].index == want) return k;
-    }
-    return SIZE_MAX;
   }
 
   // Splits the piece whose outline holds both `entry` and `exit` along entry, run..., exit.
@@ -327,34 +307,47 @@ class FaceCutter {
     out_.triangles.push_back(kept);
   }
 
-  // Triangulates one piece and keeps its triangles inside the face, wound as the grid's are.
-  void emit(const std::vector<size_t>& piece, const std::vector<Node>& nodes, bool grid_counter_clockwise) {
-    std::vector<Point2> polygon;
-    std::vector<VertexKey> keys;
-    for (size_t k : piece) {
-      // A loop through a corner of the triangle puts the corner in twice: keep it once.
-      if (!polygon.empty() && std::fabs(polygon.back().x - nodes[k].at.x) + std::fabs(polygon.back().y - nodes[k].at.y) <= 1e-12) continue;
-      polygon.push_back(nodes[k].at);
-      keys.push_back(nodes[k].key);
+  // Each piece's triangles inside the face, as nodes; false when a piece cannot be triangulated.
+  bool triangulate_pieces(const std::vector<std::vector<size_t>>& pieces, const std::vector<Node>& nodes,
+                          std::vector<std::array<Node, 3>>& parts) const {
+    for (const std::vector<size_t>& piece : pieces) {
+      TrimLoop polygon;
+      std::vector<const Node*> at;
+      for (size_t k : piece) {
+        // A loop through a corner of the triangle puts the corner in twice: keep it once.
+        if (!polygon.empty() && std::fabs(polygon.back().x - nodes[k].at.x) + std::fabs(polygon.back().y - nodes[k].at.y) <= 1e-12) continue;
+        polygon.push_back(nodes[k].at);
+        at.push_back(&nodes[k]);
+      }
+      while (polygon.size() > 3 && std::fabs(polygon.back().x - polygon.front().x) + std::fabs(polygon.back().y - polygon.front().y) <= 1e-12) {
+        polygon.pop_back();
+        at.pop_back();
+      }
+      if (polygon.size() < 3) continue;
+      if (twice_signed_area(polygon) < 0) {
+        std::reverse(polygon.begin(), polygon.end());
+        std::reverse(at.begin(), at.end());
+      }
+      std::vector<std::array<size_t, 3>> triangles;
+      if (!triangulate(polygon, triangles)) return false;
+      for (const auto& tri : triangles) {
+        const Point2 &a = polygon[tri[0]], &b = polygon[tri[1]], &c = polygon[tri[2]];
+        if (inside_face(shifted_, (a.x + b.x + c.x) / 3, (a.y + b.y + c.y) / 3)) parts.push_back({*at[tri[0]], *at[tri[1]], *at[tri[2]]});
+      }
     }
-    while (polygon.size() > 3 && std::fabs(polygon.back().x - polygon.front().x) + std::fabs(polygon.back().y - polygon.front().y) <= 1e-12) {
-      polygon.pop_back();
-      keys.pop_back();
-    }
-    if (polygon.size() < 3) return;
-    if (signed_area(polygon) < 0) {
-      std::reverse(polygon.begin(), polygon.end());
-      std::reverse(keys.begin(), keys.end());
-    }
-    std::vector<std::array<size_t, 3>> triangles;
-    if (!triangulate(polygon, triangles)) return;
-    for (const auto& tri : triangles) {
-      const Point2 &a = polygon[tri[0]], &b = polygon[tri[1]], &c = polygon[tri[2]];
-      if (!inside_face(shifted_, (a.x + b.x + c.x) / 3, (a.y + b.y + c.y) / 3)) continue;
-      std::array<uint32_t, 3> v{vertex(keys[tri[0]], a), vertex(keys[tri[1]], b), vertex(keys[tri[2]], c)};
-      if (!grid_counter_clockwise) std::swap(v[1], v[2]);
-      out_.triangles.push_back(v);
-    }
+    return true;
+  }
+
+  // Keeps a part (counter-clockwise in XY), wound as the grid's triangles are.
+  void keep(const std::array<Node, 3>& part, bool grid_counter_clockwise) {
+    std::array<uint32_t, 3> v{vertex(part[0].key, part[0].at), vertex(part[1].key, part[1].at), vertex(part[2].key, part[2].at)};
+    if (!grid_counter_clockwise) std::swap(v[1], v[2]);
+    out_.triangles.push_back(v);
+  }
+
+  // The rule for a triangle the cut cannot untangle: whole when its centre is inside.
+  void keep_whole_if_inside(const std::array<uint32_t, 3>& t, const Point2& centre) {
+    if (inside_face(shifted_, centre.x, centre.y)) keep_whole(t);
   }
 
   const TrimmedFace& face_;
@@ -366,14 +359,16 @@ class FaceCutter {
   std::map<VertexKey, uint32_t> made_;
   double x0_ = 0, y0_ = 0, x1_ = 0, y1_ = 0, dx_ = 0, dy_ = 0;
   std::vector<Segment> segments_;
+  std::vector<std::vector<size_t>> segment_of_;  // [loop][vertex]: the segment from that vertex (kNone: left out)
+  static constexpr size_t kNone = SIZE_MAX;
   std::vector<std::vector<size_t>> cells_;
 };
 
 }  // namespace
 
-void append_face_mesh(const TrimmedFace& face, const Mesh& grid, int nu, int nv, Mesh& out, size_t* tangled) {
+void append_face_mesh(const TrimmedFace& face, const Mesh& grid, int nu, int nv, Mesh& out) {
   FaceCutter cutter(face, grid, nu, nv, out);
-  for (const auto& t : grid.triangles) cutter.cut(t, tangled);
+  for (const auto& t : grid.triangles) cutter.cut(t);
 }
 
 }  // namespace dg::host

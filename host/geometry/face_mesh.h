@@ -10,8 +10,9 @@ namespace dg::host {
 // loop crosses once (the loop entering through one edge and leaving through another) is split
 // along the loop and its parts inside the face kept, with new vertices on the face's surface where
 // the loop crosses its edges and at the loop's corners inside it, so the mesh ends on the trims.
-// A triangle crossed in a more tangled way keeps the old rule (whole when its centre is inside);
-// *tangled counts those. Appends to `out`.
-void append_face_mesh(const TrimmedFace& face, const Mesh& grid, int nu, int nv, Mesh& out, size_t* tangled = nullptr);
+// A triangle crossed in a way the cut cannot untangle (a run of the loop that leaves by the
+// domain's edge, a piece that cannot be triangulated) is kept whole when its centre is inside, as
+// before. Appends to `out`.
+void append_face_mesh(const TrimmedFace& face, const Mesh& grid, int nu, int nv, Mesh& out);
 
 }  // namespace dg::host

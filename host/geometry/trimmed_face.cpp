@@ -48,6 +48,13 @@ void table_to_parameters(const BSplineSurface& s, double x, double y, double& u,
   v = gv0 + tv * (gv1 - gv0);
 }
 
+bool uncertainty_above(const BSplineSurface& surface, const SurfaceUncertainty& u, double x, double y, double& value) {
+  double pu = 0, pv = 0;
+  table_to_parameters(surface, x, y, pu, pv);
+  return uncertainty_at(u, (pu - surface.u_min()) / (surface.u_max() - surface.u_min()),
+                        (pv - surface.v_min()) / (surface.v_max() - surface.v_min()), value);
+}
+
 Point3 point_above(const BSplineSurface& surface, double x, double y) {
   double u, v;
   table_to_parameters(surface, x, y, u, v);

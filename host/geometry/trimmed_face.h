@@ -40,6 +40,10 @@ void table_to_parameters(const BSplineSurface& surface, double x, double y, doub
 
 // The surface point above table point (x, y).
 Point3 point_above(const BSplineSurface& surface, double x, double y);
+
+// The uncertainty grid `u` of the height field `surface` (over its parameter domain) at the point
+// above table (x, y); false where the grid has no value (off a trimmed face's nodes, or no grid).
+bool uncertainty_above(const BSplineSurface& surface, const SurfaceUncertainty& u, double x, double y, double& value);
 // The loop with every edge cut into pieces no longer than `max_step_mm`, so a polyline through the
 // surface points above its vertices stays on the surface (a straight edge in XY is a curve on it).
 TrimLoop densified(const TrimLoop& loop, double max_step_mm);

@@ -118,14 +118,8 @@ ReportPicture uncertainty_picture(const FittedSurface& f) {
         const double x = x0 + (x1 - x0) * c / samples, y = y0 + (y1 - y0) * r / samples;
         for (const TrimmedFace& face : f.faces) {
           if (!inside_face(face, x, y)) continue;
-          double a = 0, b = 0, value = 0;
-          table_to_parameters(face.surface, x, y, a, b);
-          const BSplineSurface& s = face.surface;
-          a = (a - s.u_min()) / (s.u_max() - s.u_min());
-          b = (b - s.v_min()) / (s.v_max() - s.v_min());
-          if (uncertainty_at(face.uncertainty, std::clamp(a, 0.0, 1.0), std::clamp(b, 0.0, 1.0), value)) {
-            points.push_back({x, y, 2 * value});
-          }
+          double value = 0;
+          if (uncertainty_above(face.surface, face.uncertainty, x, y, value)) points.push_back({x, y, 2 * value});
           break;
         }
       }

@@ -68,7 +68,7 @@ void exchange(Endpoint& a, Endpoint& b, uint32_t count, Faults faults, uint64_t 
     size_t size = 0;
     for (int k = 0; k < 8 && a.link.next_frame(now_us, wire, sizeof wire, &size); ++k) ab.put(wire, size);
     for (int k = 0; k < 8 && b.link.next_frame(now_us, wire, sizeof wire, &size); ++k) ba.put(wire, size);
-    auto deliver = [](Channel& channel, Endpoint& to) {
+    auto deliver = [now_us](Channel& channel, Endpoint& to) {
       std::vector<uint8_t> frame;
       while (channel.take(frame)) {
         size_t offset = 0;
@@ -78,7 +78,7 @@ void exchange(Endpoint& a, Endpoint& b, uint32_t count, Faults faults, uint64_t 
           offset += used;
           if (s == dg::Status::kNeedMore) break;
           if (s != dg::Status::kOk) continue;
-          if (to.link.receive(to.decoder.header()) && to.decoder.payload_size() == 4) {
+          if (to.link.receive(to.decoder.header(), now_us) && to.decoder.payload_size() == 4) {
             uint32_t value;
             std::memcpy(&value, to.decoder.payload(), 4);
             to.received.push_back(value);
@@ -132,7 +132,7 @@ TEST(ReliableLink, AFullWindowPushesBackUntilAcknowledged) {
   dg::FrameHeader ack;
   ack.kind = dg::FrameKind::kAckOnly;
   ack.ack = 2;
-  link.receive(ack);
+  link.receive(ack, 0);
   LONGS_EQUAL(2, link.in_flight());
   CHECK(dg::Status::kOk == link.send(payload, 1, 0));
 }
@@ -197,11 +197,11 @@ TEST(ReliableLink, AnswersADuplicateWithAnAck) {
   dg::FrameHeader data;
   data.kind = dg::FrameKind::kData;
   data.seq = 1;
-  CHECK(receiver.receive(data));
+  CHECK(receiver.receive(data, 0));
   uint8_t wire[dg::kFrameMaxWire];
   size_t size = 0;
   CHECK(receiver.next_frame(0, wire, sizeof wire, &size));  // the ack
-  CHECK_FALSE(receiver.receive(data));                     // the same frame again
+  CHECK_FALSE(receiver.receive(data, 0));                  // the same frame again
   LONGS_EQUAL(1, receiver.counters().duplicates);
   CHECK(receiver.next_frame(0, wire, sizeof wire, &size));  // acknowledged again
   LONGS_EQUAL(2, receiver.counters().acks_sent);
@@ -216,7 +216,7 @@ TEST(ReliableLink, ASyncFrameStartsANewSessionOnceAndDropsTheOldOnesFrames) {
     int delivered = 0;
     while (from.next_frame(now, wire, sizeof wire, &size)) {
       size_t used = 0;
-      if (decoder.feed(wire, size, &used) == dg::Status::kOk && to.receive(decoder.header())) ++delivered;
+      if (decoder.feed(wire, size, &used) == dg::Status::kOk && to.receive(decoder.header(), now)) ++delivered;
     }
     return delivered;
   };
@@ -240,7 +240,7 @@ TEST(ReliableLink, ASyncFrameStartsANewSessionOnceAndDropsTheOldOnesFrames) {
   CHECK(new_host.next_frame(200000, wire, sizeof wire, &size));
   size_t used = 0;
   CHECK(dg::Status::kOk == at_device.feed(wire, size, &used));
-  CHECK_FALSE(device.receive(at_device.header()));
+  CHECK_FALSE(device.receive(at_device.header(), 0));
   CHECK_FALSE(device.take_restart());
 }
 
@@ -260,15 +260,15 @@ TEST(ReliableLink, AFrameSentBeforeTheSessionIsNotTakenForItsFirst) {
   CHECK(dg::Status::kOk == host.send_sync(hello, 1, 0, 0x2345));
   CHECK(host.next_frame(0, wire, sizeof wire, &size));
   CHECK(dg::Status::kOk == at_device.feed(wire, size, &used));
-  CHECK(device.receive(at_device.header()));
+  CHECK(device.receive(at_device.header(), 0));
   const uint8_t reply[1] = {2};
   device.send(reply, 1, 0);
   CHECK(device.next_frame(0, wire, sizeof wire, &size));
   // The stale alarm reaches the host first: dropped, and the reply after it is delivered.
   CHECK(dg::Status::kOk == at_host.feed(stale, stale_size, &used));
-  CHECK_FALSE(host.receive(at_host.header()));
+  CHECK_FALSE(host.receive(at_host.header(), 0));
   CHECK(dg::Status::kOk == at_host.feed(wire, size, &used));
-  CHECK(host.receive(at_host.header()));
+  CHECK(host.receive(at_host.header(), 0));
   LONGS_EQUAL(2, at_host.payload()[0]);
 }
 
@@ -286,9 +286,9 @@ TEST(ReliableLink, TwoAcksThatFreeNothingResendBeforeTheTimer) {
   dg::FrameHeader nothing;
   nothing.kind = dg::FrameKind::kAckOnly;
   nothing.ack = 0;
-  link.receive(nothing);
+  link.receive(nothing, 0);
   CHECK_FALSE(link.next_frame(20, wire, sizeof wire, &size));
-  link.receive(nothing);
+  link.receive(nothing, 0);
   CHECK(link.next_frame(30, wire, sizeof wire, &size));
   LONGS_EQUAL(1, link.counters().fast_retransmits);
   LONGS_EQUAL(1, link.counters().retransmitted);
@@ -300,12 +300,12 @@ TEST(ReliableLink, FramesKeptAheadOfAGapAreDeliveredAndAcknowledgedOnceItFills) 
   data.kind = dg::FrameKind::kData;
   // Frame 1 is lost; 2 and 3 arrive first and a receiver with memory keeps them.
   data.seq = 2;
-  CHECK_FALSE(receiver.receive(data));
+  CHECK_FALSE(receiver.receive(data, 0));
   data.seq = 3;
-  CHECK_FALSE(receiver.receive(data));
+  CHECK_FALSE(receiver.receive(data, 0));
   LONGS_EQUAL(1, receiver.expected_seq());
   data.seq = 1;
-  CHECK(receiver.receive(data));
+  CHECK(receiver.receive(data, 0));
   LONGS_EQUAL(2, receiver.expected_seq());
   receiver.deliver_kept();  // 2
   receiver.deliver_kept();  // 3
@@ -322,6 +322,6 @@ TEST(ReliableLink, FramesKeptAheadOfAGapAreDeliveredAndAcknowledgedOnceItFills) 
   LONGS_EQUAL(3, decoder.header().ack);
   // Frame 2 sent again after all is an old duplicate.
   data.seq = 2;
-  CHECK_FALSE(receiver.receive(data));
+  CHECK_FALSE(receiver.receive(data, 0));
   LONGS_EQUAL(1, receiver.counters().duplicates);
 }

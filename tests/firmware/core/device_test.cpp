@@ -64,7 +64,7 @@ struct ScriptedHost {
       const dg::Status status = decoder.feed(wire.to_host.data() + offset, wire.to_host.size() - offset, &used);
       offset += used;
       if (status != dg::Status::kOk) continue;
-      if (!link.receive(decoder.header())) continue;
+      if (!link.receive(decoder.header(), now_us)) continue;
       digitizer_Envelope message;
       CHECK(dg::decode_envelope(decoder.payload(), decoder.payload_size(), &message) == dg::Status::kOk);
       handle(message);

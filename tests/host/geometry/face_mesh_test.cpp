@@ -13,15 +13,8 @@ using namespace dg::host;
 
 namespace {
 
-// The polygon's area by the shoelace formula (counter-clockwise positive).
-double loop_area(const TrimLoop& loop) {
-  double twice = 0;
-  for (size_t i = 0; i < loop.size(); ++i) {
-    const Point2 &a = loop[i], &b = loop[(i + 1) % loop.size()];
-    twice += a.x * b.y - b.x * a.y;
-  }
-  return 0.5 * twice;
-}
+// The loop's area (counter-clockwise positive).
+double loop_area(const TrimLoop& loop) { return 0.5 * twice_signed_area(loop); }
 
 // The triangles' area seen from above (positive for counter-clockwise in XY), and the least of them.
 double projected_area(const Mesh& mesh, double* smallest_signed) {
