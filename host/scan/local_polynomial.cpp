@@ -53,6 +53,9 @@ bool fit_local_polynomial(const std::vector<Point3>& points, const std::vector<s
   }
   if (fit::ldlt_factor(a, n, inverse_d, 1e-10) != Status::kOk) return false;
   fit::ldlt_solve(a, inverse_d, n, out.c);
+  double first_column[10] = {1};
+  fit::ldlt_solve(a, inverse_d, n, first_column);
+  out.centre_gain = first_column[0];
   return true;
 }
 

@@ -14,6 +14,9 @@ struct LocalPolynomial {
   Point3 centre;
   double scale_x = 1, scale_y = 1;
   double c[10] = {};
+  // [(X^T X)^-1]_00: the variance of the value at the centre in units of the noise variance (1/n
+  // for a centre among the points, more where the centre lies off to one side of them).
+  double centre_gain = 0;
 
   int terms() const { return order == 1 ? 3 : order == 2 ? 6 : 10; }
   double at(double x, double y) const;  // the value; at the centre it is c[0]
