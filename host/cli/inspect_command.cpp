@@ -15,6 +15,7 @@
 #include "host/io/atomic_file.h"
 #include "host/inspect/html_report.h"
 #include "host/cad/iges_reader.h"
+#include "host/cad/mesh_reader.h"
 #include "host/fit/noise_estimate.h"
 #include "host/fit/parameterize.h"
 #include "host/fit/rigid_align.h"
@@ -29,7 +30,8 @@ namespace dg::host {
 CLI::App* add_inspect_command(CLI::App& app, InspectArgs& a) {
   CLI::App* cmd = app.add_subcommand("inspect", "deviations of measured points from a surface (orthogonal, signed)");
   cmd->add_option("points", a.points, ".csv, .xyz, .ply or .scan points in mm")->required()->check(CLI::ExistingFile);
-  cmd->add_option("surface", a.surface, "SURF.json, or a nominal surface from CAD: IGES (.igs, its first entity 128) or STEP (.stp)")
+  cmd->add_option("surface", a.surface,
+                  "SURF.json, a nominal surface from CAD: IGES (.igs, its first entity 128) or STEP (.stp), or a nominal mesh (.stl, .obj)")
       ->required()->check(CLI::ExistingFile);
   cmd->add_option("--band", a.bands_mm, "count the points within these deviations, mm")->capture_default_str()->check(CLI::PositiveNumber);
   cmd->add_flag("--json", a.json, "print the summary as JSON");
@@ -216,7 +218,16 @@ int run_inspect(const InspectArgs& a) {
   const FileFormat format = file_format(a.surface);
   const bool iges = format == FileFormat::kIges;
   const bool step = format == FileFormat::kStep;
-  if (iges || step) {
+  const bool mesh_nominal = format == FileFormat::kStl || format == FileFormat::kObj;
+  std::optional<MeshLocator> mesh;
+  if (mesh_nominal) {
+    mesh.emplace(read_mesh(a.surface));
+    surface.model = "mesh";
+    surface.method = format == FileFormat::kStl ? "nominal (STL)" : "nominal (OBJ)";
+    surface.parameterization = "-";
+    surface.source = a.surface;
+    surface.mesh_triangles = mesh->triangle_count();
+  } else if (iges || step) {
     surface.surface = iges ? read_iges_surface(a.surface) : read_step_surface(a.surface);
     surface.model = "bspline";
     surface.method = iges ? "nominal (IGES)" : "nominal (STEP)";
@@ -229,6 +240,7 @@ int run_inspect(const InspectArgs& a) {
   if (a.align && !surface.faces.empty()) {
     throw std::invalid_argument("--align: aligning to trimmed faces is not supported yet; align to a single-surface fit");
   }
+  if (a.align && mesh) throw std::invalid_argument("--align: aligning to a mesh is not supported yet; align to a surface (SURF.json, IGES, STEP)");
   if (a.align) {
     const Alignment fit = align_to_surface(cloud.points, SurfaceLocator(surface.surface));
     for (Point3& p : cloud.points) p = fit.transform.apply(p);
@@ -239,8 +251,9 @@ int run_inspect(const InspectArgs& a) {
   const std::optional<ToleranceLimits> limits = tolerance_limits(a);
   std::vector<double> bands = a.bands_mm;
   std::sort(bands.begin(), bands.end());
-  const Inspection r =
-      surface.faces.empty() ? inspect(cloud.points, surface.surface, bands) : inspect_faces(cloud.points, surface.faces, bands);
+  const Inspection r = mesh                    ? inspect_mesh(cloud.points, *mesh, bands)
+                       : surface.faces.empty() ? inspect(cloud.points, surface.surface, bands)
+                                               : inspect_faces(cloud.points, surface.faces, bands);
   if (!a.deviations_csv.empty()) {
     std::string text = "x,y,z,deviation\n";
     char line[160];
@@ -253,7 +266,7 @@ int run_inspect(const InspectArgs& a) {
   std::optional<Decision> decision;
   if (limits) {
     std::string from;
-    const std::vector<double> u = deviation_uncertainty(a, cloud, surface, iges || step, r, &from);
+    const std::vector<double> u = deviation_uncertainty(a, cloud, surface, iges || step || mesh_nominal, r, &from);
     decision = decide(r, *limits, u, from);
   }
   const int exit_code = !decision                                  ? 0
@@ -268,7 +281,11 @@ int run_inspect(const InspectArgs& a) {
   }
   const DistanceStats& s = r.stats;
   if (!alignment.empty()) std::printf("%s\n", alignment.c_str());
-  if (surface.faces.empty()) {
+  if (mesh) {
+    std::printf("%zu points against %s (a mesh of %zu triangles", s.count, a.surface.c_str(), mesh->triangle_count());
+    if (mesh->without_area() > 0) std::printf(", %zu of them without area and read past", mesh->without_area());
+    std::printf(")\n");
+  } else if (surface.faces.empty()) {
     std::printf("%zu points against %s (%s, %d x %d control points)\n", s.count, a.surface.c_str(), surface.model.c_str(),
                 surface.surface.count_u, surface.surface.count_v);
   } else {

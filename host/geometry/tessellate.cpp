@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "host/geometry/face_mesh.h"
+#include "host/geometry/triangle_mesh.h"
 #include "host/geometry/vec3.h"
 
 namespace dg::host {
@@ -35,15 +36,8 @@ double to_segment(const Point3& p, const Point3& a, const Point3& b) {
 }  // namespace
 
 double distance_to_triangle(const Point3& p, const Point3& a, const Point3& b, const Point3& c) {
-  const Point3 n = cross(b - a, c - a);
-  const double n2 = dot(n, n);
-  if (n2 > 0) {
-    const Point3 foot = p - (dot(p - a, n) / n2) * n;
-    const bool inside = dot(cross(b - a, foot - a), n) >= 0 && dot(cross(c - b, foot - b), n) >= 0 &&
-                        dot(cross(a - c, foot - c), n) >= 0;
-    if (inside) return std::fabs(dot(p - a, n)) / std::sqrt(n2);
-  }
-  return std::min({to_segment(p, a, b), to_segment(p, b, c), to_segment(p, c, a)});
+  int feature = 0;
+  return norm(p - closest_on_triangle(p, a, b, c, &feature));
 }
 
 Mesh tessellate(const BSplineSurface& s, double chord_mm, size_t max_triangles) {

@@ -192,7 +192,9 @@ std::string html_report(const ReportInputs& in) {
   if (in.surface) {
     const FittedSurface& f = *in.surface;
     h += "<h2>The surface</h2>\n<table>\n" + row("model", f.model) + row("method", f.method);
-    if (f.faces.empty()) {
+    if (f.model == "mesh") {
+      h += row("triangles", std::to_string(f.mesh_triangles));
+    } else if (f.faces.empty()) {
       h += row("degree", std::to_string(f.surface.degree_u) + " x " + std::to_string(f.surface.degree_v)) +
            row("control points", std::to_string(f.surface.count_u) + " x " + std::to_string(f.surface.count_v));
     } else {

@@ -74,4 +74,8 @@ Inspection inspect_faces(const std::vector<Point3>& points, const std::vector<Tr
       bands_mm);
 }
 
+Inspection inspect_mesh(const std::vector<Point3>& points, const MeshLocator& mesh, const std::vector<double>& bands_mm) {
+  return measure(points, [&](const Point3& p) { return mesh.closest(p); }, bands_mm);
+}
+
 }  // namespace dg::host

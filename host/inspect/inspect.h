@@ -5,6 +5,7 @@
 
 #include "host/geometry/bspline_surface.h"
 #include "host/geometry/distance_stats.h"
+#include "host/geometry/triangle_mesh.h"
 #include "host/geometry/trimmed_face.h"
 
 namespace dg::host {
@@ -35,5 +36,9 @@ Inspection inspect(const std::vector<Point3>& points, const BSplineSurface& surf
 // beyond every face, to the nearest face.
 Inspection inspect_faces(const std::vector<Point3>& points, const std::vector<TrimmedFace>& faces,
                          const std::vector<double>& bands_mm);
+
+// The same against a triangle mesh (a nominal from STL or OBJ): the closest point on any triangle,
+// signed by the mesh's pseudo-normals (MeshLocator).
+Inspection inspect_mesh(const std::vector<Point3>& points, const MeshLocator& mesh, const std::vector<double>& bands_mm);
 
 }  // namespace dg::host

@@ -1,0 +1,50 @@
+// The closest point on a triangle mesh (a user's STL or OBJ as a nominal), with a signed distance.
+#pragma once
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "host/geometry/closest_point.h"
+#include "host/geometry/point3.h"
+#include "host/geometry/tessellate.h"
+
+namespace dg::host {
+
+// The point on a triangle nearest to p (Voronoi regions of the vertices, edges and face, after
+// Ericson 2005, section 5.1.5); `feature` is 0 for the face, 1..3 for the edges ab, bc, ca and
+// 4..6 for the vertices a, b, c.
+Point3 closest_on_triangle(const Point3& p, const Point3& a, const Point3& b, const Point3& c, int* feature);
+
+// Closest points on a mesh through a bounding-volume tree of its triangles (boxes split at the
+// median of the longest axis). The distance's sign comes from the angle-weighted pseudo-normal of
+// the nearest feature (Baerentzen and Aanaes 2005), which gives the right side at edges and
+// corners where a face normal alone does not: positive on the side the triangles face (above an
+// upward-facing height field, as for a surface's S_u x S_v). u and v of the result are 0.
+class MeshLocator {
+ public:
+  // Throws std::invalid_argument for no triangles, an index out of range or a coordinate that is
+  // not finite (naming it).
+  explicit MeshLocator(const Mesh& mesh);
+  Closest closest(const Point3& p) const;
+  size_t triangle_count() const { return mesh_.triangles.size(); }
+  size_t without_area() const { return without_area_; }  // triangles whose corners lie on one line
+
+ private:
+  struct Node {
+    Point3 low, high;
+    uint32_t first = 0, count = 0;  // a leaf's triangles in order_[first, first + count)
+    uint32_t left = 0, right = 0;   // an inner node's children (count == 0)
+  };
+  uint32_t build(uint32_t first, uint32_t count);
+  Point3 feature_normal(size_t triangle, int feature) const;
+
+  Mesh mesh_;
+  std::vector<Node> nodes_;
+  std::vector<uint32_t> order_;
+  std::vector<Point3> face_normal_, vertex_normal_;  // unit; vertices' angle-weighted
+  std::vector<std::array<Point3, 3>> edge_normal_;  // per triangle edge: the sum of its faces' normals
+  size_t without_area_ = 0;
+};
+
+}  // namespace dg::host
