@@ -240,9 +240,9 @@ int run_inspect(const InspectArgs& a) {
   if (a.align && !surface.faces.empty()) {
     throw std::invalid_argument("--align: aligning to trimmed faces is not supported yet; align to a single-surface fit");
   }
-  if (a.align && mesh) throw std::invalid_argument("--align: aligning to a mesh is not supported yet; align to a surface (SURF.json, IGES, STEP)");
   if (a.align) {
-    const Alignment fit = align_to_surface(cloud.points, SurfaceLocator(surface.surface));
+    const Alignment fit = mesh ? align_to_nominal(cloud.points, [&](const Point3& p) { return mesh->closest(p); })
+                               : align_to_surface(cloud.points, SurfaceLocator(surface.surface));
     for (Point3& p : cloud.points) p = fit.transform.apply(p);
     aligned = AlignmentSummary{fit.transform.rotation, fit.transform.translation, fit.transform.angle_deg(),
                                fit.rms_before_mm, fit.rms_after_mm, fit.iterations, fit.converged};

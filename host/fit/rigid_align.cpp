@@ -23,10 +23,10 @@ double RigidTransform::angle_deg() const {
 
 namespace {
 
-double rms_of(const std::vector<Point3>& points, const RigidTransform& t, const SurfaceLocator& nominal) {
+double rms_of(const std::vector<Point3>& points, const RigidTransform& t, const std::function<Closest(const Point3&)>& closest) {
   double sum = 0;
   for (const Point3& p : points) {
-    const double d = nominal.closest(t.apply(p)).distance;
+    const double d = closest(t.apply(p)).distance;
     sum += d * d;
   }
   return std::sqrt(sum / static_cast<double>(std::max<size_t>(1, points.size())));
@@ -34,7 +34,7 @@ double rms_of(const std::vector<Point3>& points, const RigidTransform& t, const 
 
 }  // namespace
 
-Alignment align_to_surface(const std::vector<Point3>& all, const SurfaceLocator& nominal, size_t max_points) {
+Alignment align_to_nominal(const std::vector<Point3>& all, const std::function<Closest(const Point3&)>& closest, size_t max_points) {
   std::vector<Point3> points;
   const size_t stride = std::max<size_t>(1, all.size() / std::max<size_t>(1, max_points));
   for (size_t k = 0; k < all.size(); k += stride) points.push_back(all[k]);
@@ -43,7 +43,7 @@ Alignment align_to_surface(const std::vector<Point3>& all, const SurfaceLocator&
   Point3 centroid;
   for (const Point3& p : points) centroid += p;
   centroid = (1.0 / static_cast<double>(std::max<size_t>(1, points.size()))) * centroid;
-  out.rms_before_mm = rms_of(points, out.transform, nominal);
+  out.rms_before_mm = rms_of(points, out.transform, closest);
   Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
   Eigen::Vector3d translation = Eigen::Vector3d::Zero();
   for (int iteration = 1; iteration <= 50; ++iteration) {
@@ -51,14 +51,10 @@ Alignment align_to_surface(const std::vector<Point3>& all, const SurfaceLocator&
     Eigen::Matrix<double, 6, 1> rhs = Eigen::Matrix<double, 6, 1>::Zero();
     for (const Point3& p : points) {
       const Point3 moved = out.transform.apply(p);
-      const Closest c = nominal.closest(moved);
-      // The surface normal at the foot: the tangent plane the point may slide along.
-      Point3 s, su, sv;
-      nominal.surface().evaluate(c.u, c.v, s, su, sv);
-      Point3 n = cross(su, sv);
-      const double length = norm(n);
-      if (!(length > 0)) continue;
-      n = (1.0 / length) * n;
+      const Closest c = closest(moved);
+      // The nominal's normal at the foot: the tangent plane the point may slide along.
+      const Point3 n = c.normal;
+      if (!(norm(n) > 0)) continue;
       const double residual = dot(moved - c.point, n);
       const Point3 arm = moved - centroid;
       const Point3 a = cross(arm, n);
@@ -91,8 +87,12 @@ Alignment align_to_surface(const std::vector<Point3>& all, const SurfaceLocator&
       break;
     }
   }
-  out.rms_after_mm = rms_of(points, out.transform, nominal);
+  out.rms_after_mm = rms_of(points, out.transform, closest);
   return out;
+}
+
+Alignment align_to_surface(const std::vector<Point3>& points, const SurfaceLocator& nominal, size_t max_points) {
+  return align_to_nominal(points, [&](const Point3& p) { return nominal.closest(p); }, max_points);
 }
 
 }  // namespace dg::host

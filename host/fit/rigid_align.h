@@ -2,6 +2,7 @@
 // comparing: the rotation and translation that minimise the squared orthogonal distances.
 #pragma once
 #include <array>
+#include <functional>
 #include <vector>
 
 #include "host/geometry/surface_locator.h"
@@ -26,6 +27,9 @@ struct Alignment {
 // nominal point and normal, solves the 6 x 6 least-squares problem for a small rotation and a
 // translation, and applies it as an exact rotation. At most `max_points` points, evenly strided,
 // take part. Stops when a step moves no point by more than 1e-7 mm, or after 50 steps.
+// Any nominal whose closest points carry their normal: a surface, a mesh, a CAD part.
+Alignment align_to_nominal(const std::vector<Point3>& points, const std::function<Closest(const Point3&)>& closest,
+                           size_t max_points = 20000);
 Alignment align_to_surface(const std::vector<Point3>& points, const SurfaceLocator& nominal, size_t max_points = 20000);
 
 }  // namespace dg::host

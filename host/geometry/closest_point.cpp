@@ -68,8 +68,9 @@ Closest closest_point(const BSplineSurface& surface, const Point3& p, double u0,
   result.point = s;
   const Point3 r = p - s;
   const Point3 normal = cross(su, sv);
-  const double length = norm(r);
+  const double length = norm(r), normal_length = norm(normal);
   result.distance = dot(r, normal) < 0 ? -length : length;
+  if (normal_length > 0) result.normal = (1.0 / normal_length) * normal;
   return result;
 }
 

@@ -10,6 +10,7 @@ struct Closest {
   double u = 0, v = 0;
   Point3 point;
   double distance = 0;  // signed: positive on the side of S_u x S_v (above a height field)
+  Point3 normal;        // unit, towards positive distances, at the foot (0 where it has none)
 };
 
 // Gauss-Newton on |P - S(u, v)|^2 from (u0, v0), clamped to the domain; at a boundary the

@@ -152,7 +152,7 @@ Point3 MeshLocator::feature_normal(size_t triangle, int feature) const {
   return vertex_normal_[mesh_.triangles[triangle][static_cast<size_t>(feature - 4)]];
 }
 
-Closest MeshLocator::closest(const Point3& p) const {
+Closest MeshLocator::closest(const Point3& p, size_t* triangle) const {
   double best2 = HUGE_VAL;
   Point3 best_point;
   size_t best_triangle = 0;
@@ -187,7 +187,10 @@ Closest MeshLocator::closest(const Point3& p) const {
   Closest out;
   out.point = best_point;
   const double distance = std::sqrt(best2);
-  out.distance = dot(p - best_point, feature_normal(best_triangle, best_feature)) < 0 ? -distance : distance;
+  const Point3 normal = feature_normal(best_triangle, best_feature);
+  out.distance = dot(p - best_point, normal) < 0 ? -distance : distance;
+  out.normal = unit(normal);
+  if (triangle) *triangle = best_triangle;
   return out;
 }
 

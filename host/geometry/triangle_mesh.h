@@ -26,7 +26,8 @@ class MeshLocator {
   // Throws std::invalid_argument for no triangles, an index out of range or a coordinate that is
   // not finite (naming it).
   explicit MeshLocator(const Mesh& mesh);
-  Closest closest(const Point3& p) const;
+  // `triangle`, when given, receives the nearest triangle's index in the mesh.
+  Closest closest(const Point3& p, size_t* triangle = nullptr) const;
   size_t triangle_count() const { return mesh_.triangles.size(); }
   size_t without_area() const { return without_area_; }  // triangles whose corners lie on one line
 

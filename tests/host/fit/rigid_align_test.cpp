@@ -6,6 +6,7 @@
 
 #include <cmath>
 
+#include "host/geometry/triangle_mesh.h"
 #include "host/geometry/vec3.h"
 #include "tests/support/sample_surfaces.h"
 
@@ -45,4 +46,25 @@ TEST(RigidAlign, LeavesAlignedPointsWhereTheyAre) {
   CHECK(r.rms_after_mm < 1e-6);  // the closest-point iteration settles to 1e-7 mm
   CHECK(r.transform.angle_deg() < 1e-6);
   CHECK(norm(r.transform.translation) < 1e-6);
+}
+
+TEST(RigidAlign, UndoesTheSameMisplacementAgainstTheSurfacesMesh) {
+  // The nominal as a mesh (0.2 um chord), its normals the pseudo-normals of the nearest features:
+  // the transform comes out as against the surface itself, within what the chord allows.
+  const BSplineSurface nominal = dg::test::clamped_sample();
+  const MeshLocator mesh(tessellate(nominal, 0.0002));
+  const double angle = 1.5 * M_PI / 180;
+  const Point3 u = (1.0 / norm(Point3{0.3, -0.2, 0.93})) * Point3{0.3, -0.2, 0.93};
+  auto turn = [&](const Point3& p) {
+    return std::cos(angle) * p + std::sin(angle) * cross(u, p) + (1 - std::cos(angle)) * dot(u, p) * u +
+           Point3{0.4, -0.25, 0.3};
+  };
+  std::vector<Point3> measured;
+  for (int a = 1; a < 30; ++a)
+    for (int b = 1; b < 30; ++b) measured.push_back(turn(nominal.evaluate(a / 30.0, b / 30.0)));
+  const Alignment r = align_to_nominal(measured, [&](const Point3& p) { return mesh.closest(p); });
+  CHECK(r.converged);
+  CHECK(r.rms_before_mm > 0.1);
+  CHECK(r.rms_after_mm < 0.0002);
+  DOUBLES_EQUAL(1.5, r.transform.angle_deg(), 0.01);
 }
