@@ -12,16 +12,13 @@
 
 using namespace dg::host;
 
-TEST_GROUP(RigidAlign){};
+namespace {
 
-TEST(RigidAlign, UndoesAKnownMisplacement) {
-  const BSplineSurface nominal = dg::test::clamped_sample();
-  const SurfaceLocator locator(nominal);
-  // Points on the nominal, then turned 1.5 degrees about a tilted axis and shifted 0.4 mm.
+// Points of the nominal at (a/30, b/30), turned 1.5 degrees about a tilted axis and shifted 0.4 mm.
+std::vector<Point3> misplaced(const BSplineSurface& nominal) {
   const double angle = 1.5 * M_PI / 180;
   const Point3 axis{0.3, -0.2, 0.93};
-  const double k = 1.0 / norm(axis);
-  const Point3 u = k * axis;
+  const Point3 u = (1.0 / norm(axis)) * axis;
   auto turn = [&](const Point3& p) {
     return std::cos(angle) * p + std::sin(angle) * cross(u, p) + (1 - std::cos(angle)) * dot(u, p) * u +
            Point3{0.4, -0.25, 0.3};
@@ -29,6 +26,17 @@ TEST(RigidAlign, UndoesAKnownMisplacement) {
   std::vector<Point3> measured;
   for (int a = 1; a < 30; ++a)
     for (int b = 1; b < 30; ++b) measured.push_back(turn(nominal.evaluate(a / 30.0, b / 30.0)));
+  return measured;
+}
+
+}  // namespace
+
+TEST_GROUP(RigidAlign){};
+
+TEST(RigidAlign, UndoesAKnownMisplacement) {
+  const BSplineSurface nominal = dg::test::clamped_sample();
+  const SurfaceLocator locator(nominal);
+  const std::vector<Point3> measured = misplaced(nominal);
   const Alignment r = align_to_surface(measured, locator);
   CHECK(r.converged);
   CHECK(r.rms_before_mm > 0.1);
@@ -53,15 +61,7 @@ TEST(RigidAlign, UndoesTheSameMisplacementAgainstTheSurfacesMesh) {
   // the transform comes out as against the surface itself, within what the chord allows.
   const BSplineSurface nominal = dg::test::clamped_sample();
   const MeshLocator mesh(tessellate(nominal, 0.0002));
-  const double angle = 1.5 * M_PI / 180;
-  const Point3 u = (1.0 / norm(Point3{0.3, -0.2, 0.93})) * Point3{0.3, -0.2, 0.93};
-  auto turn = [&](const Point3& p) {
-    return std::cos(angle) * p + std::sin(angle) * cross(u, p) + (1 - std::cos(angle)) * dot(u, p) * u +
-           Point3{0.4, -0.25, 0.3};
-  };
-  std::vector<Point3> measured;
-  for (int a = 1; a < 30; ++a)
-    for (int b = 1; b < 30; ++b) measured.push_back(turn(nominal.evaluate(a / 30.0, b / 30.0)));
+  const std::vector<Point3> measured = misplaced(nominal);
   const Alignment r = align_to_nominal(measured, [&](const Point3& p) { return mesh.closest(p); });
   CHECK(r.converged);
   CHECK(r.rms_before_mm > 0.1);
