@@ -5,32 +5,16 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
-#include <map>
 #include <sstream>
-#include <tuple>
 #include <vector>
 
+#include "host/cad/vertex_welder.h"
 #include "host/io/file_name.h"
 #include "host/io/whole_file.h"
 
 namespace dg::host {
 
 namespace {
-
-// One vertex per distinct position, in order of first appearance.
-class Welder {
- public:
-  explicit Welder(Mesh& mesh) : mesh_(mesh) {}
-  uint32_t add(const Point3& p) {
-    const auto [it, fresh] = index_.emplace(std::make_tuple(p.x, p.y, p.z), static_cast<uint32_t>(mesh_.vertices.size()));
-    if (fresh) mesh_.vertices.push_back(p);
-    return it->second;
-  }
-
- private:
-  Mesh& mesh_;
-  std::map<std::tuple<double, double, double>, uint32_t> index_;
-};
 
 void check_finite(const Point3& p, const std::string& where) {
   if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
@@ -55,7 +39,7 @@ void add_triangle(Mesh& mesh, uint32_t a, uint32_t b, uint32_t c) {
 
 Mesh parse_binary_stl(const uint8_t* data, size_t count, const std::string& name) {
   Mesh mesh;
-  Welder welder(mesh);
+  VertexWelder welder(mesh);
   for (size_t t = 0; t < count; ++t) {
     const uint8_t* record = data + 84 + 50 * t;
     uint32_t corner[3];
@@ -72,7 +56,7 @@ Mesh parse_binary_stl(const uint8_t* data, size_t count, const std::string& name
 
 Mesh parse_ascii_stl(const std::string& text, const std::string& name) {
   Mesh mesh;
-  Welder welder(mesh);
+  VertexWelder welder(mesh);
   std::istringstream lines(text);
   std::string line;
   size_t line_number = 0;

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <optional>
 #include <stdexcept>
 
@@ -14,12 +15,12 @@
 #include "host/scan/scan_file.h"
 #include "host/io/atomic_file.h"
 #include "host/inspect/html_report.h"
-#include "host/cad/iges_reader.h"
+#include "host/cad/cad_nominal.h"
 #include "host/cad/mesh_reader.h"
+#include "host/geometry/triangle_mesh.h"
 #include "host/fit/noise_estimate.h"
 #include "host/fit/parameterize.h"
 #include "host/fit/rigid_align.h"
-#include "host/cad/step_reader.h"
 #include "host/inspect/decision.h"
 #include "host/inspect/inspect.h"
 #include "host/inspect/inspection_json.h"
@@ -219,30 +220,40 @@ int run_inspect(const InspectArgs& a) {
   const bool iges = format == FileFormat::kIges;
   const bool step = format == FileFormat::kStep;
   const bool mesh_nominal = format == FileFormat::kStl || format == FileFormat::kObj;
+  // A mesh or a CAD part: measured through its closest points, not as one B-spline.
   std::optional<MeshLocator> mesh;
+  std::optional<CadNominal> cad;
+  std::function<Closest(const Point3&)> nominal;
+  char summary[200];
   if (mesh_nominal) {
     mesh.emplace(read_mesh(a.surface));
+    nominal = [&](const Point3& p) { return mesh->closest(p); };
     surface.model = "mesh";
     surface.method = format == FileFormat::kStl ? "nominal (STL)" : "nominal (OBJ)";
-    surface.parameterization = "-";
-    surface.source = a.surface;
-    surface.mesh_triangles = mesh->triangle_count();
+    std::snprintf(summary, sizeof summary, "a mesh of %zu triangles", mesh->triangle_count());
+    surface.nominal_summary = summary;
+    if (mesh->without_area() > 0) surface.nominal_summary += ", " + std::to_string(mesh->without_area()) + " of them without area and read past";
   } else if (iges || step) {
-    surface.surface = iges ? read_iges_surface(a.surface) : read_step_surface(a.surface);
-    surface.model = "bspline";
+    cad.emplace(CadNominal::read(a.surface));
+    nominal = [&](const Point3& p) { return cad->closest(p); };
+    surface.model = "cad";
     surface.method = iges ? "nominal (IGES)" : "nominal (STEP)";
-    surface.parameterization = "-";
-    surface.source = a.surface;
+    std::snprintf(summary, sizeof summary, "%zu %s read by OpenCASCADE, each point measured on the exact faces (found through a mesh to %.3f mm)",
+                  cad->face_count(), cad->face_count() == 1 ? "face" : "faces", cad->deflection_mm());
+    surface.nominal_summary = summary;
   } else {
     surface = read_surface_json(a.surface);
+  }
+  if (nominal) {
+    surface.parameterization = "-";
+    surface.source = a.surface;
   }
   std::optional<AlignmentSummary> aligned;
   if (a.align && !surface.faces.empty()) {
     throw std::invalid_argument("--align: aligning to trimmed faces is not supported yet; align to a single-surface fit");
   }
   if (a.align) {
-    const Alignment fit = mesh ? align_to_nominal(cloud.points, [&](const Point3& p) { return mesh->closest(p); })
-                               : align_to_surface(cloud.points, SurfaceLocator(surface.surface));
+    const Alignment fit = nominal ? align_to_nominal(cloud.points, nominal) : align_to_surface(cloud.points, SurfaceLocator(surface.surface));
     for (Point3& p : cloud.points) p = fit.transform.apply(p);
     aligned = AlignmentSummary{fit.transform.rotation, fit.transform.translation, fit.transform.angle_deg(),
                                fit.rms_before_mm, fit.rms_after_mm, fit.iterations, fit.converged};
@@ -251,7 +262,7 @@ int run_inspect(const InspectArgs& a) {
   const std::optional<ToleranceLimits> limits = tolerance_limits(a);
   std::vector<double> bands = a.bands_mm;
   std::sort(bands.begin(), bands.end());
-  const Inspection r = mesh                    ? inspect_mesh(cloud.points, *mesh, bands)
+  const Inspection r = nominal                 ? inspect_nominal(cloud.points, nominal, bands)
                        : surface.faces.empty() ? inspect(cloud.points, surface.surface, bands)
                                                : inspect_faces(cloud.points, surface.faces, bands);
   if (!a.deviations_csv.empty()) {
@@ -266,7 +277,7 @@ int run_inspect(const InspectArgs& a) {
   std::optional<Decision> decision;
   if (limits) {
     std::string from;
-    const std::vector<double> u = deviation_uncertainty(a, cloud, surface, iges || step || mesh_nominal, r, &from);
+    const std::vector<double> u = deviation_uncertainty(a, cloud, surface, static_cast<bool>(nominal), r, &from);
     decision = decide(r, *limits, u, from);
   }
   const int exit_code = !decision                                  ? 0
@@ -281,10 +292,12 @@ int run_inspect(const InspectArgs& a) {
   }
   const DistanceStats& s = r.stats;
   if (!alignment.empty()) std::printf("%s\n", alignment.c_str());
-  if (mesh) {
-    std::printf("%zu points against %s (a mesh of %zu triangles", s.count, a.surface.c_str(), mesh->triangle_count());
-    if (mesh->without_area() > 0) std::printf(", %zu of them without area and read past", mesh->without_area());
-    std::printf(")\n");
+  if (nominal) {
+    std::printf("%zu points against %s (%s)\n", s.count, a.surface.c_str(), surface.nominal_summary.c_str());
+    if (cad && cad->mesh_fallbacks() > 0) {
+      std::printf("  %zu points measured on the mesh (within %.3f mm): no exact distance was found on their faces\n",
+                  cad->mesh_fallbacks(), cad->deflection_mm());
+    }
   } else if (surface.faces.empty()) {
     std::printf("%zu points against %s (%s, %d x %d control points)\n", s.count, a.surface.c_str(), surface.model.c_str(),
                 surface.surface.count_u, surface.surface.count_v);

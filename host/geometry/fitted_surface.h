@@ -1,6 +1,5 @@
 // A fitted surface as a value: the surface, the model and method that made it, and the fit's report.
 #pragma once
-#include <cstddef>
 #include <string>
 
 #include "host/geometry/bspline_surface.h"
@@ -35,8 +34,9 @@ struct FittedSurface {
   // between creases and steps (host/fit/regions.h); `surface` is then empty and unused.
   BSplineSurface surface;
   std::vector<TrimmedFace> faces;
-  // A mesh nominal (model "mesh", from STL or OBJ): its triangles; `surface` is then empty and unused.
-  size_t mesh_triangles = 0;
+  // A nominal that is no B-spline (a mesh, a CAD part's faces): what it is, for the report;
+  // `surface` is then empty and unused.
+  std::string nominal_summary;
   // Fit report; `has_fit` false for a surface that was not fitted here.
   bool has_fit = false;
   DistanceStats distance;  // orthogonal distances, mm

@@ -194,4 +194,26 @@ Closest MeshLocator::closest(const Point3& p, size_t* triangle) const {
   return out;
 }
 
+void MeshLocator::triangles_within(const Point3& p, double radius_mm, std::vector<size_t>& out) const {
+  out.clear();
+  const double radius2 = radius_mm * radius_mm;
+  uint32_t stack[128];
+  int depth = 0;
+  stack[depth++] = 0;
+  while (depth > 0) {
+    const Node& node = nodes_[stack[--depth]];
+    if (box_distance2(p, node.low, node.high) > radius2) continue;
+    if (node.count == 0) {
+      stack[depth++] = node.left, stack[depth++] = node.right;
+      continue;
+    }
+    for (uint32_t k = node.first; k < node.first + node.count; ++k) {
+      const auto& tri = mesh_.triangles[order_[k]];
+      int feature = 0;
+      const Point3 d = p - closest_on_triangle(p, mesh_.vertices[tri[0]], mesh_.vertices[tri[1]], mesh_.vertices[tri[2]], &feature);
+      if (dot(d, d) <= radius2) out.push_back(order_[k]);
+    }
+  }
+}
+
 }  // namespace dg::host

@@ -28,6 +28,8 @@ class MeshLocator {
   explicit MeshLocator(const Mesh& mesh);
   // `triangle`, when given, receives the nearest triangle's index in the mesh.
   Closest closest(const Point3& p, size_t* triangle = nullptr) const;
+  // Every triangle (index into the mesh) that comes within `radius_mm` of p, in no order.
+  void triangles_within(const Point3& p, double radius_mm, std::vector<size_t>& out) const;
   size_t triangle_count() const { return mesh_.triangles.size(); }
   size_t without_area() const { return without_area_; }  // triangles whose corners lie on one line
 

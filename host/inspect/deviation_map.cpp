@@ -18,16 +18,18 @@ Rgb diverging_colour(double t) {
 namespace {
 
 struct Layout {
-  int plot_x = 20, plot_y = 20, plot_w = 0, plot_h = 0;  // the part's area
-  int bar_x = 0, bar_y = 40, bar_w = 28, bar_h = 0;      // the colour bar
-  double x0 = 0, y0 = 0, mm_to_px = 1;                    // table mm to pixels
+  // The part's area: left and bottom margins hold the SVG's mm axes.
+  int plot_x = 74, plot_y = 20, plot_w = 0, plot_h = 0;
+  int bar_x = 0, bar_y = 40, bar_w = 28, bar_h = 0;  // the colour bar
+  double x0 = 0, y0 = 0, mm_to_px = 1;                // table mm to pixels
   double range = 1;
-  int cell = 2;  // pixels per bin
+  int cell = 2;             // pixels per bin
+  int columns = 1, rows = 1;  // bins; the frame is exactly columns x rows cells
 };
 
 Layout layout(const std::vector<MapPoint>& points, const MapPicture& pic) {
   Layout l;
-  const int bar_area = 210;
+  const int bar_area = 210, axis_below = 52;
   double x_min = 0, x_max = 1, y_min = 0, y_max = 1;
   if (!points.empty()) {
     x_min = x_max = points[0].x_mm;
@@ -38,20 +40,27 @@ Layout layout(const std::vector<MapPoint>& points, const MapPicture& pic) {
     }
   }
   const double span_x = std::max(x_max - x_min, 1e-9), span_y = std::max(y_max - y_min, 1e-9);
-  const int room_w = pic.width - bar_area - 2 * l.plot_x, room_h = pic.height - 2 * l.plot_y;
-  l.mm_to_px = std::min(room_w / span_x, room_h / span_y);
-  l.plot_w = static_cast<int>(span_x * l.mm_to_px);
-  l.plot_h = static_cast<int>(span_y * l.mm_to_px);
+  const int room_w = pic.width - bar_area - l.plot_x - 10, room_h = pic.height - l.plot_y - axis_below;
+  double largest = 0;
+  for (const MapPoint& p : points) largest = std::max(largest, std::fabs(p.value_mm));
+  l.range = pic.range_mm > 0 ? pic.range_mm : (largest > 0 ? largest : 1e-3);
+  // Bins about as wide as the points' spacing, at least 2 pixels; the plot is whole bins, and the
+  // scale puts the last point inside the last bin, so no strip of empty frame is left at the edges.
+  const double scale = std::min(room_w / span_x, room_h / span_y);
+  const double per_point =
+      points.empty() ? 4.0 : std::sqrt((span_x * scale + 1) * (span_y * scale + 1) / static_cast<double>(points.size()));
+  l.cell = std::max(2, static_cast<int>(std::ceil(per_point)));
+  l.columns = std::max(1, static_cast<int>(room_w / l.cell));
+  l.rows = std::max(1, static_cast<int>(room_h / l.cell));
+  l.mm_to_px = std::min((l.columns - 1) * l.cell / span_x, (l.rows - 1) * l.cell / span_y);
+  l.columns = std::min(l.columns, static_cast<int>(span_x * l.mm_to_px) / l.cell + 1);
+  l.rows = std::min(l.rows, static_cast<int>(span_y * l.mm_to_px) / l.cell + 1);
+  l.plot_w = l.columns * l.cell;
+  l.plot_h = l.rows * l.cell;
   l.x0 = x_min;
   l.y0 = y_min;
   l.bar_x = pic.width - bar_area + 20;
   l.bar_h = pic.height - 2 * l.bar_y;
-  double largest = 0;
-  for (const MapPoint& p : points) largest = std::max(largest, std::fabs(p.value_mm));
-  l.range = pic.range_mm > 0 ? pic.range_mm : (largest > 0 ? largest : 1e-3);
-  // Bins about as wide as the points' spacing, at least 2 pixels.
-  const double per_point = points.empty() ? 4.0 : std::sqrt(static_cast<double>(l.plot_w + 1) * (l.plot_h + 1) / static_cast<double>(points.size()));
-  l.cell = std::max(2, static_cast<int>(std::ceil(per_point)));
   return l;
 }
 
@@ -60,10 +69,9 @@ struct Bin {
   bool used = false;
 };
 
-// The largest-|value| point of each bin, on a grid of `cell`-pixel bins over the plot.
-std::vector<Bin> bin(const std::vector<MapPoint>& points, const Layout& l, int& columns, int& rows) {
-  columns = l.plot_w / l.cell + 1;
-  rows = l.plot_h / l.cell + 1;
+// The largest-|value| point of each bin, on the layout's grid of `cell`-pixel bins.
+std::vector<Bin> bin(const std::vector<MapPoint>& points, const Layout& l) {
+  const int columns = l.columns, rows = l.rows;
   std::vector<Bin> bins(static_cast<size_t>(columns) * rows);
   for (const MapPoint& p : points) {
     const int c = std::clamp(static_cast<int>((p.x_mm - l.x0) * l.mm_to_px) / l.cell, 0, columns - 1);
@@ -90,6 +98,50 @@ std::vector<Bin> bin(const std::vector<MapPoint>& points, const Layout& l, int& 
   return filled;
 }
 
+// A tick step of 1, 2 or 5 times a power of ten that gives about `count` ticks over `span`.
+double tick_step(double span, int count) {
+  const double raw = span / std::max(1, count);
+  const double power = std::pow(10.0, std::floor(std::log10(raw)));
+  for (double m : {1.0, 2.0, 5.0}) {
+    if (m * power >= raw) return m * power;
+  }
+  return 10 * power;
+}
+
+// The table's x and y in mm along the plot's bottom and left edges: a point at x lies in the bin
+// that starts (x - x0) * mm_to_px pixels in, so a tick marks the middle of that bin.
+std::string axes_svg(const Layout& l) {
+  std::string out;
+  char buffer[320];
+  const double span_x = (l.columns - 1) * l.cell / l.mm_to_px, span_y = (l.rows - 1) * l.cell / l.mm_to_px;
+  const double step_x = tick_step(span_x, 8), step_y = tick_step(span_y, 6);
+  const int bottom = l.plot_y + l.plot_h;
+  for (double x = std::ceil(l.x0 / step_x) * step_x; x <= l.x0 + span_x + 1e-9 * step_x; x += step_x) {
+    const double px = l.plot_x + (x - l.x0) * l.mm_to_px + 0.5 * l.cell;
+    std::snprintf(buffer, sizeof buffer,
+                  "<line x1=\"%.1f\" y1=\"%d\" x2=\"%.1f\" y2=\"%d\" stroke=\"#141414\"/>"
+                  "<text x=\"%.1f\" y=\"%d\" font-family=\"sans-serif\" font-size=\"13\" text-anchor=\"middle\">%g</text>\n",
+                  px, bottom, px, bottom + 5, px, bottom + 19, std::fabs(x) < 1e-9 * step_x ? 0.0 : x);
+    out += buffer;
+  }
+  for (double y = std::ceil(l.y0 / step_y) * step_y; y <= l.y0 + span_y + 1e-9 * step_y; y += step_y) {
+    const double py = bottom - (y - l.y0) * l.mm_to_px - 0.5 * l.cell;
+    std::snprintf(buffer, sizeof buffer,
+                  "<line x1=\"%d\" y1=\"%.1f\" x2=\"%d\" y2=\"%.1f\" stroke=\"#141414\"/>"
+                  "<text x=\"%d\" y=\"%.1f\" font-family=\"sans-serif\" font-size=\"13\" text-anchor=\"end\" "
+                  "dominant-baseline=\"middle\">%g</text>\n",
+                  l.plot_x - 5, py, l.plot_x, py, l.plot_x - 8, py, std::fabs(y) < 1e-9 * step_y ? 0.0 : y);
+    out += buffer;
+  }
+  std::snprintf(buffer, sizeof buffer,
+                "<text x=\"%d\" y=\"%d\" font-family=\"sans-serif\" font-size=\"13\" text-anchor=\"middle\">x, mm</text>\n"
+                "<text x=\"%d\" y=\"%d\" font-family=\"sans-serif\" font-size=\"13\" text-anchor=\"middle\" "
+                "transform=\"rotate(-90 %d %d)\">y, mm</text>\n",
+                l.plot_x + l.plot_w / 2, bottom + 40, 22, l.plot_y + l.plot_h / 2, 22, l.plot_y + l.plot_h / 2);
+  out += buffer;
+  return out;
+}
+
 std::string mm_label(double v) {
   char text[32];
   std::snprintf(text, sizeof text, "%+.4f mm", v);
@@ -103,10 +155,10 @@ std::string deviation_map_png(const std::vector<MapPoint>& points, const MapPict
   Raster image(pic.width, pic.height, Rgb{255, 255, 255});
   const Rgb grey{120, 120, 120}, black{20, 20, 20};
   // The part's frame, then its bins.
-  image.fill(l.plot_x - 1, l.plot_y - 1, l.plot_x + l.plot_w + l.cell + 1, l.plot_y + l.plot_h + l.cell + 1, grey);
-  image.fill(l.plot_x, l.plot_y, l.plot_x + l.plot_w + l.cell, l.plot_y + l.plot_h + l.cell, Rgb{235, 235, 235});
-  int columns = 0, rows = 0;
-  const std::vector<Bin> bins = bin(points, l, columns, rows);
+  image.fill(l.plot_x - 1, l.plot_y - 1, l.plot_x + l.plot_w + 1, l.plot_y + l.plot_h + 1, grey);
+  image.fill(l.plot_x, l.plot_y, l.plot_x + l.plot_w, l.plot_y + l.plot_h, Rgb{235, 235, 235});
+  const int columns = l.columns, rows = l.rows;
+  const std::vector<Bin> bins = bin(points, l);
   for (int r = 0; r < rows; ++r)
     for (int c = 0; c < columns; ++c) {
       const Bin& b = bins[static_cast<size_t>(r) * columns + c];
@@ -131,8 +183,8 @@ std::string deviation_map_png(const std::vector<MapPoint>& points, const MapPict
 
 std::string deviation_map_svg(const std::vector<MapPoint>& points, const MapPicture& pic, const std::string& title) {
   const Layout l = layout(points, pic);
-  int columns = 0, rows = 0;
-  const std::vector<Bin> bins = bin(points, l, columns, rows);
+  const int columns = l.columns, rows = l.rows;
+  const std::vector<Bin> bins = bin(points, l);
   std::string out;
   char buffer[256];
   std::snprintf(buffer, sizeof buffer,
@@ -143,7 +195,7 @@ std::string deviation_map_svg(const std::vector<MapPoint>& points, const MapPict
   for (char ch : title) escaped += ch == '<' ? std::string("&lt;") : ch == '&' ? std::string("&amp;") : std::string(1, ch);
   out += "<title>" + escaped + "</title>\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
   std::snprintf(buffer, sizeof buffer, "<rect x=\"%d\" y=\"%d\" width=\"%d\" height=\"%d\" fill=\"#ebebeb\" stroke=\"#787878\"/>\n",
-                l.plot_x, l.plot_y, l.plot_w + l.cell, l.plot_h + l.cell);
+                l.plot_x, l.plot_y, l.plot_w, l.plot_h);
   out += buffer;
   for (int r = 0; r < rows; ++r)
     for (int c = 0; c < columns; ++c) {
@@ -154,9 +206,12 @@ std::string deviation_map_svg(const std::vector<MapPoint>& points, const MapPict
                     l.plot_x + c * l.cell, l.plot_y + r * l.cell, l.cell, l.cell, col.r, col.g, col.b);
       out += buffer;
     }
+  out += axes_svg(l);
+  // The colour bar: a gradient through the same colours as the cells, +range at the top; -range
+  // at the bottom, or 0 for a magnitude.
   out += "<defs><linearGradient id=\"bar\" x1=\"0\" y1=\"0\" x2=\"0\" y2=\"1\">";
   for (int k = 0; k <= 10; ++k) {
-    const Rgb col = diverging_colour(1.0 - k / 5.0);
+    const Rgb col = diverging_colour(pic.magnitude ? 1.0 - k / 10.0 : 1.0 - k / 5.0);
     std::snprintf(buffer, sizeof buffer, "<stop offset=\"%.1f\" stop-color=\"#%02x%02x%02x\"/>", k / 10.0, col.r, col.g, col.b);
     out += buffer;
   }
@@ -166,9 +221,11 @@ std::string deviation_map_svg(const std::vector<MapPoint>& points, const MapPict
   out += buffer;
   for (int k = 0; k <= 4; ++k) {
     const int y = l.bar_y + (l.bar_h - 1) * k / 4;
+    const double value = pic.magnitude ? l.range * (1.0 - k / 4.0) : l.range * (1.0 - k / 2.0);
     std::snprintf(buffer, sizeof buffer,
+                  "<line x1=\"%d\" y1=\"%d\" x2=\"%d\" y2=\"%d\" stroke=\"#141414\"/>"
                   "<text x=\"%d\" y=\"%d\" font-family=\"sans-serif\" font-size=\"14\" dominant-baseline=\"middle\">%s</text>\n",
-                  l.bar_x + l.bar_w + 8, y, mm_label(l.range * (1.0 - k / 2.0)).c_str());
+                  l.bar_x + l.bar_w, y, l.bar_x + l.bar_w + 5, y, l.bar_x + l.bar_w + 8, y, mm_label(value).c_str());
     out += buffer;
   }
   out += "</svg>\n";

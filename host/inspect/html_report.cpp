@@ -69,16 +69,21 @@ std::vector<ReportPicture> inspection_pictures(const Inspection& inspection, std
   }
   MapPicture picture;
   picture.range_mm = range_mm;
-  if (svg) *svg = deviation_map_svg(deviation, picture, "signed orthogonal deviation, mm");
   MapPicture small;
   small.width = 600;
   small.height = 400;
   const std::string scale = range_mm > 0 ? "; colours fixed to the tolerance, +-" + number(range_mm) + " mm, darkest at and beyond it" : "";
-  return {{"Signed orthogonal deviation over the part (red: material above the surface, blue: below" + scale + ")",
-           deviation_map_png(deviation, picture)},
-          {"X error map: x of each point minus x of its closest surface point", deviation_map_png(ex, small)},
-          {"Y error map (Fig. 17b)", deviation_map_png(ey, small)},
-          {"Z error map (Fig. 17c)", deviation_map_png(ez, small)}};
+  std::vector<ReportPicture> out = {
+      {"Signed orthogonal deviation over the part (red: material above the surface, blue: below" + scale + ")",
+       deviation_map_png(deviation, picture), deviation_map_svg(deviation, picture, "signed orthogonal deviation, mm")},
+      {"X error map: x of each point minus x of its closest surface point", deviation_map_png(ex, small),
+       deviation_map_svg(ex, small, "X error, mm")},
+      {"Y error map: y of each point minus y of its closest surface point", deviation_map_png(ey, small),
+       deviation_map_svg(ey, small, "Y error, mm")},
+      {"Z error map: z of each point minus z of its closest surface point", deviation_map_png(ez, small),
+       deviation_map_svg(ez, small, "Z error, mm")}};
+  if (svg) *svg = out[0].svg;
+  return out;
 }
 
 ReportPicture uncertainty_picture(const FittedSurface& f) {
@@ -134,6 +139,7 @@ ReportPicture uncertainty_picture(const FittedSurface& f) {
                 " (k = 2), from a point uncertainty of " + number(sigma_mm) + " mm (" + sigma_from +
                 "): the fit's precision, not its shape error";
   out.png = deviation_map_png(points, picture);
+  out.svg = deviation_map_svg(points, picture, "expanded uncertainty U, mm");
   return out;
 }
 
@@ -192,8 +198,8 @@ std::string html_report(const ReportInputs& in) {
   if (in.surface) {
     const FittedSurface& f = *in.surface;
     h += "<h2>The surface</h2>\n<table>\n" + row("model", f.model) + row("method", f.method);
-    if (f.model == "mesh") {
-      h += row("triangles", std::to_string(f.mesh_triangles));
+    if (!f.nominal_summary.empty()) {
+      h += row("nominal", f.nominal_summary);
     } else if (f.faces.empty()) {
       h += row("degree", std::to_string(f.surface.degree_u) + " x " + std::to_string(f.surface.degree_v)) +
            row("control points", std::to_string(f.surface.count_u) + " x " + std::to_string(f.surface.count_v));
@@ -233,8 +239,9 @@ std::string html_report(const ReportInputs& in) {
     h += "</table>\n";
   }
   for (const ReportPicture& p : in.pictures) {
-    h += "<figure><img alt=\"" + escape(p.caption) + "\" src=\"data:image/png;base64," + base64(p.png) + "\"><figcaption>" +
-         escape(p.caption) + "</figcaption></figure>\n";
+    const std::string source = p.svg.empty() ? "data:image/png;base64," + base64(p.png) : "data:image/svg+xml;base64," + base64(p.svg);
+    h += "<figure><img alt=\"" + escape(p.caption) + "\" src=\"" + source + "\"><figcaption>" + escape(p.caption) +
+         "</figcaption></figure>\n";
   }
   h += "<p>Written by the bench digitizer.</p>\n</body></html>\n";
   return h;

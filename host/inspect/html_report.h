@@ -13,6 +13,8 @@ namespace dg::host {
 struct ReportPicture {
   std::string caption;
   std::string png;  // the picture's bytes
+  // The same picture as SVG, which the report shows when present: text in the reader's fonts, mm axes.
+  std::string svg;
 };
 
 struct ReportInputs {

@@ -74,8 +74,9 @@ Inspection inspect_faces(const std::vector<Point3>& points, const std::vector<Tr
       bands_mm);
 }
 
-Inspection inspect_mesh(const std::vector<Point3>& points, const MeshLocator& mesh, const std::vector<double>& bands_mm) {
-  return measure(points, [&](const Point3& p) { return mesh.closest(p); }, bands_mm);
+Inspection inspect_nominal(const std::vector<Point3>& points, const std::function<Closest(const Point3&)>& closest,
+                           const std::vector<double>& bands_mm) {
+  return measure(points, closest, bands_mm);
 }
 
 }  // namespace dg::host

@@ -1,11 +1,12 @@
 // Inspection: the signed orthogonal deviation of every measured point from a surface, its
 // statistics, and the share of points within tolerance bands (Li and Zhang 2013, eq. 8 counts them).
 #pragma once
+#include <functional>
 #include <vector>
 
 #include "host/geometry/bspline_surface.h"
+#include "host/geometry/closest_point.h"
 #include "host/geometry/distance_stats.h"
-#include "host/geometry/triangle_mesh.h"
 #include "host/geometry/trimmed_face.h"
 
 namespace dg::host {
@@ -37,8 +38,8 @@ Inspection inspect(const std::vector<Point3>& points, const BSplineSurface& surf
 Inspection inspect_faces(const std::vector<Point3>& points, const std::vector<TrimmedFace>& faces,
                          const std::vector<double>& bands_mm);
 
-// The same against a triangle mesh (a nominal from STL or OBJ): the closest point on any triangle,
-// signed by the mesh's pseudo-normals (MeshLocator).
-Inspection inspect_mesh(const std::vector<Point3>& points, const MeshLocator& mesh, const std::vector<double>& bands_mm);
+// The same against any nominal that finds closest points: a mesh (MeshLocator), a CAD part's faces.
+Inspection inspect_nominal(const std::vector<Point3>& points, const std::function<Closest(const Point3&)>& closest,
+                           const std::vector<double>& bands_mm);
 
 }  // namespace dg::host

@@ -118,6 +118,7 @@ TEST(MeshReader, AMeshNominalMeasuresAsTheSurfaceItWasMadeFrom) {
     }
   }
   const Inspection exact = inspect(points, surface, {});
-  const Inspection meshed = inspect_mesh(points, MeshLocator(mesh), {});
+  const MeshLocator locator(mesh);
+  const Inspection meshed = inspect_nominal(points, [&](const Point3& p) { return locator.closest(p); }, {});
   for (size_t k = 0; k < points.size(); ++k) DOUBLES_EQUAL(exact.points[k].distance, meshed.points[k].distance, 0.0006);
 }

@@ -105,10 +105,11 @@ TEST(Report, TheUncertaintyMapShowsExpandedUncertaintyWhereTheSurfaceIs) {
   const ReportPicture picture = uncertainty_picture(f);
   const Decoded d = decode(picture.png);
   LONGS_EQUAL(900, d.width);
-  // The plot spans x 20.. and y 20..; the table's (40, 30) is its top right corner, (0, 0) bottom left.
+  // The plot spans x 74.. (room for the mm axis) and y 20.., 604 x 452 pixels of 4-pixel cells for
+  // 40 x 30 mm; the table's (40, 30) is its top right corner, (0, 0) bottom left.
   auto pixel = [&](int x, int y) { return &d.rgb[(static_cast<size_t>(y) * d.width + x) * 3]; };
-  const uint8_t* top_right = pixel(20 + 600 - 8, 20 + 4);
-  const uint8_t* bottom_left = pixel(20 + 4, 20 + 450 - 8);
+  const uint8_t* top_right = pixel(74 + 604 - 8, 20 + 4);
+  const uint8_t* bottom_left = pixel(74 + 4, 20 + 452 - 8);
   CHECK(top_right[1] < 80);        // saturated red: little green
   CHECK(bottom_left[1] > 240);     // white
   STRCMP_CONTAINS("U = 2u", picture.caption.c_str());
@@ -150,9 +151,9 @@ TEST(Report, TheUncertaintyMapOfTrimmedFacesTakesEachPointsOwnFace) {
   const ReportPicture picture = uncertainty_picture(f);
   const Decoded d = decode(picture.png);
   auto pixel = [&](int x, int y) { return &d.rgb[(static_cast<size_t>(y) * d.width + x) * 3]; };
-  CHECK(pixel(20 + 600 - 8, 20 + 4)[1] < 80);   // (40, 30): saturated
-  CHECK(pixel(20 + 4, 20 + 4)[1] > 240);        // (0, 30): white, on the left face
-  CHECK(pixel(20 + 4, 20 + 450 - 8)[1] > 240);  // (0, 0)
+  CHECK(pixel(74 + 604 - 8, 20 + 4)[1] < 80);   // (40, 30): saturated
+  CHECK(pixel(74 + 4, 20 + 4)[1] > 240);        // (0, 30): white, on the left face
+  CHECK(pixel(74 + 4, 20 + 452 - 8)[1] > 240);  // (0, 0)
   STRCMP_CONTAINS("faces", picture.caption.c_str());
   ReportInputs in;
   in.surface = &f;

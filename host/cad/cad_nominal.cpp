@@ -1,0 +1,180 @@
+// STEP and IGES parts through OpenCASCADE: read, meshed to find candidate faces, measured exactly.
+#include "host/cad/cad_nominal.h"
+
+#include <BRepBndLib.hxx>
+#include <BRepBuilderAPI_MakeVertex.hxx>
+#include <BRepExtrema_DistShapeShape.hxx>
+#include <BRepGProp_Face.hxx>
+#include <BRepMesh_IncrementalMesh.hxx>
+#include <BRep_Tool.hxx>
+#include <Bnd_Box.hxx>
+#include <IFSelect_ReturnStatus.hxx>
+#include <IGESControl_Reader.hxx>
+#include <Message.hxx>
+#include <Message_Messenger.hxx>
+#include <Message_PrinterOStream.hxx>
+#include <Poly_Triangulation.hxx>
+#include <STEPControl_Reader.hxx>
+#include <Standard_Failure.hxx>
+#include <TopExp.hxx>
+#include <TopLoc_Location.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Face.hxx>
+#include <TopoDS_Shape.hxx>
+#include <TopoDS_Vertex.hxx>
+#include <XSControl_Reader.hxx>
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <vector>
+
+#include "host/cad/vertex_welder.h"
+#include "host/geometry/triangle_mesh.h"
+#include "host/geometry/vec3.h"
+#include "host/io/file_name.h"
+
+namespace dg::host {
+
+struct CadNominal::Impl {
+  std::vector<TopoDS_Face> faces;
+  std::vector<size_t> face_of_triangle;
+  std::unique_ptr<MeshLocator> mesh;
+  double deflection_mm = 0;
+  mutable size_t fallbacks = 0;
+};
+
+namespace {
+
+// OpenCASCADE reports through its default messenger on standard output, where our results go.
+void silence_opencascade() {
+  const Handle(Message_Messenger)& messenger = Message::DefaultMessenger();
+  messenger->RemovePrinters(STANDARD_TYPE(Message_PrinterOStream));
+}
+
+TopoDS_Shape read_shape(const std::string& path) {
+  if (!std::ifstream(path)) throw CadNominalError(path + ": cannot be read");
+  const FileFormat format = file_format(path);
+  if (format != FileFormat::kStep && format != FileFormat::kIges) {
+    throw CadNominalError(path + ": a CAD nominal must be STEP (.stp, .step) or IGES (.igs, .iges)");
+  }
+  silence_opencascade();
+  STEPControl_Reader step;
+  IGESControl_Reader iges;
+  XSControl_Reader& reader = format == FileFormat::kStep ? static_cast<XSControl_Reader&>(step) : iges;
+  const char* kind = format == FileFormat::kStep ? "STEP" : "IGES";
+  if (reader.ReadFile(path.c_str()) != IFSelect_RetDone) {
+    throw CadNominalError(path + ": OpenCASCADE cannot read it as " + kind + " (damaged, or not " + kind + ")");
+  }
+  if (reader.TransferRoots() == 0) throw CadNominalError(path + ": the " + kind + " file holds no geometry OpenCASCADE can build");
+  return reader.OneShape();
+}
+
+}  // namespace
+
+CadNominal::CadNominal(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+CadNominal::CadNominal(CadNominal&&) noexcept = default;
+CadNominal::~CadNominal() = default;
+
+CadNominal CadNominal::read(const std::string& path) {
+  auto impl = std::make_unique<Impl>();
+  try {
+    const TopoDS_Shape shape = read_shape(path);
+    TopTools_IndexedMapOfShape faces;
+    TopExp::MapShapes(shape, TopAbs_FACE, faces);
+    if (faces.Extent() == 0) throw CadNominalError(path + ": the part has no faces (only curves or points)");
+    Bnd_Box box;
+    BRepBndLib::Add(shape, box);
+    double x0, y0, z0, x1, y1, z1;
+    box.Get(x0, y0, z0, x1, y1, z1);
+    const double size_mm = std::sqrt((x1 - x0) * (x1 - x0) + (y1 - y0) * (y1 - y0) + (z1 - z0) * (z1 - z0));
+    impl->deflection_mm = std::clamp(1e-4 * size_mm, 0.001, 0.05);
+    BRepMesh_IncrementalMesh mesher(shape, impl->deflection_mm, false, 0.2, false);
+    Mesh mesh;
+    VertexWelder welder(mesh);
+    for (int k = 1; k <= faces.Extent(); ++k) {
+      const TopoDS_Face face = TopoDS::Face(faces(k));
+      TopLoc_Location location;
+      const Handle(Poly_Triangulation) triangulation = BRep_Tool::Triangulation(face, location);
+      if (triangulation.IsNull()) throw CadNominalError(path + ": face " + std::to_string(k) + " of the part cannot be meshed");
+      const gp_Trsf move = location.Transformation();
+      std::vector<uint32_t> vertex(static_cast<size_t>(triangulation->NbNodes()) + 1);
+      for (int n = 1; n <= triangulation->NbNodes(); ++n) {
+        const gp_Pnt q = triangulation->Node(n).Transformed(move);
+        vertex[static_cast<size_t>(n)] = welder.add({q.X(), q.Y(), q.Z()});
+      }
+      // A reversed face's triangles turn the other way: their corners swap to face outward.
+      const bool reversed = face.Orientation() == TopAbs_REVERSED;
+      for (int t = 1; t <= triangulation->NbTriangles(); ++t) {
+        int a, b, c;
+        triangulation->Triangle(t).Get(a, b, c);
+        if (reversed) std::swap(b, c);
+        const uint32_t va = vertex[static_cast<size_t>(a)], vb = vertex[static_cast<size_t>(b)], vc = vertex[static_cast<size_t>(c)];
+        if (va == vb || vb == vc || vc == va) continue;
+        mesh.triangles.push_back({va, vb, vc});
+        impl->face_of_triangle.push_back(impl->faces.size());
+      }
+      impl->faces.push_back(face);
+    }
+    if (mesh.triangles.empty()) throw CadNominalError(path + ": the part's faces give no triangles");
+    impl->mesh = std::make_unique<MeshLocator>(mesh);
+  } catch (const Standard_Failure& e) {
+    throw CadNominalError(path + ": OpenCASCADE failed on it: " + std::string(e.GetMessageString() ? e.GetMessageString() : "?"));
+  } catch (const std::invalid_argument& e) {
+    throw CadNominalError(path + ": " + e.what());
+  }
+  return CadNominal(std::move(impl));
+}
+
+Closest CadNominal::closest(const Point3& p) const {
+  size_t nearest = 0;
+  const Closest on_mesh = impl_->mesh->closest(p, &nearest);
+  // Every face that has a triangle within the mesh's distance plus twice its deflection may hold
+  // the closest point on the exact part.
+  std::vector<size_t> triangles;
+  impl_->mesh->triangles_within(p, std::fabs(on_mesh.distance) + 2 * impl_->deflection_mm, triangles);
+  std::set<size_t> candidates = {impl_->face_of_triangle[nearest]};
+  for (size_t t : triangles) candidates.insert(impl_->face_of_triangle[t]);
+  Closest best;
+  bool found = false;
+  try {
+    const TopoDS_Vertex vertex = BRepBuilderAPI_MakeVertex(gp_Pnt(p.x, p.y, p.z));
+    for (size_t f : candidates) {
+      BRepExtrema_DistShapeShape extrema(vertex, impl_->faces[f], Extrema_ExtFlag_MIN);
+      if (!extrema.IsDone() || extrema.NbSolution() < 1) continue;
+      const double distance = extrema.Value();
+      if (found && distance >= std::fabs(best.distance)) continue;
+      const gp_Pnt foot = extrema.PointOnShape2(1);
+      Closest c;
+      c.point = {foot.X(), foot.Y(), foot.Z()};
+      c.normal = on_mesh.normal;
+      if (extrema.SupportTypeShape2(1) == BRepExtrema_IsInFace) {
+        // Inside the face its own normal, as the part orients the face, gives the side.
+        Standard_Real u = 0, v = 0;
+        extrema.ParOnFaceS2(1, u, v);
+        gp_Pnt at;
+        gp_Vec normal;
+        BRepGProp_Face(impl_->faces[f]).Normal(u, v, at, normal);
+        if (normal.Magnitude() > 0) c.normal = (1.0 / normal.Magnitude()) * Point3{normal.X(), normal.Y(), normal.Z()};
+      }
+      c.distance = dot(p - c.point, c.normal) < 0 ? -distance : distance;
+      best = c;
+      found = true;
+    }
+  } catch (const Standard_Failure&) {
+    found = false;
+  }
+  if (!found || !std::isfinite(best.distance)) {
+    ++impl_->fallbacks;
+    return on_mesh;
+  }
+  return best;
+}
+
+size_t CadNominal::face_count() const { return impl_->faces.size(); }
+size_t CadNominal::triangle_count() const { return impl_->mesh->triangle_count(); }
+double CadNominal::deflection_mm() const { return impl_->deflection_mm; }
+size_t CadNominal::mesh_fallbacks() const { return impl_->fallbacks; }
+
+}  // namespace dg::host

@@ -1,0 +1,115 @@
+// CAD parts as nominals through OpenCASCADE: a box, a cylinder and a box written in inches, built
+// by OpenCASCADE's own modelling and written by its own STEP and IGES writers; every point's signed
+// distance against the solid's true one (positive outside), at faces, edges and corners.
+#include <CppUTest/TestHarness.h>
+
+#include <BRepPrimAPI_MakeBox.hxx>
+#include <BRepPrimAPI_MakeCylinder.hxx>
+#include <IGESControl_Controller.hxx>
+#include <IGESControl_Writer.hxx>
+#include <Interface_Static.hxx>
+#include <STEPControl_Writer.hxx>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <random>
+#include <string>
+#include <unistd.h>
+
+#include "host/cad/cad_nominal.h"
+
+using namespace dg::host;
+
+namespace {
+
+std::string temporary(const char* name) { return std::string(P_tmpdir) + "/dg_nominal_" + std::to_string(getpid()) + "_" + name; }
+
+void write_step(const TopoDS_Shape& shape, const std::string& path, const char* unit = "MM") {
+  Interface_Static::SetCVal("write.step.unit", unit);
+  STEPControl_Writer writer;
+  CHECK_EQUAL(IFSelect_RetDone, writer.Transfer(shape, STEPControl_AsIs));
+  CHECK_EQUAL(IFSelect_RetDone, writer.Write(path.c_str()));
+  Interface_Static::SetCVal("write.step.unit", "MM");
+}
+
+// The true signed distance to the box [0, 40] x [0, 30] x [0, 10] mm.
+double box_distance(const Point3& p) {
+  const double dx = std::max({-p.x, p.x - 40, 0.0}), dy = std::max({-p.y, p.y - 30, 0.0}), dz = std::max({-p.z, p.z - 10, 0.0});
+  const double outside = std::sqrt(dx * dx + dy * dy + dz * dz);
+  return outside > 0 ? outside : -std::min({p.x, 40 - p.x, p.y, 30 - p.y, p.z, 10 - p.z});
+}
+
+// The true signed distance to a cylinder of radius 10 about the z axis, z in [0, 20].
+double cylinder_distance(const Point3& p) {
+  const double radial = std::hypot(p.x, p.y) - 10, axial = std::max(-p.z, p.z - 20);
+  const double outside = std::hypot(std::max(radial, 0.0), std::max(axial, 0.0));
+  return outside > 0 ? outside : std::max(radial, axial);
+}
+
+template <class Truth>
+double worst_error(const CadNominal& nominal, Truth truth, Point3 low, Point3 high, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> x(low.x, high.x), y(low.y, high.y), z(low.z, high.z);
+  double worst = 0;
+  for (int k = 0; k < 300; ++k) {
+    const Point3 p{x(rng), y(rng), z(rng)};
+    worst = std::max(worst, std::fabs(nominal.closest(p).distance - truth(p)));
+  }
+  return worst;
+}
+
+}  // namespace
+
+TEST_GROUP(CadNominal){};
+
+TEST(CadNominal, ABoxFromStepMeasuresAsTheTrueSolidAtFacesEdgesAndCorners) {
+  const std::string path = temporary("box.stp");
+  write_step(BRepPrimAPI_MakeBox(40, 30, 10).Shape(), path);
+  const CadNominal nominal = CadNominal::read(path);
+  LONGS_EQUAL(6, nominal.face_count());
+  const double worst = worst_error(nominal, box_distance, {-5, -5, -5}, {45, 35, 15}, 1);
+  std::printf("\n  box (STEP, 6 faces): worst |distance - true| %.2g mm", worst);
+  CHECK(worst < 1e-6);
+  LONGS_EQUAL(0, nominal.mesh_fallbacks());
+  std::remove(path.c_str());
+}
+
+TEST(CadNominal, ACylinderFromIgesMeasuresAsTheTrueSolid) {
+  const std::string path = temporary("cylinder.igs");
+  IGESControl_Controller::Init();
+  IGESControl_Writer writer("MM", 1);  // faces as B-rep entities (186)
+  writer.AddShape(BRepPrimAPI_MakeCylinder(10, 20).Shape());
+  writer.ComputeModel();
+  CHECK(writer.Write(path.c_str()));
+  const CadNominal nominal = CadNominal::read(path);
+  CHECK(nominal.face_count() >= 3);
+  const double worst = worst_error(nominal, cylinder_distance, {-14, -14, -4}, {14, 14, 24}, 2);
+  std::printf("\n  cylinder (IGES, %zu faces): worst |distance - true| %.2g mm", nominal.face_count(), worst);
+  CHECK(worst < 1e-5);
+  std::remove(path.c_str());
+}
+
+TEST(CadNominal, APartWrittenInInchesIsMeasuredInMillimetres) {
+  const std::string path = temporary("box-inch.stp");
+  write_step(BRepPrimAPI_MakeBox(40, 30, 10).Shape(), path, "INCH");
+  std::ifstream written(path);
+  const std::string text((std::istreambuf_iterator<char>(written)), std::istreambuf_iterator<char>());
+  CHECK(text.find("INCH") != std::string::npos);
+  const CadNominal nominal = CadNominal::read(path);
+  CHECK(worst_error(nominal, box_distance, {-5, -5, -5}, {45, 35, 15}, 3) < 1e-6);
+  std::remove(path.c_str());
+}
+
+TEST(CadNominal, ADamagedOrEmptyFileIsRefusedNamingIt) {
+  const std::string path = temporary("damaged.stp");
+  std::ofstream(path) << "ISO-10303-21;\nHEADER;\nthis is not STEP\n";
+  try {
+    CadNominal::read(path);
+    FAIL("a damaged STEP file was read");
+  } catch (const CadNominalError& e) {
+    STRCMP_CONTAINS(path.c_str(), e.what());
+  }
+  std::remove(path.c_str());
+  CHECK_THROWS(CadNominalError, CadNominal::read(temporary("missing.stp")));
+}
