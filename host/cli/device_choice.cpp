@@ -43,21 +43,37 @@ std::string config_path() {
   return std::string(home && *home ? home : ".") + "/.config/digitizer/config";
 }
 
-std::string configured_device(const std::string& path) {
+namespace {
+
+// The first `key = value` line of the config file (comments after '#'): its value and line number;
+// false when there is no file or no such line.
+bool find_setting(const std::string& path, const std::string& key, std::string& value, int& line_number) {
   std::ifstream in(path);
-  if (!in) return "";
   std::string line;
-  for (int number = 1; std::getline(in, line); ++number) {
+  for (line_number = 1; in && std::getline(in, line); ++line_number) {
     const std::string text = trimmed(line.substr(0, line.find('#')));
-    if (text.empty()) continue;
     const size_t equals = text.find('=');
-    if (equals == std::string::npos) continue;
-    if (trimmed(text.substr(0, equals)) != "device") continue;
-    const std::string uri = trimmed(text.substr(equals + 1));
-    if (uri.empty()) throw std::invalid_argument(path + ":" + std::to_string(number) + ": `device =` names no device");
-    return uri;
+    if (equals == std::string::npos || trimmed(text.substr(0, equals)) != key) continue;
+    value = trimmed(text.substr(equals + 1));
+    return true;
   }
-  return "";
+  return false;
+}
+
+}  // namespace
+
+std::string configured_value(const std::string& path, const std::string& key) {
+  std::string value;
+  int line_number = 0;
+  return find_setting(path, key, value, line_number) ? value : "";
+}
+
+std::string configured_device(const std::string& path) {
+  std::string uri;
+  int line_number = 0;
+  if (!find_setting(path, "device", uri, line_number)) return "";
+  if (uri.empty()) throw std::invalid_argument(path + ":" + std::to_string(line_number) + ": `device =` names no device");
+  return uri;
 }
 
 std::string chosen_device(const std::string& option) {

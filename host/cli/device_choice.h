@@ -14,6 +14,9 @@ std::string chosen_device(const std::string& option);
 // for a file that names one badly (the line number said).
 std::string configured_device(const std::string& config_path);
 
+// The value of `key = value` in the config file, "" when there is no file or no such line.
+std::string configured_value(const std::string& config_path, const std::string& key);
+
 // Where the config file is looked for.
 std::string config_path();
 

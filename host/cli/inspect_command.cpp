@@ -8,6 +8,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "host/cli/device_choice.h"
 #include "host/io/file_name.h"
 #include "host/scan/point_reader.h"
 #include <ctime>
@@ -46,6 +47,10 @@ CLI::App* add_inspect_command(CLI::App& app, InspectArgs& a) {
   cmd->add_option("--point-u", a.point_u_mm,
                   "the points' standard uncertainty, mm, when the points carry no sigma column (default: the noise estimated from the scan)")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--part", a.fields.part, "the part's name or drawing number, for the report and the JSON");
+  cmd->add_option("--serial", a.fields.serial, "the part's serial number, for the report and the JSON");
+  cmd->add_option("--operator", a.fields.operator_name, "who measured (default: `operator =` in the config file)");
+  cmd->add_option("--company", a.fields.company, "for whom (default: `company =` in the config file)");
   return cmd;
 }
 
@@ -99,6 +104,7 @@ bool write_report(const InspectArgs& a, const Inspection& r, const FittedSurface
   char stamp[48];
   std::strftime(stamp, sizeof stamp, "%Y-%m-%d %H:%M:%S UTC", std::gmtime(&now));
   in.created = stamp;
+  in.fields = a.fields;
   in.points_file = a.points;
   in.surface_file = a.surface;
   in.scan_facts = scan_facts(a.points);
@@ -212,7 +218,10 @@ void print_decision(const Decision& d, const Inspection& r) {
 }
 }  // namespace
 
-int run_inspect(const InspectArgs& a) {
+int run_inspect(const InspectArgs& given) {
+  InspectArgs a = given;
+  if (a.fields.operator_name.empty()) a.fields.operator_name = configured_value(config_path(), "operator");
+  if (a.fields.company.empty()) a.fields.company = configured_value(config_path(), "company");
   PointCloud cloud = read_points(a.points);
   if (cloud.points.empty()) throw std::invalid_argument(a.points + ": holds no points to inspect");
   FittedSurface surface;
@@ -286,8 +295,9 @@ int run_inspect(const InspectArgs& a) {
                                                                       : 0;
   const bool uncertainty_drawn = !a.report_html.empty() && write_report(a, r, surface, alignment, decision ? &*decision : nullptr);
   if (a.json) {
-    std::fputs(inspection_json_text(r, a.points, a.surface, aligned ? &*aligned : nullptr, decision ? &*decision : nullptr).c_str(),
-               stdout);
+    std::fputs(
+        inspection_json_text(r, a.points, a.surface, aligned ? &*aligned : nullptr, decision ? &*decision : nullptr, a.fields).c_str(),
+        stdout);
     return exit_code;
   }
   const DistanceStats& s = r.stats;

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "host/inspect/inspection_json.h"
+
 namespace dg::host {
 
 struct InspectArgs {
@@ -19,6 +21,9 @@ struct InspectArgs {
   double tolerance_mm = 0;
   double upper_mm = NAN, lower_mm = NAN;
   double point_u_mm = 0;
+  // The report's part, serial number, operator and company; operator and company default to the
+  // config file's `operator =` and `company =`.
+  ReportFields fields;
 };
 
 // inspect's exit codes beyond 0, 1 and 2: a tolerance proven not kept, or not proven either way.

@@ -150,7 +150,14 @@ std::string html_report(const ReportInputs& in) {
                   "th{background:#f3f3f3}figure{margin:1.5em 0}figcaption{color:#444}img{max-width:100%}</style>"
                   "</head><body>\n";
   h += "<h1>" + escape(in.title) + "</h1>\n<p>" + escape(in.created) + "</p>\n";
-  h += "<h2>What was measured</h2>\n<table>\n" + row("points", in.points_file) + row("surface", in.surface_file);
+  h += "<h2>What was measured</h2>\n<table>\n";
+  for (const auto& [name, value] : {std::pair<const char*, const std::string*>{"part", &in.fields.part},
+                                    {"serial number", &in.fields.serial},
+                                    {"operator", &in.fields.operator_name},
+                                    {"company", &in.fields.company}}) {
+    if (!value->empty()) h += row(name, *value);
+  }
+  h += row("points", in.points_file) + row("surface", in.surface_file);
   for (const std::string& fact : in.scan_facts) h += "<tr><td colspan=\"2\">" + escape(fact) + "</td></tr>\n";
   h += "</table>\n";
   if (in.inspection && in.decision) {

@@ -6,6 +6,7 @@
 
 #include "host/inspect/decision.h"
 #include "host/inspect/inspect.h"
+#include "host/inspect/inspection_json.h"
 #include "host/geometry/fitted_surface.h"
 
 namespace dg::host {
@@ -20,6 +21,7 @@ struct ReportPicture {
 struct ReportInputs {
   std::string title = "Inspection report";
   std::string created;            // when, as text
+  ReportFields fields;            // part, serial, operator, company
   std::string points_file, surface_file;
   std::vector<std::string> scan_facts;  // lines about the scan (device, points, lines, time)
   const FittedSurface* surface = nullptr;

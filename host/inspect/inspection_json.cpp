@@ -6,13 +6,19 @@
 namespace dg::host {
 
 std::string inspection_json_text(const Inspection& r, const std::string& points_file, const std::string& surface_file,
-                                 const AlignmentSummary* alignment, const Decision* decision) {
+                                 const AlignmentSummary* alignment, const Decision* decision, const ReportFields& fields) {
   nlohmann::json j;
   j["format"] = "digitizer-inspection";
   j["version"] = 1;
   j["units"] = "mm";
   j["points_file"] = points_file;
   j["surface_file"] = surface_file;
+  for (const auto& [key, value] : {std::pair<const char*, const std::string*>{"part", &fields.part},
+                                   {"serial", &fields.serial},
+                                   {"operator", &fields.operator_name},
+                                   {"company", &fields.company}}) {
+    if (!value->empty()) j[key] = *value;
+  }
   const DistanceStats& s = r.stats;
   j["deviation"] = {{"count", s.count}, {"mean", s.mean},     {"median", s.median}, {"stddev", s.stddev},
                     {"rms", s.rms},     {"max", s.max},       {"min", s.min},       {"max_abs", s.max_abs}};

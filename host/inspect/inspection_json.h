@@ -20,9 +20,16 @@ struct AlignmentSummary {
   bool converged = false;
 };
 
+// What a signed report names besides the numbers: the part, its serial number, who measured it and
+// for whom. Empty fields are left out.
+struct ReportFields {
+  std::string part, serial, operator_name, company;
+};
+
 // `alignment`: null when the points were measured where they are ("alignment": null).
 // `decision`: the tolerance's verdict (null in the JSON when no tolerance was given).
 std::string inspection_json_text(const Inspection& inspection, const std::string& points_file, const std::string& surface_file,
-                                 const AlignmentSummary* alignment = nullptr, const Decision* decision = nullptr);
+                                 const AlignmentSummary* alignment = nullptr, const Decision* decision = nullptr,
+                                 const ReportFields& fields = ReportFields{});
 
 }  // namespace dg::host

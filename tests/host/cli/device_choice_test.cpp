@@ -71,3 +71,10 @@ TEST(DeviceChoice, AConfigLineThatNamesNothingIsAnErrorWithItsLine) {
     STRCMP_CONTAINS("config:3", e.what());
   }
 }
+
+TEST(DeviceChoice, TheConfigFileGivesTheReportsOperatorAndCompany) {
+  write_config("device = sim:part=dome\noperator = A. Fitter   # the bench in room 2\ncompany=Small Works Ltd\n");
+  STRCMP_EQUAL("A. Fitter", configured_value(config_path(), "operator").c_str());
+  STRCMP_EQUAL("Small Works Ltd", configured_value(config_path(), "company").c_str());
+  STRCMP_EQUAL("", configured_value(config_path(), "serial").c_str());
+}

@@ -44,3 +44,14 @@ TEST(InspectionJson, SaysWhenThePointsWereNotAligned) {
   CHECK(j.contains("alignment"));
   CHECK(j["alignment"].is_null());
 }
+
+TEST(InspectionJson, NamesThePartSerialOperatorAndCompanyGivenAndOnlyThose) {
+  ReportFields fields;
+  fields.part = "lid \"4711\"";
+  fields.operator_name = "A. Fitter";
+  const nlohmann::json j = nlohmann::json::parse(inspection_json_text(plane_inspection(), "p.csv", "s.json", nullptr, nullptr, fields));
+  STRCMP_EQUAL("lid \"4711\"", j["part"].get<std::string>().c_str());
+  STRCMP_EQUAL("A. Fitter", j["operator"].get<std::string>().c_str());
+  CHECK(!j.contains("serial"));
+  CHECK(!j.contains("company"));
+}

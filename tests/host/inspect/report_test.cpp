@@ -83,6 +83,15 @@ TEST(Report, SvgAndHtmlCarryThePicturesAndTheNumbers) {
   STRCMP_CONTAINS("66.7 %", html.c_str());
   STRCMP_EQUAL("Zm9vYmFy", base64("foobar").c_str());
   STRCMP_EQUAL("Zm9vYg==", base64("foob").c_str());
+  CHECK(html.find("serial number") == std::string::npos);  // no empty rows for fields not given
+  // A picture with an SVG is shown as SVG; the part's fields head the table, escaped.
+  in.pictures[0].svg = deviation_map_svg(grid([](int, int) { return 0.0; }), MapPicture{}, "deviation");
+  in.fields.part = "lid <4711>";
+  in.fields.serial = "SN-42";
+  const std::string with_fields = html_report(in);
+  STRCMP_CONTAINS("data:image/svg+xml;base64,", with_fields.c_str());
+  STRCMP_CONTAINS("<tr><th>part</th><td>lid &lt;4711&gt;</td></tr>", with_fields.c_str());
+  STRCMP_CONTAINS("<tr><th>serial number</th><td>SN-42</td></tr>", with_fields.c_str());
 }
 
 // The uncertainty map: nothing without an uncertainty; with one, U = 2u placed where the surface
