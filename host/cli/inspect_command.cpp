@@ -2,7 +2,9 @@
 #include "host/cli/inspect_command.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <cstdio>
 #include <functional>
 #include <optional>
@@ -10,7 +12,9 @@
 
 #include "host/cli/device_choice.h"
 #include "host/io/file_name.h"
+#include "host/scan/ply_reader.h"
 #include "host/scan/point_reader.h"
+#include "host/io/whole_file.h"
 #include <ctime>
 
 #include "host/scan/scan_file.h"
@@ -33,7 +37,7 @@ CLI::App* add_inspect_command(CLI::App& app, InspectArgs& a) {
   CLI::App* cmd = app.add_subcommand("inspect", "deviations of measured points from a surface (orthogonal, signed)");
   cmd->add_option("points", a.points, ".csv, .xyz, .ply or .scan points in mm")->required()->check(CLI::ExistingFile);
   cmd->add_option("surface", a.surface,
-                  "SURF.json, a nominal surface from CAD: IGES (.igs, its first entity 128) or STEP (.stp), or a nominal mesh (.stl, .obj)")
+                  "SURF.json, a nominal part from CAD (STEP .stp, IGES .igs; read by OpenCASCADE), or a nominal mesh (.stl, .obj, .ply)")
       ->required()->check(CLI::ExistingFile);
   cmd->add_option("--band", a.bands_mm, "count the points within these deviations, mm")->capture_default_str()->check(CLI::PositiveNumber);
   cmd->add_flag("--json", a.json, "print the summary as JSON");
@@ -203,6 +207,15 @@ std::vector<double> deviation_uncertainty(const InspectArgs& a, const PointCloud
   return out;
 }
 
+// A PLY mesh nominal: the point reader's vertices (scan room) and its faces, as a mesh.
+Mesh read_ply_mesh(const std::string& path) {
+  std::string bytes;
+  if (!read_whole_file(path, &bytes)) throw std::invalid_argument(path + ": cannot be read: " + std::strerror(errno));
+  Mesh mesh;
+  mesh.vertices = parse_ply_mesh(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), path, mesh.triangles).points;
+  return mesh;
+}
+
 // The verdict's lines for a reader.
 void print_decision(const Decision& d, const Inspection& r) {
   std::printf("tolerance %+.4f..%+.4f mm, decided with U = 2u up to %.4f mm (u from %s): %s\n", d.limits.lower_mm,
@@ -228,17 +241,17 @@ int run_inspect(const InspectArgs& given) {
   const FileFormat format = file_format(a.surface);
   const bool iges = format == FileFormat::kIges;
   const bool step = format == FileFormat::kStep;
-  const bool mesh_nominal = format == FileFormat::kStl || format == FileFormat::kObj;
+  const bool mesh_nominal = format == FileFormat::kStl || format == FileFormat::kObj || format == FileFormat::kPly;
   // A mesh or a CAD part: measured through its closest points, not as one B-spline.
   std::optional<MeshLocator> mesh;
   std::optional<CadNominal> cad;
   std::function<Closest(const Point3&)> nominal;
   char summary[200];
   if (mesh_nominal) {
-    mesh.emplace(read_mesh(a.surface));
+    mesh.emplace(format == FileFormat::kPly ? read_ply_mesh(a.surface) : read_mesh(a.surface));
     nominal = [&](const Point3& p) { return mesh->closest(p); };
     surface.model = "mesh";
-    surface.method = format == FileFormat::kStl ? "nominal (STL)" : "nominal (OBJ)";
+    surface.method = format == FileFormat::kStl ? "nominal (STL)" : format == FileFormat::kObj ? "nominal (OBJ)" : "nominal (PLY)";
     std::snprintf(summary, sizeof summary, "a mesh of %zu triangles", mesh->triangle_count());
     surface.nominal_summary = summary;
     if (mesh->without_area() > 0) surface.nominal_summary += ", " + std::to_string(mesh->without_area()) + " of them without area and read past";
@@ -250,8 +263,11 @@ int run_inspect(const InspectArgs& given) {
     std::snprintf(summary, sizeof summary, "%zu %s read by OpenCASCADE, each point measured on the exact faces (found through a mesh to %.3f mm)",
                   cad->face_count(), cad->face_count() == 1 ? "face" : "faces", cad->deflection_mm());
     surface.nominal_summary = summary;
-  } else {
+  } else if (format == FileFormat::kJson) {
     surface = read_surface_json(a.surface);
+  } else {
+    throw std::invalid_argument(a.surface + ": a surface to inspect against is SURF.json, a CAD part (.stp, .step, .igs, "
+                                ".iges) or a mesh (.stl, .obj, .ply); this name says none of them");
   }
   if (nominal) {
     surface.parameterization = "-";

@@ -3,6 +3,7 @@
 #include "host/scan/ply_reader.h"
 
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <sstream>
 
@@ -245,7 +246,9 @@ Header parse_header(const uint8_t* data, size_t size, const std::string& name) {
 
 }  // namespace
 
-PointCloud parse_ply_points(const uint8_t* data, size_t size, const std::string& name) {
+namespace {
+
+PointCloud parse_ply(const uint8_t* data, size_t size, const std::string& name, std::vector<std::array<uint32_t, 3>>* triangles) {
   const Header h = parse_header(data, size, name);
   size_t vertex_index = h.elements.size();
   for (size_t i = 0; i < h.elements.size(); ++i) {
@@ -292,6 +295,21 @@ PointCloud parse_ply_points(const uint8_t* data, size_t size, const std::string&
   BinaryCursor bin(data + h.body_offset, body, h.format == PlyFormat::kBinaryBig);
   AsciiCursor text(reinterpret_cast<const char*>(data) + h.body_offset, body, h.body_line);
   auto vertex_where = [&](uint64_t v) { return "vertex " + std::to_string(v); };
+  // A mesh's faces: the element named "face" and its list of vertex indices.
+  size_t face_index = h.elements.size();
+  int indices_property = -1;
+  for (size_t i = 0; triangles && i < h.elements.size(); ++i) {
+    if (h.elements[i].name != "face") continue;
+    face_index = i;
+    for (size_t k = 0; k < h.elements[i].properties.size(); ++k) {
+      const PlyProperty& p = h.elements[i].properties[k];
+      if (p.is_list && (p.name == "vertex_indices" || p.name == "vertex_index")) indices_property = static_cast<int>(k);
+    }
+  }
+  if (triangles && (face_index == h.elements.size() || indices_property < 0)) {
+    throw PointFileError(name + ": no 'face' element with a 'vertex_indices' list: a PLY nominal must be a mesh");
+  }
+  std::vector<uint32_t> corners;
   // Every element is read (the others skipped value by value), so that what the file holds beyond
   // the header's counts is found.
   for (size_t e = 0; e < h.elements.size(); ++e) {
@@ -305,8 +323,26 @@ PointCloud parse_ply_points(const uint8_t* data, size_t size, const std::string&
           if (!(n >= 0) || n != std::floor(n) || n > static_cast<double>(body)) {
             throw PointFileError(name + ": " + where + ": bad list length");
           }
+          const bool face_corners = e == face_index && static_cast<int>(k) == indices_property;
+          corners.clear();
           for (uint64_t j = 0; j < static_cast<uint64_t>(n); ++j) {
-            binary ? bin.read(p.type, name, where) : text.read(name, p.name);
+            const double index = binary ? bin.read(p.type, name, where) : text.read(name, p.name);
+            if (!face_corners) continue;
+            if (!(index >= 0) || index != std::floor(index) || index >= static_cast<double>(vertex.count)) {
+              char shown[32];
+              std::snprintf(shown, sizeof shown, "%g", index);
+              throw PointFileError(name + ": face " + std::to_string(item + 1) + ": vertex index " + shown + " is not one of the " +
+                                   std::to_string(vertex.count) + " vertices (0 to " + std::to_string(vertex.count - 1) + ")");
+            }
+            corners.push_back(static_cast<uint32_t>(index));
+          }
+          if (face_corners) {
+            if (corners.size() < 3) throw PointFileError(name + ": face " + std::to_string(item + 1) + " has fewer than three corners");
+            for (size_t c = 1; c + 1 < corners.size(); ++c) {
+              if (corners[0] != corners[c] && corners[c] != corners[c + 1] && corners[c + 1] != corners[0]) {
+                triangles->push_back({corners[0], corners[c], corners[c + 1]});
+              }
+            }
           }
         } else {
           values[k] = binary ? bin.read(p.type, name, where) : text.read(name, p.name);
@@ -339,9 +375,25 @@ PointCloud parse_ply_points(const uint8_t* data, size_t size, const std::string&
     throw PointFileError(binary ? name + ": " + std::to_string(bin.left()) + " bytes after the elements the header counts"
                                 : name + ":" + std::to_string(text.line()) + ": a row after the elements the header counts");
   }
-  check_duplicate_points(cloud, [&](size_t i) {
-    return binary ? name + ": vertex " + std::to_string(source[i]) : name + ":" + std::to_string(source[i]);
-  });
+  if (!triangles) {
+    check_duplicate_points(cloud, [&](size_t i) {
+      return binary ? name + ": vertex " + std::to_string(source[i]) : name + ":" + std::to_string(source[i]);
+    });
+  }
+  return cloud;
+}
+
+}  // namespace
+
+PointCloud parse_ply_points(const uint8_t* data, size_t size, const std::string& name) {
+  return parse_ply(data, size, name, nullptr);
+}
+
+PointCloud parse_ply_mesh(const uint8_t* data, size_t size, const std::string& name,
+                          std::vector<std::array<uint32_t, 3>>& triangles) {
+  triangles.clear();
+  PointCloud cloud = parse_ply(data, size, name, &triangles);
+  if (triangles.empty()) throw PointFileError(name + ": the mesh's faces give no triangles with three distinct corners");
   return cloud;
 }
 

@@ -4,6 +4,7 @@
 
 #include <CppUTest/TestHarness.h>
 
+#include <array>
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -140,4 +141,47 @@ TEST(PlyReader, ReadsBackWhatExportWritesWithItsLines) {
   LONGS_EQUAL(1, (*c.line)[2]);
   DOUBLES_EQUAL(2.0, c.points[2].x, 1e-12);
   DOUBLES_EQUAL(-1.234565, c.points[2].z, 1e-12);
+}
+
+namespace {
+
+std::string mesh_error_of(const std::string& bytes) {
+  std::vector<std::array<uint32_t, 3>> triangles;
+  try {
+    dg::host::parse_ply_mesh(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), "in.ply", triangles);
+  } catch (const dg::host::PointFileError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+const char* kSquareHeader =
+    "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\nproperty float z\n"
+    "element face 2\nproperty list uchar int vertex_indices\nend_header\n";
+
+}  // namespace
+
+TEST(PlyReader, AMeshsFacesBecomeTrianglesAQuadAFan) {
+  // A quad and a triangle; vertex 4 repeats vertex 0, which a mesh may do.
+  const std::string text = std::string(kSquareHeader) + "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 0\n4 0 1 2 3\n3 1 4 2\n";
+  std::vector<std::array<uint32_t, 3>> triangles;
+  const dg::host::PointCloud c =
+      dg::host::parse_ply_mesh(reinterpret_cast<const uint8_t*>(text.data()), text.size(), "in.ply", triangles);
+  LONGS_EQUAL(5, c.points.size());
+  LONGS_EQUAL(3, triangles.size());
+  LONGS_EQUAL(0, triangles[1][0]);
+  LONGS_EQUAL(2, triangles[1][1]);
+  LONGS_EQUAL(3, triangles[1][2]);
+  // Read as points, the repeated vertex is the error it always was.
+  STRCMP_CONTAINS("in.ply", error_of(text).c_str());
+}
+
+TEST(PlyReader, AMeshsBadFaceIsNamed) {
+  STRCMP_CONTAINS("face 2: vertex index 7 is not one of the 5 vertices",
+                  mesh_error_of(std::string(kSquareHeader) + "0 0 0\n1 0 0\n1 1 0\n0 1 0\n2 2 0\n3 0 1 2\n3 0 1 7\n").c_str());
+  STRCMP_CONTAINS("face 1 has fewer than three corners",
+                  mesh_error_of(std::string(kSquareHeader) + "0 0 0\n1 0 0\n1 1 0\n0 1 0\n2 2 0\n2 0 1\n3 0 1 2\n").c_str());
+  STRCMP_CONTAINS("a PLY nominal must be a mesh",
+                  mesh_error_of("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
+                                "end_header\n0 0 0\n").c_str());
 }
