@@ -89,12 +89,12 @@ std::vector<std::string> scan_facts(const std::string& path) {
 
 // The alignment for the printed summary and the report.
 std::string alignment_text(const AlignmentSummary& s) {
-  char text[256];
+  char text[320];
   std::snprintf(text, sizeof text,
                 "aligned by a rigid best fit: rotation %.4f deg, translation (%.4f, %.4f, %.4f) mm, RMS %.4f -> %.4f mm "
-                "in %d steps%s",
+                "in %d steps%s; %zu points beyond 3 robust sigmas left out of the fit",
                 s.rotation_deg, s.translation_mm.x, s.translation_mm.y, s.translation_mm.z, s.rms_before_mm, s.rms_after_mm,
-                s.iterations, s.converged ? "" : " (not converged)");
+                s.iterations, s.converged ? "" : " (not converged)", s.left_out);
   return text;
 }
 
@@ -281,7 +281,7 @@ int run_inspect(const InspectArgs& given) {
     const Alignment fit = nominal ? align_to_nominal(cloud.points, nominal) : align_to_surface(cloud.points, SurfaceLocator(surface.surface));
     for (Point3& p : cloud.points) p = fit.transform.apply(p);
     aligned = AlignmentSummary{fit.transform.rotation, fit.transform.translation, fit.transform.angle_deg(),
-                               fit.rms_before_mm, fit.rms_after_mm, fit.iterations, fit.converged};
+                               fit.rms_before_mm, fit.rms_after_mm, fit.iterations, fit.converged, fit.left_out};
   }
   const std::string alignment = aligned ? alignment_text(*aligned) : std::string();
   const std::optional<ToleranceLimits> limits = tolerance_limits(a);

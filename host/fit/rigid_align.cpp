@@ -49,9 +49,28 @@ Alignment align_to_nominal(const std::vector<Point3>& all, const std::function<C
   for (int iteration = 1; iteration <= 50; ++iteration) {
     Eigen::Matrix<double, 6, 6> normal = Eigen::Matrix<double, 6, 6>::Zero();
     Eigen::Matrix<double, 6, 1> rhs = Eigen::Matrix<double, 6, 1>::Zero();
+    // A trimmed fit: points farther than 3 robust sigmas (1.4826 x the median |distance|) from the
+    // nominal are left out of this step, so that outliers and unscanned features cannot pull it.
+    std::vector<Point3> moved_points;
+    std::vector<Closest> feet;
+    std::vector<double> distances;
     for (const Point3& p : points) {
-      const Point3 moved = out.transform.apply(p);
-      const Closest c = closest(moved);
+      moved_points.push_back(out.transform.apply(p));
+      feet.push_back(closest(moved_points.back()));
+      distances.push_back(std::fabs(feet.back().distance));
+    }
+    std::vector<double> sorted = distances;
+    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
+    // Never below 1 nm: the closest points themselves settle to 1e-7 mm.
+    const double cutoff = std::max(3 * 1.4826 * (sorted.empty() ? 0.0 : sorted[sorted.size() / 2]), 1e-6);
+    out.left_out = 0;
+    for (size_t k = 0; k < points.size(); ++k) {
+      const Point3& moved = moved_points[k];
+      const Closest& c = feet[k];
+      if (distances[k] > cutoff) {
+        ++out.left_out;
+        continue;
+      }
       // The nominal's normal at the foot: the tangent plane the point may slide along.
       const Point3 n = c.normal;
       if (!(norm(n) > 0)) continue;

@@ -19,13 +19,15 @@ struct RigidTransform {
 struct Alignment {
   RigidTransform transform;  // measured -> nominal
   int iterations = 0;
-  double rms_before_mm = 0, rms_after_mm = 0;
+  double rms_before_mm = 0, rms_after_mm = 0;  // over every point taking part
   bool converged = false;
+  size_t left_out = 0;  // points beyond 3 robust sigmas in the last step, left out of it
 };
 
 // Point-to-plane ICP (Chen and Medioni's linearisation): each step finds every point's closest
 // nominal point and normal, solves the 6 x 6 least-squares problem for a small rotation and a
-// translation, and applies it as an exact rotation. At most `max_points` points, evenly strided,
+// translation over the points within 3 robust sigmas (a trimmed fit that outliers cannot pull),
+// and applies it as an exact rotation. At most `max_points` points, evenly strided,
 // take part. Stops when a step moves no point by more than 1e-7 mm, or after 50 steps.
 // Any nominal whose closest points carry their normal: a surface, a mesh, a CAD part.
 Alignment align_to_nominal(const std::vector<Point3>& points, const std::function<Closest(const Point3&)>& closest,

@@ -33,7 +33,8 @@ std::string inspection_json_text(const Inspection& r, const std::string& points_
                       {"rms_before_mm", a.rms_before_mm},
                       {"rms_after_mm", a.rms_after_mm},
                       {"iterations", a.iterations},
-                      {"converged", a.converged}};
+                      {"converged", a.converged},
+                      {"points_left_out", a.left_out}};
   } else {
     j["alignment"] = nullptr;
   }

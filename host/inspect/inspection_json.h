@@ -18,6 +18,7 @@ struct AlignmentSummary {
   double rms_before_mm = 0, rms_after_mm = 0;  // point-to-surface RMS before and after it
   int iterations = 0;
   bool converged = false;
+  size_t left_out = 0;  // points beyond 3 robust sigmas, left out of the last step
 };
 
 // What a signed report names besides the numbers: the part, its serial number, who measured it and
