@@ -8,6 +8,7 @@
 
 #include "host/inspect/deviation_map.h"
 #include "host/inspect/histogram.h"
+#include "host/inspect/view3d.h"
 
 namespace dg::host {
 
@@ -190,6 +191,13 @@ std::string html_report(const ReportInputs& in) {
                                  : "No tolerance was given (inspect --tolerance).") +
          "</figcaption></figure>\n";
     const DistanceStats& s = in.inspection->stats;
+    // The points in 3D, coloured as the deviation map (fixed to the tolerance when one was asked).
+    const double range = in.decision ? std::max(std::fabs(in.decision->limits.lower_mm), std::fabs(in.decision->limits.upper_mm)) : 0;
+    const std::string view = view3d_html(*in.inspection, range);
+    if (!view.empty()) {
+      h += "<h2>The measured points in 3D</h2>\n<figure>" + view +
+           "<figcaption>Each point coloured by its signed deviation, on the deviation map's scale.</figcaption></figure>\n";
+    }
     h += "<h2>Orthogonal deviation (mm)</h2>\n<table>\n" + row("points", std::to_string(s.count)) + row("mean", number(s.mean)) +
          row("median", number(s.median)) + row("standard deviation", number(s.stddev)) + row("RMS", number(s.rms)) +
          row("max", number(s.max)) + row("min", number(s.min)) + "</table>\n";

@@ -57,7 +57,7 @@ int main(int argc, char** argv) {
   }
   const bool pass = std::strcmp(argv[2], "pass") == 0;
   // The colours come from the report's own style (html_report.cpp, histogram.cpp, deviation_map.cpp);
-  // the thresholds are a fraction of what a 1000 px wide rendering shows, so a missing element fails
+  // the thresholds are a fraction of what a 1000 x 4400 px rendering shows, so a missing element fails
   // whatever the fonts' exact metrics.
   const Rgb kPassGreen{0x1a, 0x7f, 0x37}, kFailRed{0xc6, 0x28, 0x28};
   const Rgb kBar{0x4a, 0x78, 0xb5};
@@ -84,6 +84,7 @@ int main(int argc, char** argv) {
       {"the maps' colour bars: shades of red (of 20)", shades(1), 16, -1},
       {"the maps' colour bars: shades of blue (of 20)", shades(-1), 16, -1},
       {"text drawn (near-black pixels)", shot.count({0, 0, 0}, 70), 5000, -1},
+      {"the 3D view's canvas (#f4f5f8)", shot.count({0xf4, 0xf5, 0xf8}, 0), 100000, -1},
   };
   // The limits' red lines are in every histogram; only a failing part's report lacks the green. The
   // bands within U of the limits are a few um wide: visible beside a passing part's deviations, less

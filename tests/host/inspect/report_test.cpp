@@ -1,6 +1,7 @@
 // Report pictures and the HTML report: the right size, not blank, a single bad point visible,
 // and a report that carries its pictures and numbers.
 #include "host/inspect/html_report.h"
+#include "host/inspect/view3d.h"
 
 #include <CppUTest/TestHarness.h>
 
@@ -167,4 +168,17 @@ TEST(Report, TheUncertaintyMapOfTrimmedFacesTakesEachPointsOwnFace) {
   ReportInputs in;
   in.surface = &f;
   STRCMP_CONTAINS("face 2: expanded uncertainty U = 2u", html_report(in).c_str());
+}
+
+TEST(Report, TheThreeDViewCarriesAtMostItsPointsWithTheirColours) {
+  Inspection inspection;
+  for (int i = 0; i < 50000; ++i) inspection.points.push_back({{0.01 * i, 0, 1}, {0.01 * i, 0, 1}, i == 0 ? 0.02 : 0.0});
+  const std::string html = view3d_html(inspection, 0.02, 20000);
+  STRCMP_CONTAINS("<canvas id=\"view3d\"", html.c_str());
+  // 50,000 points strided by 3: 16,667 colours, the first saturated red (at the range), the rest white.
+  size_t colours = 0;
+  for (size_t at = html.find("\"#"); at != std::string::npos; at = html.find("\"#", at + 1)) ++colours;
+  LONGS_EQUAL(16667, colours);
+  STRCMP_CONTAINS("const c=[\"#c81e1e\",\"#ffffff\"", html.c_str());
+  STRCMP_EQUAL("", view3d_html(Inspection{}, 0).c_str());
 }
