@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "host/cli/device_choice.h"
+#include "host/cli/pdf_print.h"
 #include "host/io/file_name.h"
 #include "host/scan/ply_reader.h"
 #include "host/scan/point_reader.h"
@@ -51,6 +52,7 @@ CLI::App* add_inspect_command(CLI::App& app, InspectArgs& a) {
   cmd->add_option("--point-u", a.point_u_mm,
                   "the points' standard uncertainty, mm, when the points carry no sigma column (default: the noise estimated from the scan)")
       ->check(CLI::PositiveNumber);
+  cmd->add_flag("!--no-pdf", a.pdf, "with -o: no PDF of the report beside it (by default Chromium prints one, when installed)");
   cmd->add_option("--part", a.fields.part, "the part's name or drawing number, for the report and the JSON");
   cmd->add_option("--serial", a.fields.serial, "the part's serial number, for the report and the JSON");
   cmd->add_option("--operator", a.fields.operator_name, "who measured (default: `operator =` in the config file)");
@@ -310,6 +312,14 @@ int run_inspect(const InspectArgs& given) {
                         : decision->verdict == Verdict::kInconclusive ? kExitInspectionInconclusive
                                                                       : 0;
   const bool uncertainty_drawn = !a.report_html.empty() && write_report(a, r, surface, alignment, decision ? &*decision : nullptr);
+  // The PDF for sign-off, beside a report written to a regular file.
+  std::string pdf_note;
+  if (!a.report_html.empty() && a.pdf && a.report_html != "-") {
+    const std::string pdf = without_extension(a.report_html) + ".pdf";
+    const std::string why = print_pdf(a.report_html, pdf);
+    if (why.empty()) pdf_note = "wrote " + pdf + " (the report printed by Chromium)";
+    else std::fprintf(stderr, "digitizer: no PDF of the report: %s\n", why.c_str());
+  }
   if (a.json) {
     std::fputs(
         inspection_json_text(r, a.points, a.surface, aligned ? &*aligned : nullptr, decision ? &*decision : nullptr, a.fields).c_str(),
@@ -341,6 +351,7 @@ int run_inspect(const InspectArgs& given) {
   if (!a.report_html.empty()) {
     std::printf("wrote %s (pictures beside it: %s-deviation.png/.svg, -error-x/y/z.png%s)\n", a.report_html.c_str(),
                 without_extension(a.report_html).c_str(), uncertainty_drawn ? ", -uncertainty.png" : "");
+    if (!pdf_note.empty()) std::printf("%s\n", pdf_note.c_str());
   }
   return exit_code;
 }

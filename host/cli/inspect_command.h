@@ -24,6 +24,7 @@ struct InspectArgs {
   // The report's part, serial number, operator and company; operator and company default to the
   // config file's `operator =` and `company =`.
   ReportFields fields;
+  bool pdf = true;  // the report also as PDF beside it (printed by Chromium)
 };
 
 // inspect's exit codes beyond 0, 1 and 2: a tolerance proven not kept, or not proven either way.

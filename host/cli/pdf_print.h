@@ -1,0 +1,13 @@
+// The report as a PDF for sign-off: the HTML printed by headless Chromium, the same content a
+// browser shows.
+#pragma once
+#include <string>
+
+namespace dg::host {
+
+// Prints `html_path` to `pdf_path` (written whole or not at all) with Chromium: $DIGITIZER_CHROMIUM,
+// else `chromium` or `chromium-browser` on the PATH. Returns "" when written, else why not (no
+// Chromium, it failed, it took over two minutes, or what it wrote is no PDF).
+std::string print_pdf(const std::string& html_path, const std::string& pdf_path);
+
+}  // namespace dg::host
