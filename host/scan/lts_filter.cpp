@@ -128,6 +128,7 @@ struct LooModel {
   // scale instead; the split judge, whose point lies at its side's edge, uses it).
   double gain = 0;
   int dof = 1;  // the trimmed residuals' degrees of freedom, h - p (at least 1)
+  LocalPolynomial polynomial;  // the model itself (a window's; a constant as a flat plane)
 };
 
 // A quadratic in the distance along a line through the points on one side of point i,
@@ -212,9 +213,16 @@ LooModel loo_model(const std::vector<Point3>& points, const std::vector<size_t>&
     for (size_t j : chosen) mean += points[j].z;
     mean /= h;
     for (size_t j : chosen) ss += (points[j].z - mean) * (points[j].z - mean);
-    out = {true, mean, std::sqrt(ss / std::max(1, h - 1)), 4};
+    out = LooModel{};
+    out.ok = true;
+    out.prediction = mean;
+    out.scale = std::sqrt(ss / std::max(1, h - 1));
+    out.near_kept = 4;
     out.gain = 1.0 / h;
     out.dof = std::max(1, h - 1);
+    out.polynomial.order = 1;
+    out.polynomial.centre = points[i];
+    out.polynomial.c[0] = mean;
     return out;
   }
   LocalPolynomial model;
@@ -228,9 +236,13 @@ LooModel loo_model(const std::vector<Point3>& points, const std::vector<size_t>&
       chosen.push_back(by_residual[static_cast<size_t>(m)].second);
       trimmed += by_residual[static_cast<size_t>(m)].first * by_residual[static_cast<size_t>(m)].first;
     }
-    out = {true, model.c[0], std::sqrt(trimmed / std::max(1, h - p)), 0};
+    out = LooModel{};
+    out.ok = true;
+    out.prediction = model.c[0];
+    out.scale = std::sqrt(trimmed / std::max(1, h - p));
     out.gain = model.centre_gain;
     out.dof = std::max(1, h - p);
+    out.polynomial = model;
   }
   if (out.ok) {
     std::vector<std::pair<double, size_t>> nearest;
@@ -327,7 +339,7 @@ SplitModels split_model(const std::vector<Point3>& points, const std::vector<siz
   if (members.size() < 2 * kSplitSide || !(step > 0) || !std::isfinite(step)) return best;
   constexpr double kPi = 3.14159265358979323846;
   std::set<std::vector<char>> tried;
-  std::vector<size_t> near_side, far_side;
+  std::vector<size_t> near_side, far_side, best_near;
   std::vector<char> membership(members.size());
   for (int direction = 0; direction < 16; ++direction) {
     const double nx = std::cos(direction * kPi / 8), ny = std::sin(direction * kPi / 8);
@@ -349,8 +361,30 @@ SplitModels split_model(const std::vector<Point3>& points, const std::vector<siz
         best_score = score;
         best = {own, other};
         best.own.scale = best.other.scale = std::sqrt(score);
+        best_near = near_side;
       }
     }
+  }
+  // A crease is seldom straight (the dome's rim is a circle): the best straight cut is refined by
+  // giving each point to the side whose model describes it better and refitting, twice, while the
+  // pooled scale shrinks.
+  for (int round = 0; round < 2 && best.own.ok; ++round) {
+    near_side.clear(), far_side.clear();
+    for (size_t j : members) {
+      const double to_own = std::fabs(points[j].z - best.own.polynomial.at(points[j].x, points[j].y));
+      const double to_other = std::fabs(points[j].z - best.other.polynomial.at(points[j].x, points[j].y));
+      (to_own <= to_other ? near_side : far_side).push_back(j);
+    }
+    if (near_side.size() < kSplitSide || far_side.size() < kSplitSide || near_side == best_near) break;
+    const LooModel own = loo_model(points, near_side, i, reference, 3);
+    const LooModel other = loo_model(points, far_side, i, reference, 3);
+    if (!own.ok || !other.ok) break;
+    const double score = (own.scale * own.scale * own.dof + other.scale * other.scale * other.dof) / (own.dof + other.dof);
+    if (!(score < best_score)) break;
+    best_score = score;
+    best = {own, other};
+    best.own.scale = best.other.scale = std::sqrt(score);
+    best_near = near_side;
   }
   return best;
 }

@@ -81,7 +81,7 @@ TEST(LtsRecall, WindowsThatKeepAlternatingEndTheIterationWithTheSameOutliers) {
 // Points of base plate within 1.5 mm outside the dome's rim in the scan's corners, one outlier of
 // 100 sigma at a time: their 5 x 5 windows are mostly cap, and the rim points beside the outlier
 // had no window that describes their neighbours either. Every outlier was caught before the window
-// cut along the rim, but with 48 false alarms over the 44 scans; the cut clears them (4 left).
+// cut along the rim, but with 48 false alarms over the 44 scans; the cut clears them (2 left).
 // (At 40 sigma, 0.2 mm, six plate points 0.2 mm outside the rim are missed with or without the cut:
 // raised by that much a point there reads as the cap reaching 0.2 mm further, which a 1 mm grid
 // cannot tell apart.)
