@@ -1,7 +1,11 @@
 // STEP and IGES parts through OpenCASCADE: read, meshed to find candidate faces, measured exactly.
 #include "host/cad/cad_nominal.h"
 
+#include <BRepAdaptor_Surface.hxx>
 #include <BRepBndLib.hxx>
+#include <BRepTopAdaptor_FClass2d.hxx>
+#include <Extrema_GenLocateExtPS.hxx>
+#include <Extrema_POnSurf.hxx>
 #include <BRepBuilderAPI_MakeVertex.hxx>
 #include <BRepExtrema_DistShapeShape.hxx>
 #include <BRepGProp_Face.hxx>
@@ -25,6 +29,7 @@
 #include <TopoDS_Vertex.hxx>
 #include <XSControl_Reader.hxx>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <set>
@@ -39,7 +44,10 @@ namespace dg::host {
 
 struct CadNominal::Impl {
   std::vector<TopoDS_Face> faces;
+  std::vector<std::unique_ptr<BRepAdaptor_Surface>> surfaces;     // per face
+  std::vector<std::unique_ptr<BRepTopAdaptor_FClass2d>> inside;  // per face: (u, v) in its trims
   std::vector<size_t> face_of_triangle;
+  std::vector<std::array<gp_Pnt2d, 3>> uv_of_corner;  // per triangle, when the face's mesh has them
   std::unique_ptr<MeshLocator> mesh;
   double deflection_mm = 0;
   mutable size_t fallbacks = 0;
@@ -106,6 +114,7 @@ CadNominal CadNominal::read(const std::string& path) {
       }
       // A reversed face's triangles turn the other way: their corners swap to face outward.
       const bool reversed = face.Orientation() == TopAbs_REVERSED;
+      const bool has_uv = triangulation->HasUVNodes();
       for (int t = 1; t <= triangulation->NbTriangles(); ++t) {
         int a, b, c;
         triangulation->Triangle(t).Get(a, b, c);
@@ -114,8 +123,13 @@ CadNominal CadNominal::read(const std::string& path) {
         if (va == vb || vb == vc || vc == va) continue;
         mesh.triangles.push_back({va, vb, vc});
         impl->face_of_triangle.push_back(impl->faces.size());
+        impl->uv_of_corner.push_back(has_uv ? std::array<gp_Pnt2d, 3>{triangulation->UVNode(a), triangulation->UVNode(b),
+                                                                       triangulation->UVNode(c)}
+                                            : std::array<gp_Pnt2d, 3>{gp_Pnt2d(NAN, NAN), gp_Pnt2d(NAN, NAN), gp_Pnt2d(NAN, NAN)});
       }
       impl->faces.push_back(face);
+      impl->surfaces.push_back(std::make_unique<BRepAdaptor_Surface>(face));
+      impl->inside.push_back(std::make_unique<BRepTopAdaptor_FClass2d>(face, 1e-7));
     }
     if (mesh.triangles.empty()) throw CadNominalError(path + ": the part's faces give no triangles");
     impl->mesh = std::make_unique<MeshLocator>(mesh);
@@ -125,6 +139,39 @@ CadNominal CadNominal::read(const std::string& path) {
     throw CadNominalError(path + ": " + e.what());
   }
   return CadNominal(std::move(impl));
+}
+
+// The local search on the face of mesh triangle t from the (u, v) of the mesh foot.
+bool CadNominal::local_closest(const Point3& p, size_t t, const Closest& on_mesh, Closest& out) const {
+  const auto& uv = impl_->uv_of_corner[t];
+  if (std::isnan(uv[0].X())) return false;
+  // The mesh foot's barycentric coordinates in its triangle carry over to (u, v).
+  const auto& tri = impl_->mesh->triangle(t);
+  const Point3 a = impl_->mesh->vertex(tri[0]), b = impl_->mesh->vertex(tri[1]), c = impl_->mesh->vertex(tri[2]);
+  const Point3 ab = b - a, ac = c - a, aq = on_mesh.point - a;
+  const double d00 = dot(ab, ab), d01 = dot(ab, ac), d11 = dot(ac, ac), d20 = dot(aq, ab), d21 = dot(aq, ac);
+  const double det = d00 * d11 - d01 * d01;
+  if (!(det > 0)) return false;
+  const double wb = (d11 * d20 - d01 * d21) / det, wc = (d00 * d21 - d01 * d20) / det, wa = 1 - wb - wc;
+  const double u0 = wa * uv[0].X() + wb * uv[1].X() + wc * uv[2].X(), v0 = wa * uv[0].Y() + wb * uv[1].Y() + wc * uv[2].Y();
+  const size_t f = impl_->face_of_triangle[t];
+  Extrema_GenLocateExtPS locate(*impl_->surfaces[f]);
+  locate.Perform(gp_Pnt(p.x, p.y, p.z), u0, v0, Standard_True);
+  if (!locate.IsDone()) return false;
+  Standard_Real u = 0, v = 0;
+  locate.Point().Parameter(u, v);
+  if (impl_->inside[f]->Perform(gp_Pnt2d(u, v)) != TopAbs_IN) return false;
+  const gp_Pnt foot = locate.Point().Value();
+  const double distance = std::sqrt(locate.SquareDistance());
+  if (!(std::fabs(distance - std::fabs(on_mesh.distance)) <= 2 * impl_->deflection_mm)) return false;
+  gp_Pnt at;
+  gp_Vec normal;
+  BRepGProp_Face(impl_->faces[f]).Normal(u, v, at, normal);
+  if (!(normal.Magnitude() > 0)) return false;
+  out.point = {foot.X(), foot.Y(), foot.Z()};
+  out.normal = (1.0 / normal.Magnitude()) * Point3{normal.X(), normal.Y(), normal.Z()};
+  out.distance = dot(p - out.point, out.normal) < 0 ? -distance : distance;
+  return std::isfinite(out.distance);
 }
 
 Closest CadNominal::closest(const Point3& p) const {
@@ -138,6 +185,15 @@ Closest CadNominal::closest(const Point3& p) const {
   for (size_t t : triangles) candidates.insert(impl_->face_of_triangle[t]);
   Closest best;
   bool found = false;
+  // One candidate face: Newton from the mesh foot's (u, v) on that face finds the closest point in
+  // microseconds where the global search takes milliseconds. Kept when it lands inside the face's
+  // trims and agrees with the mesh's distance to within the mesh's deflection; else the global one.
+  if (candidates.size() == 1) {
+    try {
+      if (local_closest(p, nearest, on_mesh, best)) return best;
+    } catch (const Standard_Failure&) {
+    }
+  }
   try {
     const TopoDS_Vertex vertex = BRepBuilderAPI_MakeVertex(gp_Pnt(p.x, p.y, p.z));
     for (size_t f : candidates) {

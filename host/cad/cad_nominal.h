@@ -39,6 +39,7 @@ class CadNominal {
  private:
   struct Impl;
   explicit CadNominal(std::unique_ptr<Impl> impl);
+  bool local_closest(const Point3& p, size_t triangle, const Closest& on_mesh, Closest& out) const;
   std::unique_ptr<Impl> impl_;
 };
 

@@ -31,6 +31,8 @@ class MeshLocator {
   // Every triangle (index into the mesh) that comes within `radius_mm` of p, in no order.
   void triangles_within(const Point3& p, double radius_mm, std::vector<size_t>& out) const;
   size_t triangle_count() const { return mesh_.triangles.size(); }
+  const std::array<uint32_t, 3>& triangle(size_t t) const { return mesh_.triangles[t]; }
+  const Point3& vertex(size_t v) const { return mesh_.vertices[v]; }
   size_t without_area() const { return without_area_; }  // triangles whose corners lie on one line
 
  private:

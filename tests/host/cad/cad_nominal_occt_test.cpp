@@ -18,6 +18,9 @@
 #include <unistd.h>
 
 #include "host/cad/cad_nominal.h"
+#include "host/cad/step_writer.h"
+#include "host/geometry/surface_locator.h"
+#include "tests/support/sample_surfaces.h"
 
 using namespace dg::host;
 
@@ -112,4 +115,26 @@ TEST(CadNominal, ADamagedOrEmptyFileIsRefusedNamingIt) {
   }
   std::remove(path.c_str());
   CHECK_THROWS(CadNominalError, CadNominal::read(temporary("missing.stp")));
+}
+
+TEST(CadNominal, ABsplineFaceMeasuresAsOurOwnSurfaceDoes) {
+  // Our STEP of a B-spline surface read back by OpenCASCADE: Newton from the mesh foot on the face,
+  // or the global search near its edges, gives the distance our own closest-point code finds.
+  const BSplineSurface surface = dg::test::clamped_sample();
+  const std::string path = temporary("bspline.stp");
+  dg::host::write_step(path, surface, StepOptions{});
+  const CadNominal nominal = CadNominal::read(path);
+  const SurfaceLocator locator(surface);
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> at(0.05, 0.95), off(-0.3, 0.3);
+  double worst = 0;
+  for (int k = 0; k < 300; ++k) {
+    Point3 p = surface.evaluate(at(rng), at(rng));
+    p.z += off(rng);
+    worst = std::max(worst, std::fabs(nominal.closest(p).distance - locator.closest(p).distance));
+  }
+  std::printf("\n  B-spline face (STEP): worst |distance - ours| %.2g mm", worst);
+  CHECK(worst < 1e-6);
+  LONGS_EQUAL(0, nominal.mesh_fallbacks());
+  std::remove(path.c_str());
 }
