@@ -39,6 +39,33 @@ std::string find_chromium() {
   return "";
 }
 
+// Runs Chromium with `arguments` (stdin, stdout and stderr on /dev/null); "" when it exits 0.
+std::string run(const std::string& chromium, std::vector<std::string> arguments) {
+  std::vector<char*> argv;
+  for (std::string& a : arguments) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
+  pid_t child = 0;
+  const int spawned = posix_spawn(&child, chromium.c_str(), &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (spawned != 0) return chromium + " could not be started";
+  int status = 0;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while (waitpid(child, &status, WNOHANG) == 0) {
+    if (std::chrono::steady_clock::now() > deadline) {
+      kill(child, SIGKILL);
+      waitpid(child, &status, 0);
+      return "Chromium took over two minutes";
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  return WIFEXITED(status) && WEXITSTATUS(status) == 0 ? "" : "Chromium failed";
+}
+
 }  // namespace
 
 std::string print_pdf(const std::string& html_path, const std::string& pdf_path) {
@@ -57,33 +84,12 @@ std::string print_pdf(const std::string& html_path, const std::string& pdf_path)
                                         "--no-pdf-header-footer", "--user-data-dir=" + profile, "--print-to-pdf=" + part,
                                         "file://" + html.string()};
   if (geteuid() == 0) arguments.insert(arguments.begin() + 1, "--no-sandbox");
-  std::vector<char*> argv;
-  for (std::string& a : arguments) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
-  pid_t child = 0;
-  const int spawned = posix_spawn(&child, chromium.c_str(), &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  std::string why;
-  if (spawned != 0) {
-    why = chromium + " could not be started";
-  } else {
-    int status = 0;
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
-    while (waitpid(child, &status, WNOHANG) == 0) {
-      if (std::chrono::steady_clock::now() > deadline) {
-        kill(child, SIGKILL);
-        waitpid(child, &status, 0);
-        why = "Chromium took over two minutes";
-        break;
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
-    if (why.empty() && !(WIFEXITED(status) && WEXITSTATUS(status) == 0)) why = "Chromium failed";
+  std::string why = run(chromium, arguments);
+  // Where the sandbox cannot start (a container without user namespaces) Chromium fails at once;
+  // the page is our own file, so it is printed again without the sandbox.
+  if (!why.empty() && geteuid() != 0) {
+    arguments.insert(arguments.begin() + 1, "--no-sandbox");
+    why = run(chromium, arguments);
   }
   if (why.empty()) {
     std::ifstream in(part, std::ios::binary);
