@@ -61,6 +61,17 @@ void silence_opencascade() {
   messenger->RemovePrinters(STANDARD_TYPE(Message_PrinterOStream));
 }
 
+// The unit normal of a face at (u, v) as the part orients the face (outward on a solid); false,
+// and `normal` untouched, where the face has none.
+bool oriented_normal(const TopoDS_Face& face, double u, double v, Point3& normal) {
+  gp_Pnt at;
+  gp_Vec n;
+  BRepGProp_Face(face).Normal(u, v, at, n);
+  if (!(n.Magnitude() > 0)) return false;
+  normal = (1.0 / n.Magnitude()) * Point3{n.X(), n.Y(), n.Z()};
+  return true;
+}
+
 TopoDS_Shape read_shape(const std::string& path) {
   if (!std::ifstream(path)) throw CadNominalError(path + ": cannot be read");
   const FileFormat format = file_format(path);
@@ -164,12 +175,8 @@ bool CadNominal::local_closest(const Point3& p, size_t t, const Closest& on_mesh
   const gp_Pnt foot = locate.Point().Value();
   const double distance = std::sqrt(locate.SquareDistance());
   if (!(std::fabs(distance - std::fabs(on_mesh.distance)) <= 2 * impl_->deflection_mm)) return false;
-  gp_Pnt at;
-  gp_Vec normal;
-  BRepGProp_Face(impl_->faces[f]).Normal(u, v, at, normal);
-  if (!(normal.Magnitude() > 0)) return false;
+  if (!oriented_normal(impl_->faces[f], u, v, out.normal)) return false;
   out.point = {foot.X(), foot.Y(), foot.Z()};
-  out.normal = (1.0 / normal.Magnitude()) * Point3{normal.X(), normal.Y(), normal.Z()};
   out.distance = dot(p - out.point, out.normal) < 0 ? -distance : distance;
   return std::isfinite(out.distance);
 }
@@ -209,10 +216,7 @@ Closest CadNominal::closest(const Point3& p) const {
         // Inside the face its own normal, as the part orients the face, gives the side.
         Standard_Real u = 0, v = 0;
         extrema.ParOnFaceS2(1, u, v);
-        gp_Pnt at;
-        gp_Vec normal;
-        BRepGProp_Face(impl_->faces[f]).Normal(u, v, at, normal);
-        if (normal.Magnitude() > 0) c.normal = (1.0 / normal.Magnitude()) * Point3{normal.X(), normal.Y(), normal.Z()};
+        oriented_normal(impl_->faces[f], u, v, c.normal);
       }
       c.distance = dot(p - c.point, c.normal) < 0 ? -distance : distance;
       best = c;

@@ -96,7 +96,7 @@ int main(int argc, char** argv) {
                                         return std::strstr(e.what, "colour bars") || std::strstr(e.what, "3D view");
                                       }),
                        expectations.end());
-    for (Expectation& e : expectations) e.at_least /= 4;
+    for (Expectation& e : expectations) e.at_least /= 4;  // a page at 100 dpi holds a quarter of the pixels
   }
   // The limits' red lines are in every histogram; only a failing part's report lacks the green. The
   // bands within U of the limits are a few um wide: visible beside a passing part's deviations, less
