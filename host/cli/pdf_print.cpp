@@ -68,6 +68,23 @@ std::string run(const std::string& chromium, std::vector<std::string> arguments)
 
 }  // namespace
 
+std::string file_url(const std::string& absolute_path) {
+  static const char kHex[] = "0123456789ABCDEF";
+  std::string url = "file://";
+  for (const unsigned char c : absolute_path) {
+    const bool unreserved = (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '-' ||
+                            c == '.' || c == '_' || c == '~' || c == '/';
+    if (unreserved) {
+      url += static_cast<char>(c);
+    } else {
+      url += '%';
+      url += kHex[c >> 4];
+      url += kHex[c & 15];
+    }
+  }
+  return url;
+}
+
 std::string print_pdf(const std::string& html_path, const std::string& pdf_path) {
   const std::string chromium = find_chromium();
   if (chromium.empty()) return "Chromium was not found (install Debian's chromium package, or set DIGITIZER_CHROMIUM)";
@@ -82,7 +99,7 @@ std::string print_pdf(const std::string& html_path, const std::string& pdf_path)
   std::vector<std::string> arguments = {chromium, "--headless", "--disable-gpu", "--disable-quic", "--no-first-run",
                                         "--disable-background-networking", "--disable-component-update", "--disable-sync",
                                         "--no-pdf-header-footer", "--user-data-dir=" + profile, "--print-to-pdf=" + part,
-                                        "file://" + html.string()};
+                                        file_url(html.string())};
   if (geteuid() == 0) arguments.insert(arguments.begin() + 1, "--no-sandbox");
   std::string why = run(chromium, arguments);
   // Where the sandbox cannot start (a container without user namespaces) Chromium fails at once;
