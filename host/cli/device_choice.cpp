@@ -2,21 +2,14 @@
 #include "host/cli/device_choice.h"
 
 #include <cstdlib>
-#include <fstream>
 #include <stdexcept>
 
+#include "host/cli/config_file.h"
 #include "host/transport/usb_transport.h"
 
 namespace dg::host {
 
 namespace {
-
-std::string trimmed(const std::string& s) {
-  const size_t a = s.find_first_not_of(" \t\r");
-  if (a == std::string::npos) return "";
-  const size_t b = s.find_last_not_of(" \t\r");
-  return s.substr(a, b - a + 1);
-}
 
 // The USB devices that answer, as "usb:VID:PID,serial=S" lines, or why none could be listed.
 std::string usb_devices_found() {
@@ -43,38 +36,14 @@ std::string config_path() {
   return std::string(home && *home ? home : ".") + "/.config/digitizer/config";
 }
 
-namespace {
-
-// The first `key = value` line of the config file (comments after '#'): its value and line number;
-// false when there is no file or no such line.
-bool find_setting(const std::string& path, const std::string& key, std::string& value, int& line_number) {
-  std::ifstream in(path);
-  std::string line;
-  for (line_number = 1; in && std::getline(in, line); ++line_number) {
-    const std::string text = trimmed(line.substr(0, line.find('#')));
-    const size_t equals = text.find('=');
-    if (equals == std::string::npos || trimmed(text.substr(0, equals)) != key) continue;
-    value = trimmed(text.substr(equals + 1));
-    return true;
-  }
-  return false;
-}
-
-}  // namespace
-
 std::string configured_value(const std::string& path, const std::string& key) {
-  std::string value;
-  int line_number = 0;
-  return find_setting(path, key, value, line_number) ? value : "";
+  for (const ConfigEntry& e : read_config(path)) {
+    if (e.key == key) return e.value;
+  }
+  return "";
 }
 
-std::string configured_device(const std::string& path) {
-  std::string uri;
-  int line_number = 0;
-  if (!find_setting(path, "device", uri, line_number)) return "";
-  if (uri.empty()) throw std::invalid_argument(path + ":" + std::to_string(line_number) + ": `device =` names no device");
-  return uri;
-}
+std::string configured_device(const std::string& path) { return configured_value(path, "device"); }
 
 std::string chosen_device(const std::string& option) {
   if (!option.empty()) return option;

@@ -11,10 +11,11 @@ namespace dg::host {
 std::string chosen_device(const std::string& option);
 
 // The config file's device, "" when there is no file or no such line. Throws std::invalid_argument
-// for a file that names one badly (the line number said).
+// for a file that is not a valid config (read_config; the line number said).
 std::string configured_device(const std::string& config_path);
 
-// The value of `key = value` in the config file, "" when there is no file or no such line.
+// The value of `key = value` in the config file, "" when there is no file or no such line; throws
+// as read_config does.
 std::string configured_value(const std::string& config_path, const std::string& key);
 
 // Where the config file is looked for.

@@ -235,8 +235,6 @@ void print_decision(const Decision& d, const Inspection& r) {
 
 int run_inspect(const InspectArgs& given) {
   InspectArgs a = given;
-  if (a.fields.operator_name.empty()) a.fields.operator_name = configured_value(config_path(), "operator");
-  if (a.fields.company.empty()) a.fields.company = configured_value(config_path(), "company");
   PointCloud cloud = read_points(a.points);
   if (cloud.points.empty()) throw std::invalid_argument(a.points + ": holds no points to inspect");
   FittedSurface surface;

@@ -5,6 +5,8 @@
 #include <stdexcept>
 
 #include "host/cli/characterize_command.h"
+#include "host/cli/config_command.h"
+#include "host/cli/config_file.h"
 #include "host/cli/curve_command.h"
 #include "host/cli/device_choice.h"
 #include "host/cli/device_commands.h"
@@ -64,6 +66,7 @@ int main(int argc, char** argv) {
   add_device_commands(app, device_args);
   SelfDescriptionArgs self_description;
   add_self_description_commands(app, self_description);
+  add_config_command(app);
 
   try {
     app.parse(argc, argv);
@@ -71,6 +74,11 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? kExitOk : kExitUsage;
   }
   try {
+    // The config file fills the options the command line left out; the build's own man pages and
+    // completion, and `config show`, describe the defaults instead.
+    if (!app.got_subcommand("manpages") && !app.got_subcommand("completion") && !app.got_subcommand("config")) {
+      apply_config(app, config_path());
+    }
     // Device commands name their device (--device, DIGITIZER_DEVICE or the config file): none
     // falls back to the simulator.
     for (const char* name : {"status", "home", "unlock", "abort", "jog", "repeatability", "touch"}) {
@@ -122,6 +130,8 @@ int main(int argc, char** argv) {
     if (*segment_cmd) return run_segment(segment_args);
     if (*fit_cmd) return run_fit(fit);
     if (*inspect_cmd) return run_inspect(inspect_args);
+    const int config_result = run_config_command(app);
+    if (config_result >= 0) return config_result;
     const int self_result = run_self_description(app, self_description);
     if (self_result >= 0) return self_result;
     const int device_result = run_device_command(app, device_args);
