@@ -20,6 +20,7 @@
 #include <Poly_Triangulation.hxx>
 #include <STEPControl_Reader.hxx>
 #include <Standard_Failure.hxx>
+#include <Standard_Version.hxx>
 #include <TopExp.hxx>
 #include <TopLoc_Location.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
@@ -41,6 +42,8 @@
 #include "host/io/file_name.h"
 
 namespace dg::host {
+
+std::string opencascade_version() { return OCC_VERSION_COMPLETE; }
 
 struct CadNominal::Impl {
   std::vector<TopoDS_Face> faces;

@@ -20,6 +20,9 @@ class CadNominalError : public std::runtime_error {
 // point's nearest triangles name the faces that can hold its closest point; each is measured
 // exactly (BRepExtrema), and the nearest wins. The sign comes from the face's normal as the part
 // orients it (outward on a solid), or at an edge or a corner from the mesh's pseudo-normal.
+// The OpenCASCADE this build links, "7.6.3", for `digitizer doctor`.
+std::string opencascade_version();
+
 class CadNominal {
  public:
   // Throws CadNominalError naming the file: unreadable, not STEP/IGES, nothing transferred, no faces,

@@ -10,6 +10,7 @@
 #include "host/cli/curve_command.h"
 #include "host/cli/device_choice.h"
 #include "host/cli/device_commands.h"
+#include "host/cli/doctor_command.h"
 #include "host/cli/export_command.h"
 #include "host/cli/filter_command.h"
 #include "host/cli/fit_command.h"
@@ -67,6 +68,8 @@ int main(int argc, char** argv) {
   SelfDescriptionArgs self_description;
   add_self_description_commands(app, self_description);
   add_config_command(app);
+  DoctorArgs doctor_args;
+  add_doctor_command(app, doctor_args);
 
   try {
     app.parse(argc, argv);
@@ -75,8 +78,9 @@ int main(int argc, char** argv) {
   }
   try {
     // The config file fills the options the command line left out; the build's own man pages and
-    // completion, and `config show`, describe the defaults instead.
-    if (!app.got_subcommand("manpages") && !app.got_subcommand("completion") && !app.got_subcommand("config")) {
+    // completion, `config show` and `doctor` describe the defaults (and a broken file) instead.
+    if (!app.got_subcommand("manpages") && !app.got_subcommand("completion") && !app.got_subcommand("config") &&
+        !app.got_subcommand("doctor")) {
       apply_config(app, config_path());
     }
     // Device commands name their device (--device, DIGITIZER_DEVICE or the config file): none
@@ -130,6 +134,8 @@ int main(int argc, char** argv) {
     if (*segment_cmd) return run_segment(segment_args);
     if (*fit_cmd) return run_fit(fit);
     if (*inspect_cmd) return run_inspect(inspect_args);
+    const int doctor_result = run_doctor_command(app, doctor_args);
+    if (doctor_result >= 0) return doctor_result;
     const int config_result = run_config_command(app);
     if (config_result >= 0) return config_result;
     const int self_result = run_self_description(app, self_description);

@@ -23,22 +23,6 @@ namespace dg::host {
 
 namespace {
 
-std::string find_chromium() {
-  if (const char* chosen = std::getenv("DIGITIZER_CHROMIUM"); chosen && *chosen) return chosen;
-  const char* path = std::getenv("PATH");
-  const std::string directories = path ? path : "/usr/bin:/bin";
-  for (const char* name : {"chromium", "chromium-browser"}) {
-    size_t start = 0;
-    while (start <= directories.size()) {
-      const size_t end = std::min(directories.find(':', start), directories.size());
-      const std::string candidate = directories.substr(start, end - start) + "/" + name;
-      if (end > start && access(candidate.c_str(), X_OK) == 0) return candidate;
-      start = end + 1;
-    }
-  }
-  return "";
-}
-
 // Runs Chromium with `arguments` (stdin, stdout and stderr on /dev/null); "" when it exits 0.
 std::string run(const std::string& chromium, std::vector<std::string> arguments) {
   std::vector<char*> argv;
@@ -67,6 +51,22 @@ std::string run(const std::string& chromium, std::vector<std::string> arguments)
 }
 
 }  // namespace
+
+std::string find_chromium() {
+  if (const char* chosen = std::getenv("DIGITIZER_CHROMIUM"); chosen && *chosen) return chosen;
+  const char* path = std::getenv("PATH");
+  const std::string directories = path ? path : "/usr/bin:/bin";
+  for (const char* name : {"chromium", "chromium-browser"}) {
+    size_t start = 0;
+    while (start <= directories.size()) {
+      const size_t end = std::min(directories.find(':', start), directories.size());
+      const std::string candidate = directories.substr(start, end - start) + "/" + name;
+      if (end > start && access(candidate.c_str(), X_OK) == 0) return candidate;
+      start = end + 1;
+    }
+  }
+  return "";
+}
 
 std::string file_url(const std::string& absolute_path) {
   static const char kHex[] = "0123456789ABCDEF";

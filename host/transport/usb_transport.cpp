@@ -91,6 +91,12 @@ struct Context {
 
 }  // namespace
 
+std::string usb_library_version() {
+  const libusb_version* v = libusb_get_version();
+  return std::to_string(v->major) + "." + std::to_string(v->minor) + "." + std::to_string(v->micro) + "." +
+         std::to_string(v->nano);
+}
+
 UsbSelector parse_usb_uri(const std::string& uri) {
   UsbSelector s;
   if (const char* env = std::getenv("DIGITIZER_USB_ID"); env != nullptr && *env != '\0') {

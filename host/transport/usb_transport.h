@@ -40,6 +40,9 @@ struct UsbDeviceInfo {
 // cannot start (no USB on this machine).
 std::vector<UsbDeviceInfo> list_usb_devices(const UsbSelector& selector);
 
+// libusb's version ("1.0.26.11724"), for `digitizer doctor`.
+std::string usb_library_version();
+
 class UsbTransport final : public Transport {
  public:
   // Opens the first device that matches; TransportError names what was looked for and why none
