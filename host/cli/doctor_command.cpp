@@ -140,7 +140,7 @@ int run_doctor_command(const CLI::App& app, const DoctorArgs& args) {
   std::vector<std::string> devices;
   try {
     const std::vector<UsbDeviceInfo> found = list_usb_devices(ids);
-    findings.push_back({Health::kOk, "libusb " + usb_library_version() + ": " + std::to_string(found.size()) + " device(s) of ours on USB", ""});
+    findings.push_back({Health::kOk, usb_library_version() + ": " + std::to_string(found.size()) + " device(s) of ours on USB", ""});
     for (const UsbDeviceInfo& d : found) {
       char where[64];
       std::snprintf(where, sizeof where, "USB device on bus %u address %u", d.bus, d.address);
@@ -153,7 +153,7 @@ int run_doctor_command(const CLI::App& app, const DoctorArgs& args) {
       }
     }
   } catch (const std::exception& e) {
-    findings.push_back({Health::kWarning, "libusb " + usb_library_version() + " cannot reach USB here: " + e.what(),
+    findings.push_back({Health::kWarning, usb_library_version() + " cannot reach USB here: " + e.what(),
                         "a real board needs USB (in a container, pass the bus through); the simulator does not"});
   }
   // The device a command would use, if one is named; else every USB device that could be opened.

@@ -14,6 +14,7 @@
 #include "host/cli/export_command.h"
 #include "host/cli/filter_command.h"
 #include "host/cli/fit_command.h"
+#include "host/cli/flash_command.h"
 #include "host/cli/info_command.h"
 #include "host/cli/inspect_command.h"
 #include "host/cli/scan_command.h"
@@ -70,6 +71,8 @@ int main(int argc, char** argv) {
   add_config_command(app);
   DoctorArgs doctor_args;
   add_doctor_command(app, doctor_args);
+  FlashArgs flash_args;
+  add_flash_command(app, flash_args);
 
   try {
     app.parse(argc, argv);
@@ -134,6 +137,8 @@ int main(int argc, char** argv) {
     if (*segment_cmd) return run_segment(segment_args);
     if (*fit_cmd) return run_fit(fit);
     if (*inspect_cmd) return run_inspect(inspect_args);
+    const int flash_result = run_flash_command(app, flash_args);
+    if (flash_result >= 0) return flash_result;
     const int doctor_result = run_doctor_command(app, doctor_args);
     if (doctor_result >= 0) return doctor_result;
     const int config_result = run_config_command(app);

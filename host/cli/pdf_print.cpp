@@ -1,6 +1,7 @@
 // Runs headless Chromium without a shell (posix_spawn), in a profile of its own that is removed
 // afterwards, and checks what it printed before it replaces the PDF.
 #include "host/cli/pdf_print.h"
+#include "host/cli/program_path.h"
 
 #include <fcntl.h>
 #include <signal.h>
@@ -54,16 +55,9 @@ std::string run(const std::string& chromium, std::vector<std::string> arguments)
 
 std::string find_chromium() {
   if (const char* chosen = std::getenv("DIGITIZER_CHROMIUM"); chosen && *chosen) return chosen;
-  const char* path = std::getenv("PATH");
-  const std::string directories = path ? path : "/usr/bin:/bin";
   for (const char* name : {"chromium", "chromium-browser"}) {
-    size_t start = 0;
-    while (start <= directories.size()) {
-      const size_t end = std::min(directories.find(':', start), directories.size());
-      const std::string candidate = directories.substr(start, end - start) + "/" + name;
-      if (end > start && access(candidate.c_str(), X_OK) == 0) return candidate;
-      start = end + 1;
-    }
+    const std::string found = find_on_path(name);
+    if (!found.empty()) return found;
   }
   return "";
 }

@@ -93,7 +93,7 @@ struct Context {
 
 std::string usb_library_version() {
   const libusb_version* v = libusb_get_version();
-  return std::to_string(v->major) + "." + std::to_string(v->minor) + "." + std::to_string(v->micro) + "." +
+  return "libusb " + std::to_string(v->major) + "." + std::to_string(v->minor) + "." + std::to_string(v->micro) + "." +
          std::to_string(v->nano);
 }
 

@@ -40,7 +40,7 @@ struct UsbDeviceInfo {
 // cannot start (no USB on this machine).
 std::vector<UsbDeviceInfo> list_usb_devices(const UsbSelector& selector);
 
-// libusb's version ("1.0.26.11724"), for `digitizer doctor`.
+// "libusb 1.0.26.11724": the USB library and its version, for `digitizer doctor`.
 std::string usb_library_version();
 
 class UsbTransport final : public Transport {
