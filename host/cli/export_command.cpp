@@ -15,6 +15,8 @@
 #include "host/geometry/clamp.h"
 #include "host/io/file_name.h"
 #include "host/io/standard_output.h"
+#include "host/io/atomic_file.h"
+#include "host/scan/height_map.h"
 #include "host/scan/point_export.h"
 #include "host/scan/scan_file.h"
 
@@ -147,6 +149,27 @@ int run_export_surface(const std::string& input, const std::string& output, cons
   return 0;
 }
 
+// A scan on an even grid as a height map for bCNC (.probe), Candle (.map) or Klipper (.cfg, a
+// bed_mesh profile named after the part).
+int export_height_map(const ScanData& data, const std::string& input, const std::string& output, const std::string& part,
+                      bool relative) {
+  std::vector<Point3> points;
+  for (const PointSample& p : data.points) points.push_back({p.x_nm * 1e-6, p.y_nm * 1e-6, p.z_nm * 1e-6});
+  HeightMap map = height_map_from_points(points, input);
+  const double zero = relative ? map.z(0, 0) : 0.0;
+  for (double& z : map.z_mm) z -= zero;
+  const FileFormat format = file_format(output);
+  const std::string text = format == FileFormat::kBcncProbe   ? format_bcnc_probe(map)
+                           : format == FileFormat::kCandleMap ? format_candle_map(map)
+                                                              : format_klipper_mesh(map, part);
+  write_file_atomically(output, text);
+  std::printf("wrote a %d x %d height map (x %.3f..%.3f, y %.3f..%.3f mm%s) for %s to %s\n", map.count_x, map.count_y, map.min_x_mm,
+              map.max_x_mm, map.min_y_mm, map.max_y_mm, relative ? ", heights relative to the first point" : "",
+              format == FileFormat::kBcncProbe ? "bCNC" : format == FileFormat::kCandleMap ? "Candle" : "Klipper",
+              output_name(output).c_str());
+  return 0;
+}
+
 // The part's name in IGES and STEP: --name, else the input's file name without its extension.
 std::string part_name(const ExportArgs& a) {
   const std::string name = a.name.empty() ? without_extension(base_name(a.input)) : a.name;
@@ -160,16 +183,17 @@ std::string part_name(const ExportArgs& a) {
 }  // namespace
 
 CLI::App* add_export_command(CLI::App& app, ExportArgs& a) {
-  CLI::App* cmd = app.add_subcommand("export", "write a scan's points as CSV, XYZ or PLY, or a surface as IGES, STEP or a mesh (STL, OBJ, PLY)");
+  CLI::App* cmd = app.add_subcommand("export", "write a scan's points as CSV, XYZ, PLY or a height map (bCNC, Candle, Klipper), or a surface as IGES, STEP or a mesh (STL, OBJ, PLY)");
   cmd->add_option("input", a.input, "scan file, or SURF.json")->required()->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", a.output,
-                  "points: .csv, .xyz or .ply; a surface: .igs, .stp, or a mesh .stl, .obj, .ply; - is standard output "
+                  "points: .csv, .xyz or .ply, or a height map for bCNC (.probe), Candle (.map) or Klipper (.cfg); a surface: .igs, .stp, or a mesh .stl, .obj, .ply; - is standard output "
                   "(points as CSV; -.EXT picks the format)")
       ->required();
   cmd->add_option("--chord", a.chord_mm, "meshes: largest distance from the surface to its triangles, mm")
       ->capture_default_str()->check(CLI::PositiveNumber);
   cmd->add_flag("--edges", a.edges, "IGES/STEP: write the surface's four edges as B-spline curves instead");
-  cmd->add_option("--name", a.name, "IGES/STEP: the part's name (default: the input's file name without its extension)");
+  cmd->add_option("--name", a.name, "IGES/STEP: the part's name; Klipper: the bed_mesh profile's (default: the input's file name without its extension)");
+  cmd->add_flag("--relative", a.relative, "height maps: heights relative to the grid's first point (min x, min y), where Z was zeroed");
   return cmd;
 }
 
@@ -185,6 +209,11 @@ int run_export(const ExportArgs& a) {
   if (a.edges) throw std::invalid_argument("--edges exports a surface's edges: give a SURF.json");
   const ScanData data = read_scan_file(input);
   for (const auto& w : data.warnings) std::fprintf(stderr, "digitizer: warning: %s\n", w.c_str());
+  const FileFormat format = file_format(output);
+  if (format == FileFormat::kBcncProbe || format == FileFormat::kCandleMap || format == FileFormat::kKlipperMesh) {
+    return export_height_map(data, input, output, part_name(a), a.relative);
+  }
+  if (a.relative) throw std::invalid_argument("--relative is for height maps (.probe, .map, .cfg)");
   write_points(output, data.points);
   std::printf("wrote %zu points to %s\n", data.points.size(), output_name(output).c_str());
   return 0;

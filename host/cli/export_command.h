@@ -1,4 +1,4 @@
-// `digitizer export`: a scan's points as CSV, XYZ or PLY; a surface as IGES, STEP or a mesh.
+// `digitizer export`: a scan's points as CSV, XYZ, PLY or a height map; a surface as IGES, STEP or a mesh.
 #pragma once
 #include <CLI/CLI.hpp>
 #include <string>
@@ -9,7 +9,8 @@ struct ExportArgs {
   std::string input, output;
   double chord_mm = 0.01;  // meshes: largest distance from the surface to its triangles
   bool edges = false;      // IGES/STEP: the surface's four edges as curves instead
-  std::string name;        // IGES/STEP: the part's name; empty: the input's file name
+  std::string name;        // IGES/STEP: the part's name (Klipper: the profile's); empty: the input's file name
+  bool relative = false;   // height maps: heights relative to the grid's first point
 };
 
 CLI::App* add_export_command(CLI::App& app, ExportArgs& args);

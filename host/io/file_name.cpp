@@ -30,6 +30,7 @@ FileFormat file_format(const std::string& path) {
       {".igs", FileFormat::kIges},  {".iges", FileFormat::kIges}, {".stp", FileFormat::kStep},
       {".step", FileFormat::kStep}, {".stl", FileFormat::kStl},   {".obj", FileFormat::kObj},
       {".html", FileFormat::kHtml}, {".htm", FileFormat::kHtml},
+      {".probe", FileFormat::kBcncProbe}, {".map", FileFormat::kCandleMap}, {".cfg", FileFormat::kKlipperMesh},
   };
   for (const Extension& e : kExtensions) {
     if (ends_with(path, e.suffix)) return e.format;

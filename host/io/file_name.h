@@ -18,6 +18,9 @@ enum class FileFormat {
   kStl,    // .stl
   kObj,    // .obj
   kHtml,   // .html, .htm
+  kBcncProbe,    // .probe (bCNC's autolevel height map)
+  kCandleMap,    // .map (Candle's height map)
+  kKlipperMesh,  // .cfg (a Klipper bed_mesh profile, as SAVE_CONFIG writes it)
 };
 
 // The format a path names by its extension, ignoring case (PART.IGS is IGES).

@@ -1,6 +1,7 @@
 // Strict point readers: every value must be a finite number, every row complete, so a
 // fit never silently runs on damaged data.
 #include "host/scan/point_reader.h"
+#include "host/scan/height_map.h"
 #include "host/io/whole_file.h"
 
 #include <algorithm>
@@ -230,7 +231,15 @@ PointCloud read_points(const std::string& path) {
   if (format == FileFormat::kPly) {
     return parse_ply_points(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), path);
   }
-  throw PointFileError(path + ": unknown point format (.csv, .xyz, .txt, .ply or .scan)");
+  if (format == FileFormat::kBcncProbe || format == FileFormat::kCandleMap || format == FileFormat::kKlipperMesh) {
+    const HeightMap map = format == FileFormat::kBcncProbe ? parse_bcnc_probe(bytes, path)
+                          : format == FileFormat::kCandleMap ? parse_candle_map(bytes, path)
+                                                             : parse_klipper_mesh(bytes, path);
+    PointCloud cloud;
+    cloud.points = map.points();
+    return cloud;
+  }
+  throw PointFileError(path + ": unknown point format (.csv, .xyz, .txt, .ply, .scan, or a height map .probe, .map, .cfg)");
 }
 
 }  // namespace dg::host

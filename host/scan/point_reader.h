@@ -25,7 +25,8 @@ struct PointCloud {
   std::optional<double> resolution_mm;        // the gauge's reading step, when the file says it
 };
 
-// Picks the reader by extension: .csv, .xyz/.txt, .ply, .scan. Throws PointFileError for
+// Picks the reader by extension: .csv, .xyz/.txt, .ply, .scan, and the height maps .probe (bCNC),
+// .map (Candle) and .cfg (a Klipper bed_mesh profile). Throws PointFileError for
 // NaN, infinity, short or long rows, unknown or repeated columns, repeated points.
 PointCloud read_points(const std::string& path);
 PointCloud parse_csv_points(const std::string& text, const std::string& name);
