@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "host/cli/device_choice.h"
+#include "host/inspect/deviation_file.h"
 #include "host/cli/pdf_print.h"
 #include "host/io/file_name.h"
 #include "host/scan/ply_reader.h"
@@ -42,7 +43,7 @@ CLI::App* add_inspect_command(CLI::App& app, InspectArgs& a) {
       ->required()->check(CLI::ExistingFile);
   cmd->add_option("--band", a.bands_mm, "count the points within these deviations, mm")->capture_default_str()->check(CLI::PositiveNumber);
   cmd->add_flag("--json", a.json, "print the summary as JSON");
-  cmd->add_option("--deviations", a.deviations_csv, "write x,y,z,deviation per point to this CSV");
+  cmd->add_option("--deviations", a.deviations_csv, "write x,y,z,deviation per point: CSV, or .ply with the deviation as a scalar field (CloudCompare colours it)");
   cmd->add_flag("--align", a.align, "rigid best-fit alignment of the points to the surface before measuring");
   cmd->add_option("-o,--report", a.report_html, "write a self-contained HTML report (and its pictures as PNG/SVG beside it)");
   cmd->add_option("--tolerance", a.tolerance_mm, "decide a profile tolerance of +-MM: pass, fail or inconclusive per point and for the part")
@@ -291,13 +292,8 @@ int run_inspect(const InspectArgs& given) {
                        : surface.faces.empty() ? inspect(cloud.points, surface.surface, bands)
                                                : inspect_faces(cloud.points, surface.faces, bands);
   if (!a.deviations_csv.empty()) {
-    std::string text = "x,y,z,deviation\n";
-    char line[160];
-    for (const PointDeviation& d : r.points) {
-      std::snprintf(line, sizeof line, "%.6f,%.6f,%.6f,%.6f\n", d.point.x, d.point.y, d.point.z, d.distance);
-      text += line;
-    }
-    write_file_atomically(a.deviations_csv, text);
+    const bool ply = file_format(a.deviations_csv) == FileFormat::kPly;
+    write_file_atomically(a.deviations_csv, ply ? format_deviations_ply(r.points) : format_deviations_csv(r.points));
   }
   std::optional<Decision> decision;
   if (limits) {

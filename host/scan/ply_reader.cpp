@@ -271,8 +271,12 @@ PointCloud parse_ply(const uint8_t* data, size_t size, const std::string& name, 
         used = true;
       }
     }
-    if (!used && !one_of(p.name, kIgnored, sizeof kIgnored / sizeof kIgnored[0])) {
-      throw PointFileError(name + ": unknown vertex property '" + p.name + "' (read: x,y,z,nx,ny,nz,line,sigma; colours and intensity are ignored)");
+    // CloudCompare names its scalar fields scalar_NAME (a deviation, a classification): data about
+    // the points, not where they are, so they are read past like colours.
+    const bool scalar_field = p.name.rfind("scalar_", 0) == 0 && !p.is_list;
+    if (!used && !scalar_field && !one_of(p.name, kIgnored, sizeof kIgnored / sizeof kIgnored[0])) {
+      throw PointFileError(name + ": unknown vertex property '" + p.name +
+                           "' (read: x,y,z,nx,ny,nz,line,sigma; colours, intensity and scalar_ fields are ignored)");
     }
   }
   for (int s = 0; s < 3; ++s) {
