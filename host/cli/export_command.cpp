@@ -115,17 +115,19 @@ int export_faces(const FittedSurface& surface, const std::string& output, const 
 }
 
 // A surface file to CAD (IGES 5.3 entity 128, STEP AP214) or a mesh (STL, OBJ, PLY), in millimetres.
-int run_export_surface(const std::string& input, const std::string& output, const std::string& part, double chord_mm, bool edges) {
+int run_export_surface(const std::string& input, const std::string& output, const std::string& part, double chord_mm, double angle_deg,
+                       bool edges) {
   const FileFormat format = file_format(output);
   const FittedSurface surface = read_surface_json(input);
   const bool iges = format == FileFormat::kIges;
   const bool step = format == FileFormat::kStep;
   if (!surface.faces.empty()) return export_faces(surface, output, part, format, chord_mm, edges);
   if (format == FileFormat::kStl || format == FileFormat::kObj || format == FileFormat::kPly) {
-    const Mesh mesh = tessellate(surface.surface, chord_mm);
+    const Mesh mesh = tessellate(surface.surface, chord_mm, 20000000, angle_deg);
     write_mesh(output, mesh);
-    std::printf("wrote %zu triangles (chord error %.4f mm, asked %.4f) to %s\n", mesh.triangles.size(),
-                mesh.chord_error_mm, chord_mm, output_name(output).c_str());
+    std::printf("wrote %zu triangles (chord error %.4f mm, asked %.4f%s) to %s\n", mesh.triangles.size(), mesh.chord_error_mm,
+                chord_mm, angle_deg > 0 ? (", normals within " + std::to_string(angle_deg).substr(0, 4) + " degrees").c_str() : "",
+                output_name(output).c_str());
     return 0;
   }
   if (!iges && !step) {
@@ -191,6 +193,9 @@ CLI::App* add_export_command(CLI::App& app, ExportArgs& a) {
       ->required();
   cmd->add_option("--chord", a.chord_mm, "meshes: largest distance from the surface to its triangles, mm")
       ->capture_default_str()->check(CLI::PositiveNumber);
+  cmd->add_option("--angle", a.angle_deg,
+                  "meshes of one surface: largest angle between a triangle and the surface's normal, degrees (0: none)")
+      ->capture_default_str()->check(CLI::Range(0.0, 89.0));
   cmd->add_flag("--edges", a.edges, "IGES/STEP: write the surface's four edges as B-spline curves instead");
   cmd->add_option("--name", a.name, "IGES/STEP: the part's name; Klipper: the bed_mesh profile's (default: the input's file name without its extension)");
   cmd->add_flag("--relative", a.relative, "height maps: heights relative to the grid's first point (min x, min y), where Z was zeroed");
@@ -203,7 +208,7 @@ int run_export(const ExportArgs& a) {
     if (a.output == "-") {
       throw std::invalid_argument("a surface to standard output needs its format: -o -.igs, -.stp, -.stl, -.obj or -.ply");
     }
-    return run_export_surface(input, a.output, part_name(a), a.chord_mm, a.edges);
+    return run_export_surface(input, a.output, part_name(a), a.chord_mm, a.angle_deg, a.edges);
   }
   const std::string output = with_default_format(a.output, ".csv");
   if (a.edges) throw std::invalid_argument("--edges exports a surface's edges: give a SURF.json");

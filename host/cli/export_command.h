@@ -8,6 +8,7 @@ namespace dg::host {
 struct ExportArgs {
   std::string input, output;
   double chord_mm = 0.01;  // meshes: largest distance from the surface to its triangles
+  double angle_deg = 0;    // meshes of one surface: largest triangle-to-surface normal angle (0: none)
   bool edges = false;      // IGES/STEP: the surface's four edges as curves instead
   std::string name;        // IGES/STEP: the part's name (Klipper: the profile's); empty: the input's file name
   bool relative = false;   // height maps: heights relative to the grid's first point

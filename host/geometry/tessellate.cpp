@@ -1,4 +1,4 @@
-// Uniform subdivision of each knot span, doubled until the chord tolerance holds.
+// Subdivision of the knot spans, halved where the surface errs until the chord tolerance holds.
 #include "host/geometry/tessellate.h"
 
 #include <algorithm>
@@ -40,12 +40,16 @@ double distance_to_triangle(const Point3& p, const Point3& a, const Point3& b, c
   return norm(p - closest_on_triangle(p, a, b, c, &feature));
 }
 
-Mesh tessellate(const BSplineSurface& s, double chord_mm, size_t max_triangles) {
+Mesh tessellate(const BSplineSurface& s, double chord_mm, size_t max_triangles, double angle_deg) {
   if (!(chord_mm > 0)) throw std::invalid_argument("the chord tolerance must be a positive number of mm");
-  int per_u = 1, per_v = 1;
+  if (!(angle_deg >= 0 && angle_deg < 90)) throw std::invalid_argument("the angle tolerance must be 0 (none) to under 90 degrees");
+  const double cos_angle = std::cos(angle_deg * M_PI / 180);
+  // A tensor grid whose u and v lines start at the knots; each pass halves only the u strips and
+  // v strips where a cell errs, so lines gather where the surface bends and the mesh stays
+  // conforming (every cell a quad of four grid points, no T-junctions).
+  std::vector<double> us = grid_parameters(s.knots_u, s.u_min(), s.u_max(), 1);
+  std::vector<double> vs = grid_parameters(s.knots_v, s.v_min(), s.v_max(), 1);
   for (;;) {
-    const std::vector<double> us = grid_parameters(s.knots_u, s.u_min(), s.u_max(), per_u);
-    const std::vector<double> vs = grid_parameters(s.knots_v, s.v_min(), s.v_max(), per_v);
     const size_t nu = us.size(), nv = vs.size();
     if (2 * (nu - 1) * (nv - 1) > max_triangles) {
       throw std::invalid_argument("a chord tolerance of " + std::to_string(chord_mm) + " mm needs more than " +
@@ -55,28 +59,50 @@ Mesh tessellate(const BSplineSurface& s, double chord_mm, size_t max_triangles) 
     mesh.vertices.resize(nu * nv);
     for (size_t i = 0; i < nu; ++i)
       for (size_t j = 0; j < nv; ++j) mesh.vertices[i * nv + j] = s.evaluate(us[i], vs[j]);
-    // Check each cell's centre and its edge midpoints along u and v against its two triangles.
-    double worst_u = 0, worst_v = 0;
+    // Each cell's centre and its edge midpoints along u and v against its two triangles; an edge
+    // that errs marks its strip, a centre that errs with both edges inside marks both strips.
+    std::vector<char> split_u(nu - 1, 0), split_v(nv - 1, 0);
     for (size_t i = 0; i + 1 < nu; ++i) {
       for (size_t j = 0; j + 1 < nv; ++j) {
         const uint32_t a = static_cast<uint32_t>(i * nv + j), b = static_cast<uint32_t>((i + 1) * nv + j),
                        c = static_cast<uint32_t>((i + 1) * nv + j + 1), d = static_cast<uint32_t>(i * nv + j + 1);
         const Point3 &pa = mesh.vertices[a], &pb = mesh.vertices[b], &pc = mesh.vertices[c], &pd = mesh.vertices[d];
         const double um = 0.5 * (us[i] + us[i + 1]), vm = 0.5 * (vs[j] + vs[j + 1]);
-        const Point3 centre = s.evaluate(um, vm);
+        Point3 centre, su, sv;
+        s.evaluate(um, vm, centre, su, sv);
         const double e_centre = std::min(distance_to_triangle(centre, pa, pb, pc), distance_to_triangle(centre, pa, pc, pd));
-        const double e_u = to_segment(s.evaluate(um, vs[j]), pa, pb);  // an edge along u
-        const double e_v = to_segment(s.evaluate(us[i], vm), pa, pd);  // an edge along v
-        worst_u = std::max({worst_u, e_u, 0.5 * e_centre});
-        worst_v = std::max({worst_v, e_v, 0.5 * e_centre});
+        // The angle tolerance: both triangles' normals within it of the surface's at the centre.
+        if (angle_deg > 0) {
+          const Point3 n = cross(su, sv), n1 = cross(pb - pa, pc - pa), n2 = cross(pc - pa, pd - pa);
+          const double len = norm(n);
+          for (const Point3& t : {n1, n2}) {
+            if (len > 0 && norm(t) > 0 && dot(n, t) < cos_angle * len * norm(t)) split_u[i] = split_v[j] = 1;
+          }
+        }
+        // Both edges of the cell along u (and along v): a strip's two sides can bend differently.
+        const double e_u = std::max(to_segment(s.evaluate(um, vs[j]), pa, pb), to_segment(s.evaluate(um, vs[j + 1]), pd, pc));
+        const double e_v = std::max(to_segment(s.evaluate(us[i], vm), pa, pd), to_segment(s.evaluate(us[i + 1], vm), pb, pc));
         mesh.chord_error_mm = std::max({mesh.chord_error_mm, e_centre, e_u, e_v});
+        if (e_u > chord_mm) split_u[i] = 1;
+        if (e_v > chord_mm) split_v[j] = 1;
+        if (e_centre > chord_mm && e_u <= chord_mm && e_v <= chord_mm) split_u[i] = split_v[j] = 1;
         mesh.triangles.push_back({a, b, c});
         mesh.triangles.push_back({a, c, d});
       }
     }
-    if (mesh.chord_error_mm <= chord_mm) return mesh;
-    if (worst_u >= worst_v) per_u *= 2;
-    else per_v *= 2;
+    const bool angles_kept = std::none_of(split_u.begin(), split_u.end(), [](char c) { return c; }) &&
+                             std::none_of(split_v.begin(), split_v.end(), [](char c) { return c; });
+    if (mesh.chord_error_mm <= chord_mm && angles_kept) return mesh;
+    auto refined = [](const std::vector<double>& t, const std::vector<char>& split) {
+      std::vector<double> out{t.front()};
+      for (size_t k = 0; k + 1 < t.size(); ++k) {
+        if (split[k]) out.push_back(0.5 * (t[k] + t[k + 1]));
+        out.push_back(t[k + 1]);
+      }
+      return out;
+    };
+    us = refined(us, split_u);
+    vs = refined(vs, split_v);
   }
 }
 

@@ -15,14 +15,16 @@ struct Mesh {
   double chord_error_mm = 0;                  // the largest deviation found at the check points
 };
 
-// A grid in (u, v) refined by halving, in the direction that errs more, until the surface is within
-// `chord_mm` of the triangles at every cell's centre and edge midpoints (and the knots are grid
-// lines, so creases stay sharp). Throws std::invalid_argument for chord_mm <= 0 or a grid that
-// would exceed max_triangles.
 // Distance from p to the triangle a-b-c (mm).
 double distance_to_triangle(const Point3& p, const Point3& a, const Point3& b, const Point3& c);
 
-Mesh tessellate(const BSplineSurface& surface, double chord_mm, size_t max_triangles = 20000000);
+// A tensor grid in (u, v) whose strips are halved where they err (so lines gather where the
+// surface bends) until the surface is within `chord_mm` of the triangles at every cell's centre
+// and edge midpoints (and the knots are grid lines, so creases stay sharp). Throws
+// std::invalid_argument for chord_mm <= 0 or a grid that would exceed max_triangles.
+// With angle_deg > 0 a cell is also split until both its triangles' normals lie within that angle
+// of the surface's normal at its centre.
+Mesh tessellate(const BSplineSurface& surface, double chord_mm, size_t max_triangles = 20000000, double angle_deg = 0);
 
 // Trimmed faces in one mesh: each face's surface on a uniform grid no coarser than `cell_mm` in XY,
 // halved until within `chord_mm` at the cells' centres, cut at the face's loops (face_mesh.h): the

@@ -43,6 +43,55 @@ TEST(Tessellate, KeepsTheChordToleranceAndRefinesWhereItMust) {
   CHECK(worst < 0.11);
 }
 
+TEST(Tessellate, LinesGatherWhereTheSurfaceBendsAndTheChordHoldsBetweenThem) {
+  // Flat over u < 0.5, a bump over u > 0.5: a 9 x 4 cubic net whose heights rise only on the right.
+  BSplineSurface s;
+  s.degree_u = s.degree_v = 3;
+  s.count_u = 9, s.count_v = 4;
+  s.knots_u = clamped_uniform_knots(9, 3);
+  s.knots_v = clamped_uniform_knots(4, 3);
+  for (int i = 0; i < 9; ++i)
+    for (int j = 0; j < 4; ++j) s.control.push_back({i * 5.0, j * 10.0, i >= 6 ? (i == 7 ? 6.0 : 2.0) : 0.0});
+  const Mesh mesh = tessellate(s, 0.002);
+  // The grid's u lines are the vertices' distinct x along the first v line.
+  size_t left = 0, right = 0;
+  for (size_t k = 0; k < mesh.vertices.size(); ++k) {
+    if (mesh.vertices[k].y != mesh.vertices[0].y) continue;
+    (mesh.vertices[k].x < 20 ? left : right) += 1;
+  }
+  CHECK(right > 4 * left);
+  // The surface itself, densely and away from the check points, is within the tolerance (a tenth
+  // allowed for the check points' being where a smooth surface's error peaks).
+  double worst = 0;
+  for (int a = 0; a <= 40; ++a)
+    for (int b = 0; b <= 10; ++b) worst = std::fmax(worst, distance_to_mesh(s.evaluate(a / 40.0, b / 10.0), mesh));
+  CHECK(worst < 0.0022);
+}
+
+TEST(Tessellate, AnAngleToleranceKeepsEveryTriangleNearTheSurfacesNormal) {
+  const BSplineSurface s = dg::test::clamped_sample();
+  const Mesh loose = tessellate(s, 0.5), tight = tessellate(s, 0.5, 20000000, 3.0);
+  CHECK(tight.triangles.size() > loose.triangles.size());
+  double worst_deg = 0;
+  for (const auto& t : tight.triangles) {
+    const Point3 &a = tight.vertices[t[0]], &b = tight.vertices[t[1]], &c = tight.vertices[t[2]];
+    const Point3 n = cross(b - a, c - a);
+    // The surface's normal where the triangle's centroid lies, found as the closest of a fine sampling.
+    const Point3 centroid = (1.0 / 3) * (a + b + c);
+    double best = HUGE_VAL, best_u = 0, best_v = 0;
+    for (int p = 0; p <= 200; ++p)
+      for (int q = 0; q <= 200; ++q) {
+        const double d = norm(s.evaluate(p / 200.0, q / 200.0) - centroid);
+        if (d < best) best = d, best_u = p / 200.0, best_v = q / 200.0;
+      }
+    Point3 point, su, sv;
+    s.evaluate(best_u, best_v, point, su, sv);
+    const Point3 m = cross(su, sv);
+    worst_deg = std::fmax(worst_deg, std::acos(std::fmin(1.0, dot(n, m) / (norm(n) * norm(m)))) * 180 / M_PI);
+  }
+  CHECK(worst_deg < 4.0);
+}
+
 TEST(Tessellate, RefusesANonPositiveChordAndAnEndlessMesh) {
   CHECK_THROWS(std::invalid_argument, tessellate(dg::test::clamped_sample(), 0.0));
   CHECK_THROWS(std::invalid_argument, tessellate(dg::test::clamped_sample(), 1e-9, 1000));
