@@ -37,7 +37,8 @@ uint64_t now_ns() {
 
 int main(int argc, char** argv) {
   CLI::App app{"digitizer-hil: the hardware-in-the-loop rig: follows a controller's STEP/DIR lines and answers its "
-                "gauge requests with Digimatic readings of a virtual part"};
+                "gauge requests with Digimatic readings of a virtual part",
+                "digitizer-hil"};
   std::vector<std::string> pin_specs;
   std::string part_name = "dome";
   dg::sim::Part part;

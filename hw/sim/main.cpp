@@ -26,7 +26,7 @@ uint64_t real_ms() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"digitizer-sim: the device firmware on a simulated table and gauge, in virtual time"};
+  CLI::App app{"digitizer-sim: the device firmware on a simulated table and gauge, in virtual time", "digitizer-sim"};
   int fd = -1;
   std::string listen_at;
   std::vector<std::string> settings;

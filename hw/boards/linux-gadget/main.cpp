@@ -41,7 +41,7 @@ std::string default_serial() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"digitizer-gadget: the controller firmware as a Linux process: USB through FunctionFS, pins through libgpiod"};
+  CLI::App app{"digitizer-gadget: the controller firmware as a Linux process: USB through FunctionFS, pins through libgpiod", "digitizer-gadget"};
   dg::gadget::GadgetSettings settings;
   std::string ffs_dir;
   std::vector<std::string> pin_specs, sim_settings;
