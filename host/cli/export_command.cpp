@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <ctime>
+#include <map>
 #include <stdexcept>
 
 #include "host/cad/iges_writer.h"
@@ -153,14 +154,13 @@ int run_export_surface(const std::string& input, const std::string& output, cons
 
 // A scan on an even grid as a height map for bCNC (.probe), Candle (.map) or Klipper (.cfg, a
 // bed_mesh profile named after the part).
-int export_height_map(const ScanData& data, const std::string& input, const std::string& output, const std::string& part,
-                      bool relative) {
+int export_height_map(const ScanData& data, const std::string& input, const std::string& output, FileFormat format,
+                      const std::string& part, bool relative) {
   std::vector<Point3> points;
   for (const PointSample& p : data.points) points.push_back({p.x_nm * 1e-6, p.y_nm * 1e-6, p.z_nm * 1e-6});
   HeightMap map = height_map_from_points(points, input);
   const double zero = relative ? map.z(0, 0) : 0.0;
   for (double& z : map.z_mm) z -= zero;
-  const FileFormat format = file_format(output);
   const std::string text = format == FileFormat::kBcncProbe   ? format_bcnc_probe(map)
                            : format == FileFormat::kCandleMap ? format_candle_map(map)
                                                               : format_klipper_mesh(map, part);
@@ -198,6 +198,8 @@ CLI::App* add_export_command(CLI::App& app, ExportArgs& a) {
       ->capture_default_str()->check(CLI::Range(0.0, 89.0));
   cmd->add_flag("--edges", a.edges, "IGES/STEP: write the surface's four edges as B-spline curves instead");
   cmd->add_option("--name", a.name, "IGES/STEP: the part's name; Klipper: the bed_mesh profile's (default: the input's file name without its extension)");
+  cmd->add_option("--format", a.format, "a scan's points in this format whatever the extension: csv, xyz, ply, bcnc, candle, klipper")
+      ->check(CLI::IsMember({"csv", "xyz", "ply", "bcnc", "candle", "klipper"}));
   cmd->add_flag("--relative", a.relative, "height maps: heights relative to the grid's first point (min x, min y), where Z was zeroed");
   return cmd;
 }
@@ -214,12 +216,16 @@ int run_export(const ExportArgs& a) {
   if (a.edges) throw std::invalid_argument("--edges exports a surface's edges: give a SURF.json");
   const ScanData data = read_scan_file(input);
   for (const auto& w : data.warnings) std::fprintf(stderr, "digitizer: warning: %s\n", w.c_str());
-  const FileFormat format = file_format(output);
+  // --format names the format whatever the output's extension (a Klipper profile saved as .txt, say).
+  static const std::map<std::string, FileFormat> kNamed = {{"csv", FileFormat::kCsv},          {"xyz", FileFormat::kXyz},
+                                                           {"ply", FileFormat::kPly},          {"bcnc", FileFormat::kBcncProbe},
+                                                           {"candle", FileFormat::kCandleMap}, {"klipper", FileFormat::kKlipperMesh}};
+  const FileFormat format = a.format.empty() ? file_format(output) : kNamed.at(a.format);
   if (format == FileFormat::kBcncProbe || format == FileFormat::kCandleMap || format == FileFormat::kKlipperMesh) {
-    return export_height_map(data, input, output, part_name(a), a.relative);
+    return export_height_map(data, input, output, format, part_name(a), a.relative);
   }
   if (a.relative) throw std::invalid_argument("--relative is for height maps (.probe, .map, .cfg)");
-  write_points(output, data.points);
+  write_points(output, data.points, format);
   std::printf("wrote %zu points to %s\n", data.points.size(), output_name(output).c_str());
   return 0;
 }

@@ -12,6 +12,7 @@ struct ExportArgs {
   bool edges = false;      // IGES/STEP: the surface's four edges as curves instead
   std::string name;        // IGES/STEP: the part's name (Klipper: the profile's); empty: the input's file name
   bool relative = false;   // height maps: heights relative to the grid's first point
+  std::string format;      // a scan's points: csv, xyz, ply, bcnc, candle or klipper; empty: by extension
 };
 
 CLI::App* add_export_command(CLI::App& app, ExportArgs& args);

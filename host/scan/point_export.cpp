@@ -119,7 +119,11 @@ void write_cloud_csv(const std::string& path, const std::vector<Point3>& points,
 }
 
 void write_points(const std::string& path, const std::vector<PointSample>& points) {
-  switch (file_format(path)) {
+  write_points(path, points, file_format(path));
+}
+
+void write_points(const std::string& path, const std::vector<PointSample>& points, FileFormat format) {
+  switch (format) {
     case FileFormat::kCsv: return write_points_csv(path, points);
     case FileFormat::kPly: return write_points_ply(path, points);
     case FileFormat::kXyz: return write_points_xyz(path, points);

@@ -5,6 +5,7 @@
 
 #include "common/proto/point_batch.h"
 #include "host/geometry/point3.h"
+#include "host/io/file_name.h"
 
 namespace dg::host {
 
@@ -21,5 +22,7 @@ void write_lines_csv(const std::string& path, const std::vector<Point3>& points,
 void write_cloud_csv(const std::string& path, const std::vector<Point3>& points, const std::vector<uint32_t>* lines);
 // Picks the format from the extension (.csv, .xyz, .ply); throws std::invalid_argument otherwise.
 void write_points(const std::string& path, const std::vector<PointSample>& points);
+// The same in `format` (kCsv, kXyz or kPly) whatever the extension.
+void write_points(const std::string& path, const std::vector<PointSample>& points, FileFormat format);
 
 }  // namespace dg::host
