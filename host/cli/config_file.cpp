@@ -33,10 +33,8 @@ std::string known_keys() {
 }
 
 bool given(const CLI::App& command, const std::string& long_name) {
-  for (const CLI::Option* o : command.get_options()) {
-    if (o->check_lname(long_name.substr(2)) && o->count() > 0) return true;
-  }
-  return false;
+  const CLI::Option* o = command.get_option_no_throw(long_name);
+  return o != nullptr && o->count() > 0;
 }
 
 }  // namespace

@@ -5,7 +5,6 @@
 #include <dirent.h>
 #include <unistd.h>
 
-#include <climits>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -16,6 +15,7 @@
 #include "host/cli/config_file.h"
 #include "host/cli/device_choice.h"
 #include "host/cli/pdf_print.h"
+#include "host/cli/program_path.h"
 #include "host/device/session.h"
 #include "host/transport/sim_transport.h"
 #include "host/transport/transport.h"
@@ -48,16 +48,6 @@ std::string rule_in(const std::string& directory, uint16_t vendor, uint16_t prod
   }
   closedir(d);
   return found;
-}
-
-// The prefix this digitizer runs from: /usr/local for /usr/local/bin/digitizer.
-std::string own_prefix() {
-  char self[PATH_MAX] = {};
-  const ssize_t n = readlink("/proc/self/exe", self, sizeof(self) - 1);
-  if (n <= 0) return "";
-  std::string path(self, static_cast<size_t>(n));
-  path = path.substr(0, path.rfind('/'));  // .../bin
-  return path.substr(0, path.rfind('/'));
 }
 
 void print(const Finding& f) {

@@ -124,7 +124,7 @@ int run_export_surface(const std::string& input, const std::string& output, cons
   const bool step = format == FileFormat::kStep;
   if (!surface.faces.empty()) return export_faces(surface, output, part, format, chord_mm, edges);
   if (format == FileFormat::kStl || format == FileFormat::kObj || format == FileFormat::kPly) {
-    const Mesh mesh = tessellate(surface.surface, chord_mm, 20000000, angle_deg);
+    const Mesh mesh = tessellate(surface.surface, chord_mm, kMaxMeshTriangles, angle_deg);
     write_mesh(output, mesh);
     std::printf("wrote %zu triangles (chord error %.4f mm, asked %.4f%s) to %s\n", mesh.triangles.size(), mesh.chord_error_mm,
                 chord_mm, angle_deg > 0 ? (", normals within " + std::to_string(angle_deg).substr(0, 4) + " degrees").c_str() : "",

@@ -7,7 +7,6 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <climits>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -67,14 +66,7 @@ std::string stm32f411_image_problem(const std::vector<uint8_t>& bytes) {
 std::string packaged_image(const std::string& gauge) {
   std::vector<std::string> directories;
   if (const char* chosen = std::getenv("DIGITIZER_FIRMWARE_DIR"); chosen && *chosen) directories.push_back(chosen);
-  char self[PATH_MAX] = {};
-  const ssize_t n = readlink("/proc/self/exe", self, sizeof(self) - 1);
-  if (n > 0) {
-    std::string prefix(self, static_cast<size_t>(n));
-    prefix = prefix.substr(0, prefix.rfind('/'));
-    prefix = prefix.substr(0, prefix.rfind('/'));
-    directories.push_back(prefix + "/share/digitizer/firmware");
-  }
+  if (const std::string prefix = own_prefix(); !prefix.empty()) directories.push_back(prefix + "/share/digitizer/firmware");
   for (const std::string& d : directories) {
     const std::string image = d + "/stm32f411-" + gauge + ".bin";
     if (access(image.c_str(), R_OK) == 0) return image;

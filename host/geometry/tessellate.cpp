@@ -62,6 +62,16 @@ Mesh tessellate(const BSplineSurface& s, double chord_mm, size_t max_triangles, 
     // Each cell's centre and its edge midpoints along u and v against its two triangles; an edge
     // that errs marks its strip, a centre that errs with both edges inside marks both strips.
     std::vector<char> split_u(nu - 1, 0), split_v(nv - 1, 0);
+    // Each edge's midpoint error once: neighbouring cells share their edges.
+    std::vector<double> edge_u((nu - 1) * nv), edge_v(nu * (nv - 1));
+    for (size_t i = 0; i + 1 < nu; ++i)
+      for (size_t j = 0; j < nv; ++j)
+        edge_u[i * nv + j] = to_segment(s.evaluate(0.5 * (us[i] + us[i + 1]), vs[j]), mesh.vertices[i * nv + j],
+                                        mesh.vertices[(i + 1) * nv + j]);
+    for (size_t i = 0; i < nu; ++i)
+      for (size_t j = 0; j + 1 < nv; ++j)
+        edge_v[i * (nv - 1) + j] = to_segment(s.evaluate(us[i], 0.5 * (vs[j] + vs[j + 1])), mesh.vertices[i * nv + j],
+                                              mesh.vertices[i * nv + j + 1]);
     for (size_t i = 0; i + 1 < nu; ++i) {
       for (size_t j = 0; j + 1 < nv; ++j) {
         const uint32_t a = static_cast<uint32_t>(i * nv + j), b = static_cast<uint32_t>((i + 1) * nv + j),
@@ -69,7 +79,8 @@ Mesh tessellate(const BSplineSurface& s, double chord_mm, size_t max_triangles, 
         const Point3 &pa = mesh.vertices[a], &pb = mesh.vertices[b], &pc = mesh.vertices[c], &pd = mesh.vertices[d];
         const double um = 0.5 * (us[i] + us[i + 1]), vm = 0.5 * (vs[j] + vs[j + 1]);
         Point3 centre, su, sv;
-        s.evaluate(um, vm, centre, su, sv);
+        if (angle_deg > 0) s.evaluate(um, vm, centre, su, sv);
+        else centre = s.evaluate(um, vm);
         const double e_centre = std::min(distance_to_triangle(centre, pa, pb, pc), distance_to_triangle(centre, pa, pc, pd));
         // The angle tolerance: both triangles' normals within it of the surface's at the centre.
         if (angle_deg > 0) {
@@ -80,8 +91,8 @@ Mesh tessellate(const BSplineSurface& s, double chord_mm, size_t max_triangles, 
           }
         }
         // Both edges of the cell along u (and along v): a strip's two sides can bend differently.
-        const double e_u = std::max(to_segment(s.evaluate(um, vs[j]), pa, pb), to_segment(s.evaluate(um, vs[j + 1]), pd, pc));
-        const double e_v = std::max(to_segment(s.evaluate(us[i], vm), pa, pd), to_segment(s.evaluate(us[i + 1], vm), pb, pc));
+        const double e_u = std::max(edge_u[i * nv + j], edge_u[i * nv + j + 1]);
+        const double e_v = std::max(edge_v[i * (nv - 1) + j], edge_v[(i + 1) * (nv - 1) + j]);
         mesh.chord_error_mm = std::max({mesh.chord_error_mm, e_centre, e_u, e_v});
         if (e_u > chord_mm) split_u[i] = 1;
         if (e_v > chord_mm) split_v[j] = 1;
@@ -90,13 +101,23 @@ Mesh tessellate(const BSplineSurface& s, double chord_mm, size_t max_triangles, 
         mesh.triangles.push_back({a, c, d});
       }
     }
-    const bool angles_kept = std::none_of(split_u.begin(), split_u.end(), [](char c) { return c; }) &&
-                             std::none_of(split_v.begin(), split_v.end(), [](char c) { return c; });
-    if (mesh.chord_error_mm <= chord_mm && angles_kept) return mesh;
-    auto refined = [](const std::vector<double>& t, const std::vector<char>& split) {
+    // Every cell beyond the chord or the angle marked a strip: none marked means both hold.
+    const auto marked = [](char c) { return c != 0; };
+    if (std::none_of(split_u.begin(), split_u.end(), marked) && std::none_of(split_v.begin(), split_v.end(), marked)) return mesh;
+    // A strip still erring at a millionth of its domain will not stop erring: rounding or a cusp,
+    // not curvature. Uniform halving ran into max_triangles within a few passes; strips halved one
+    // at a time would instead go on for ever, so this is where refinement gives up.
+    auto refined = [&](const std::vector<double>& t, const std::vector<char>& split) {
+      const double smallest = 1e-6 * (t.back() - t.front());
       std::vector<double> out{t.front()};
       for (size_t k = 0; k + 1 < t.size(); ++k) {
-        if (split[k]) out.push_back(0.5 * (t[k] + t[k + 1]));
+        if (split[k]) {
+          if (!(t[k + 1] - t[k] > smallest)) {
+            throw std::invalid_argument("a chord tolerance of " + std::to_string(chord_mm) +
+                                        " mm cannot be reached: the surface still errs on a millionth of its domain");
+          }
+          out.push_back(0.5 * (t[k] + t[k + 1]));
+        }
         out.push_back(t[k + 1]);
       }
       return out;

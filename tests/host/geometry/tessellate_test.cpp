@@ -70,7 +70,7 @@ TEST(Tessellate, LinesGatherWhereTheSurfaceBendsAndTheChordHoldsBetweenThem) {
 
 TEST(Tessellate, AnAngleToleranceKeepsEveryTriangleNearTheSurfacesNormal) {
   const BSplineSurface s = dg::test::clamped_sample();
-  const Mesh loose = tessellate(s, 0.5), tight = tessellate(s, 0.5, 20000000, 3.0);
+  const Mesh loose = tessellate(s, 0.5), tight = tessellate(s, 0.5, kMaxMeshTriangles, 3.0);
   CHECK(tight.triangles.size() > loose.triangles.size());
   double worst_deg = 0;
   for (const auto& t : tight.triangles) {
