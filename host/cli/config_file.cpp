@@ -48,6 +48,7 @@ const std::vector<ConfigSetting>& config_settings() {
       {"settle_um", "scan", "--settle-um", "", "then read until two readings agree within this, um"},
       {"spread_um", "scan", "--spread-um", "", "a point's samples must agree within this, um"},
       {"approach", "scan", "--approach", "", "overshoot so every point is reached moving towards +x/+y, mm"},
+      {"repeatability", "scan", "--repeatability", "", "readings of the first point before a scan, for each point's uncertainty"},
       {"tolerance", "inspect", "--tolerance", "--upper --lower", "the part's profile tolerance +-MM that inspect decides"},
       {"bands", "inspect", "--band", "", "deviations inspect counts the points within, mm (a list)"},
       {"operator", "inspect", "--operator", "", "who measures, for the report"},

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "host/cli/units.h"
+#include "host/device/repeatability.h"
 #include "host/device/request.h"
 #include "host/transport/transport.h"
 #include "host/transport/usb_transport.h"
@@ -116,18 +117,6 @@ int run_simple(const DeviceArgs& a, digitizer_CommandKind kind, const char* done
   return 0;
 }
 
-// Waits for the message of type `tag` that answers request `id`; a Fault for it throws.
-digitizer_Envelope wait_for_answer(Session& session, uint32_t id, pb_size_t tag, int timeout_s, const std::string& device) {
-  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(timeout_s);
-  digitizer_Envelope reply;
-  while (std::chrono::steady_clock::now() < give_up) {
-    if (!session.receive(&reply, 500) || reply.id != id) continue;
-    if (reply.which_body == digitizer_Envelope_fault_tag) throw DeviceError(device + ": " + reply.body.fault.detail);
-    if (reply.which_body == tag) return reply;
-  }
-  throw DeviceError(device + ": no answer in time");
-}
-
 int run_touch(const DeviceArgs& a) {
   auto transport = open_transport(a.device);
   Session session(*transport);
@@ -139,7 +128,7 @@ int run_touch(const DeviceArgs& a) {
   message.body.command.dy_nm = mm_to_nm(a.dy_mm, "--dy");
   message.body.command.feed_um_s = static_cast<uint32_t>(a.feed_mm_s * 1000.0);
   const uint32_t id = request(session, message, 5000).id;
-  const digitizer_TouchResult t = wait_for_answer(session, id, digitizer_Envelope_touch_result_tag, 600, a.device).body.touch_result;
+  const digitizer_TouchResult t = wait_for_answer(session, id, digitizer_Envelope_touch_result_tag, 600000).body.touch_result;
   if (!t.touched) {
     std::printf("no touch: the table stopped at x %.4f y %.4f mm\n", t.stop_x_nm * 1e-6, t.stop_y_nm * 1e-6);
     return 1;
@@ -153,13 +142,7 @@ int run_repeatability(const DeviceArgs& a) {
   auto transport = open_transport(a.device);
   Session session(*transport);
   session.hello(5000);
-  digitizer_Envelope message = digitizer_Envelope_init_zero;
-  message.which_body = digitizer_Envelope_command_tag;
-  message.body.command.kind = digitizer_CommandKind_CMD_REPEATABILITY;
-  message.body.command.count = a.count;
-  const uint32_t id = request(session, message, 5000).id;
-  const digitizer_Repeatability r =
-      wait_for_answer(session, id, digitizer_Envelope_repeatability_tag, static_cast<int>(10 + 5 * a.count), a.device).body.repeatability;
+  const digitizer_Repeatability r = measure_repeatability(session, a.count);
   std::printf("%u readings at x %.3f y %.3f mm, each after moving 1 mm away and back:\n", r.count, r.x_nm * 1e-6, r.y_nm * 1e-6);
   std::printf("mean %.4f mm, range %.4f mm (%.4f..%.4f), standard deviation %.4f mm\n", r.mean_nm * 1e-6,
               (r.max_nm - r.min_nm) * 1e-6, r.min_nm * 1e-6, r.max_nm * 1e-6, r.stddev_nm * 1e-6);

@@ -19,6 +19,7 @@
 #include "host/io/atomic_file.h"
 #include "host/scan/height_map.h"
 #include "host/scan/point_export.h"
+#include "host/scan/scan_uncertainty.h"
 #include "host/scan/scan_file.h"
 
 namespace dg::host {
@@ -225,8 +226,11 @@ int run_export(const ExportArgs& a) {
     return export_height_map(data, input, output, format, part_name(a), a.relative);
   }
   if (a.relative) throw std::invalid_argument("--relative is for height maps (.probe, .map, .cfg)");
-  write_points(output, data.points, format);
-  std::printf("wrote %zu points to %s\n", data.points.size(), output_name(output).c_str());
+  // The points' standard uncertainty goes with them into a CSV, which is read back with it.
+  const ScanPointSigmas sigmas = scan_point_sigmas(data);
+  write_points(output, data.points, format, sigmas.sigma_mm.empty() ? nullptr : &sigmas.sigma_mm);
+  std::printf("wrote %zu points to %s%s\n", data.points.size(), output_name(output).c_str(),
+              !sigmas.sigma_mm.empty() && format == FileFormat::kCsv ? " with each point's standard uncertainty (sigma)" : "");
   return 0;
 }
 

@@ -304,7 +304,7 @@ CLI::App* add_fit_command(CLI::App& app, FitArgs& a) {
       ->capture_default_str()->check(CLI::IsMember({"xy", "uniform", "chord", "centripetal"}));
   cmd->add_option("--tolerance", a.tolerance_mm, "refine until every orthogonal distance is within this, mm")
       ->check(CLI::PositiveNumber);
-  cmd->add_flag("--ignore-sigma", a.ignore_sigma, "do not weight points by 1/sigma^2 from a sigma column");
+  cmd->add_flag("--ignore-sigma", a.ignore_sigma, "do not weight points by 1/sigma^2 from a sigma column or a scan's repeatability");
   cmd->add_flag("--no-creases", a.no_creases, "B-splines: no multiple knots at creases and steps found across the scan");
   cmd->add_flag("--no-regions", a.no_regions,
                 "with --tolerance: fit one surface even where creases and steps split the scan into regions");

@@ -156,7 +156,7 @@ std::vector<double> deviation_uncertainty(const InspectArgs& a, const PointCloud
   std::vector<double> point_u(cloud.points.size(), a.point_u_mm);
   if (cloud.sigma) {
     point_u = *cloud.sigma;
-    *from = "the points' sigma column";
+    *from = cloud.sigma_from;
   } else if (a.point_u_mm > 0) {
     *from = "--point-u";
   } else {

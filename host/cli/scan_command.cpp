@@ -16,6 +16,7 @@
 #include "host/cli/units.h"
 #include "host/device/capture.h"
 #include "host/device/pull_fit.h"
+#include "host/device/repeatability.h"
 #include "host/fit/device_fit_surface.h"
 #include "host/fit/propagated_uncertainty.h"
 #include "host/scan/point_reader.h"
@@ -98,6 +99,24 @@ digitizer_ScanRequest request_from(const ScanArgs& a) {
   return request;
 }
 
+// Reads the scan's first point a.repeatability times before the scan and stores the result as the
+// scan file's first record (in the hidden file until the device accepts the scan), so every point
+// of the scan carries a standard uncertainty. A reading that fails stops the scan before it starts.
+void measure_first_point(Session& session, const digitizer_Hello& device, const digitizer_ScanRequest& request,
+                         const ScanArgs& a, ScanSink& file) {
+  if (a.repeatability < 2) throw std::invalid_argument("--repeatability must be 0 (none) or 2..64 readings");
+  move_table_to(session, request.x.min_nm, request.y.min_nm, device.axis_resolution_nm, request.feed_um_s, 120000);
+  digitizer_Envelope record = digitizer_Envelope_init_zero;
+  record.which_body = digitizer_Envelope_repeatability_tag;
+  record.body.repeatability = measure_repeatability(session, a.repeatability);
+  file.append(record);
+  const digitizer_Repeatability& r = record.body.repeatability;
+  if (!a.quiet) {
+    std::printf("repeatability at the first point: s = %.4f mm over %u readings (range %.4f mm)\n", r.stddev_nm * 1e-6,
+                r.count, (r.max_nm - r.min_nm) * 1e-6);
+  }
+}
+
 std::string resume_hint(const ScanArgs& a) {
   return "continue with: digitizer scan --resume --device '" + a.device + "' -o " + a.output;
 }
@@ -144,6 +163,10 @@ CLI::App* add_scan_command(CLI::App& app, ScanArgs& scan) {
   cmd->add_flag("--median", scan.median, "the median of a point's samples instead of their mean");
   cmd->add_option("--approach", scan.approach_mm, "reach every point moving towards +x/+y: overshoot by this, mm (backlash)")
       ->check(CLI::Range(0.0, 10.0));
+  cmd->add_option("--repeatability", scan.repeatability,
+                  "first read the scan's first point N times (2..64), moving 1 mm away and back each time, and store the "
+                  "spread in the scan file: every point then carries a standard uncertainty (0: none)")
+      ->check(CLI::Range(0, 64));
   cmd->add_option("-o,--output", scan.output, "scan file to write (with --resume: to continue)")->required();
   cmd->add_flag("--resume", scan.resume, "continue the scan in -o after Ctrl-C, a crash or a pulled cable; the grid comes from the file");
   cmd->add_flag("--force", scan.force, "replace an existing -o (once the device has accepted the new scan)")->excludes("--resume");
@@ -240,6 +263,8 @@ int run_scan(const ScanArgs& a) {
   sigaction(SIGINT, &action, nullptr);
   sigaction(SIGTERM, &action, nullptr);
   options.stop_requested = [] { return g_interrupted != 0; };
+
+  if (!stored && a.repeatability > 0) measure_first_point(session, device, request, a, file);
 
   CaptureResult result;
   try {

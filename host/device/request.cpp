@@ -22,4 +22,15 @@ digitizer_Envelope request(Session& session, digitizer_Envelope& message, int ti
   }
 }
 
+digitizer_Envelope wait_for_answer(Session& session, uint32_t id, pb_size_t tag, int timeout_ms) {
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
+  digitizer_Envelope reply;
+  while (std::chrono::steady_clock::now() < give_up) {
+    if (!session.receive(&reply, 500) || reply.id != id) continue;
+    if (reply.which_body == digitizer_Envelope_fault_tag) throw DeviceError(session.device_name() + ": " + reply.body.fault.detail);
+    if (reply.which_body == tag) return reply;
+  }
+  throw DeviceError(session.device_name() + ": no answer within " + std::to_string(timeout_ms / 1000) + " s");
+}
+
 }  // namespace dg::host

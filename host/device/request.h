@@ -11,4 +11,8 @@ namespace dg::host {
 // are passed over.
 digitizer_Envelope request(Session& session, digitizer_Envelope& message, int timeout_ms);
 
+// Waits up to timeout_ms for the message of type `tag` that answers request `id` (a result that
+// follows the request's acceptance, such as a TouchResult); a Fault for it throws DeviceError.
+digitizer_Envelope wait_for_answer(Session& session, uint32_t id, pb_size_t tag, int timeout_ms);
+
 }  // namespace dg::host

@@ -19,7 +19,7 @@ SurfaceUncertainty propagated_uncertainty(const PointCloud& cloud, const Paramet
   std::string from;
   if (w && cloud.sigma) {
     sigma = median_of(*cloud.sigma);
-    from = "each point's sigma column; the median is given";
+    from = cloud.sigma_from + ", each point's own; the median is given";
   } else {
     const NoiseEstimate noise = estimate_gauge_noise(cloud, params);
     if (noise.reading_sigma_mm > 0) {

@@ -609,7 +609,7 @@ RegionFit fit_regions(const PointCloud& cloud, const std::vector<double>* weight
     };
     try {
       face.uncertainty = region_fit_uncertainty(points, params, weights ? &w : nullptr, face.surface, sigma_u, 41, counts);
-      face.uncertainty.sigma_from = weights ? "sigma column (median)" : "noise estimate";
+      face.uncertainty.sigma_from = weights ? cloud.sigma_from + " (median)" : "noise estimate";
     } catch (const FitError&) {
       // The net cannot be refitted from these points: no uncertainty to state for this face.
     }

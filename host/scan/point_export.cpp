@@ -53,16 +53,21 @@ void print_mm(std::FILE* f, int32_t nm) {
 
 }  // namespace
 
-void write_points_csv(const std::string& path, const std::vector<PointSample>& points) {
+void write_points_csv(const std::string& path, const std::vector<PointSample>& points, const std::vector<double>* sigma_mm) {
+  if (sigma_mm && sigma_mm->size() != points.size()) throw std::invalid_argument(path + ": one sigma per point");
   File f = open_for_writing(path, "w");
-  std::fprintf(f->get(), "x,y,z,line\n");
-  for (const PointSample& p : points) {
+  std::fprintf(f->get(), sigma_mm ? "x,y,z,line,sigma\n" : "x,y,z,line\n");
+  for (size_t i = 0; i < points.size(); ++i) {
+    const PointSample& p = points[i];
     print_mm(f->get(), p.x_nm);
     std::fputc(',', f->get());
     print_mm(f->get(), p.y_nm);
     std::fputc(',', f->get());
     print_mm(f->get(), p.z_nm);
-    std::fprintf(f->get(), ",%" PRIu32 "\n", p.line);
+    std::fprintf(f->get(), ",%" PRIu32, p.line);
+    // Nanometre resolution, like the coordinates: the uncertainty of a micrometre gauge is kept whole.
+    if (sigma_mm) std::fprintf(f->get(), ",%.6f", (*sigma_mm)[i]);
+    std::fputc('\n', f->get());
   }
   finish(std::move(f), path);
 }
@@ -122,9 +127,10 @@ void write_points(const std::string& path, const std::vector<PointSample>& point
   write_points(path, points, file_format(path));
 }
 
-void write_points(const std::string& path, const std::vector<PointSample>& points, FileFormat format) {
+void write_points(const std::string& path, const std::vector<PointSample>& points, FileFormat format,
+                  const std::vector<double>* sigma_mm) {
   switch (format) {
-    case FileFormat::kCsv: return write_points_csv(path, points);
+    case FileFormat::kCsv: return write_points_csv(path, points, sigma_mm);
     case FileFormat::kPly: return write_points_ply(path, points);
     case FileFormat::kXyz: return write_points_xyz(path, points);
     default: break;

@@ -9,8 +9,11 @@
 
 namespace dg::host {
 
-// Millimetres with six decimals: exact to the nanometre the device measured.
-void write_points_csv(const std::string& path, const std::vector<PointSample>& points);
+// Millimetres with six decimals: exact to the nanometre the device measured. With `sigma_mm` (one
+// per point: a scan's per-point standard uncertainty) a sigma column follows, which every reader of
+// a CSV takes as the points' uncertainty.
+void write_points_csv(const std::string& path, const std::vector<PointSample>& points,
+                      const std::vector<double>* sigma_mm = nullptr);
 // Whitespace XYZ: "x y z" in mm a line, six decimals (what many CAD and mesh programs import).
 void write_points_xyz(const std::string& path, const std::vector<PointSample>& points);
 // Binary little-endian PLY: double x, y, z (mm) and int line, one vertex per point.
@@ -22,7 +25,9 @@ void write_lines_csv(const std::string& path, const std::vector<Point3>& points,
 void write_cloud_csv(const std::string& path, const std::vector<Point3>& points, const std::vector<uint32_t>* lines);
 // Picks the format from the extension (.csv, .xyz, .ply); throws std::invalid_argument otherwise.
 void write_points(const std::string& path, const std::vector<PointSample>& points);
-// The same in `format` (kCsv, kXyz or kPly) whatever the extension.
-void write_points(const std::string& path, const std::vector<PointSample>& points, FileFormat format);
+// The same in `format` (kCsv, kXyz or kPly) whatever the extension; `sigma_mm` as for CSV (the
+// other formats have no column for it).
+void write_points(const std::string& path, const std::vector<PointSample>& points, FileFormat format,
+                  const std::vector<double>* sigma_mm = nullptr);
 
 }  // namespace dg::host

@@ -18,6 +18,7 @@
 #include "host/io/text_field.h"
 #include "host/scan/ply_reader.h"
 #include "host/scan/scan_file.h"
+#include "host/scan/scan_uncertainty.h"
 
 namespace dg::host {
 namespace {
@@ -221,6 +222,11 @@ PointCloud read_points(const std::string& path) {
     for (const auto& p : data.points) {
       cloud.points.push_back({p.x_nm * 1e-6, p.y_nm * 1e-6, p.z_nm * 1e-6});
       cloud.line->push_back(p.line);
+    }
+    ScanPointSigmas sigmas = scan_point_sigmas(data);
+    if (!sigmas.sigma_mm.empty()) {
+      cloud.sigma = std::move(sigmas.sigma_mm);
+      cloud.sigma_from = sigmas.from;
     }
     return cloud;
   }

@@ -21,7 +21,8 @@ struct PointCloud {
   std::vector<Point3> points;                 // mm
   std::optional<std::vector<uint32_t>> line;  // from a `line` column or a scan file
   std::optional<std::vector<Point3>> normal;  // from nx,ny,nz
-  std::optional<std::vector<double>> sigma;   // per-point uncertainty, mm
+  std::optional<std::vector<double>> sigma;   // per-point standard uncertainty, mm
+  std::string sigma_from = "the points' sigma column";  // where `sigma` came from, for reports
   std::optional<double> resolution_mm;        // the gauge's reading step, when the file says it
 };
 

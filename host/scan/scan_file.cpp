@@ -193,6 +193,10 @@ void take(ScanData* data, const digitizer_Envelope& message, const std::string& 
       if (data->request) throw ScanFileError(where + ": a second scan request: two scan files joined into one?");
       data->request = message.body.scan_request;
       break;
+    case digitizer_Envelope_repeatability_tag:
+      if (data->repeatability) throw ScanFileError(where + ": a second repeatability record: two scan files joined into one?");
+      data->repeatability = message.body.repeatability;
+      break;
     case digitizer_Envelope_points_tag: {
       PointSample batch[kMaxPointsPerBatch];
       size_t count = 0;

@@ -15,6 +15,7 @@ namespace dg::host {
 struct ScanData {
   std::optional<digitizer_Hello> device;
   std::optional<digitizer_ScanRequest> request;
+  std::optional<digitizer_Repeatability> repeatability;  // measured at the first point before the scan
   std::vector<PointSample> points;
   std::vector<digitizer_LineDone> lines;
   std::optional<digitizer_ScanDone> done;

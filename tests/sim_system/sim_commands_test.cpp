@@ -6,6 +6,7 @@
 
 #include <string>
 
+#include "host/device/repeatability.h"
 #include "host/device/request.h"
 #include "host/transport/transport.h"
 
@@ -88,4 +89,32 @@ TEST(SimCommands, TheTouchProbeFindsAFaceToTheStep) {
   LONGS_EQUAL(12345000, reply.body.touch_result.x_nm);
   CHECK(reply.body.touch_result.stop_x_nm >= reply.body.touch_result.x_nm);
   CHECK(reply.body.touch_result.stop_x_nm <= reply.body.touch_result.x_nm + 1000000);
+}
+
+// The repeatability a scan stores for its points' uncertainty, measured where the scan starts: the
+// simulated gauge's true noise (5 um, Gaussian) is the oracle. 64 readings estimate a standard
+// deviation to about 9 %; the band is three times that.
+TEST(SimCommands, RepeatabilityAtTheFirstPointFindsTheGaugesTrueNoise) {
+  auto transport = dg::host::open_transport("sim:part=flat,noise_um=5,seed=11");
+  dg::host::Session session(*transport);
+  const digitizer_Hello hello = session.hello(5000);
+  dg::host::move_table_to(session, 10000000, 8000000, hello.axis_resolution_nm, 10000, 60000);
+  const digitizer_Repeatability r = dg::host::measure_repeatability(session, 64);
+  LONGS_EQUAL(64, r.count);
+  LONGS_EQUAL(10000000, r.x_nm);
+  LONGS_EQUAL(8000000, r.y_nm);
+  CHECK_TRUE(r.stddev_nm > 3650 && r.stddev_nm < 6350);
+  CHECK_TRUE(r.min_nm < r.mean_nm && r.mean_nm < r.max_nm);
+}
+
+TEST(SimCommands, AMoveToAPointOffTheTableIsRefusedWithTheDevicesReason) {
+  auto transport = dg::host::open_transport("sim:part=flat");
+  dg::host::Session session(*transport);
+  const digitizer_Hello hello = session.hello(5000);
+  try {
+    dg::host::move_table_to(session, 900000000, 0, hello.axis_resolution_nm, 10000, 60000);
+    FAIL("a move off the table was not refused");
+  } catch (const dg::host::DeviceError& e) {
+    STRCMP_CONTAINS("soft limit", e.what());
+  }
 }

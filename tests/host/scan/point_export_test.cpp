@@ -47,6 +47,23 @@ TEST(PointExport, CsvIsExactToTheNanometre) {
   std::remove(path.c_str());
 }
 
+// A scan's per-point uncertainty goes into the CSV as the sigma column the readers take back.
+TEST(PointExport, CsvCarriesEachPointsSigmaWhenGiven) {
+  const std::string path = temp_path("s.csv");
+  const std::vector<double> sigma = {0.0058, 0.0058, 0.0091};
+  dg::host::write_points(path, sample_points(), dg::host::FileFormat::kCsv, &sigma);
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  STRCMP_EQUAL(
+      "x,y,z,line,sigma\n1.500000,-0.000001,-12.345678,0,0.005800\n0.000000,0.000000,0.000000,1,0.005800\n"
+      "2147.483647,0.000000,0.000000,2,0.009100\n",
+      text.str().c_str());
+  const std::vector<double> short_sigma = {0.1};
+  CHECK_THROWS(std::invalid_argument, dg::host::write_points(path, sample_points(), dg::host::FileFormat::kCsv, &short_sigma));
+  std::remove(path.c_str());
+}
+
 TEST(PointExport, XyzIsExactAndReadsBack) {
   const std::string path = temp_path("p.xyz");
   dg::host::write_points(path, sample_points());

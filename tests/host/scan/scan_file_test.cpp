@@ -2,11 +2,13 @@
 #include "host/scan/scan_file.h"
 
 #include "common/proto/messages.h"
+#include "host/scan/point_reader.h"
 
 #include <CppUTest/TestHarness.h>
 
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iterator>
@@ -137,6 +139,46 @@ TEST(ScanFile, RefusesTwoScansJoinedIntoOneFile) {
   } catch (const dg::host::ScanFileError& e) {
     STRCMP_CONTAINS("two scan files joined", e.what());
   }
+}
+
+// The repeatability measured before a scan is a record of its file, read back with the points,
+// which then carry a standard uncertainty (also through the point reader).
+TEST(ScanFile, KeepsTheRepeatabilityMeasuredBeforeTheScan) {
+  {
+    dg::host::ScanFileWriter writer(path);
+    digitizer_Envelope hello = digitizer_Envelope_init_zero;
+    hello.which_body = digitizer_Envelope_hello_tag;
+    hello.body.hello.gauge_resolution_nm = 1000;
+    writer.append(hello);
+    digitizer_Envelope r = digitizer_Envelope_init_zero;
+    r.which_body = digitizer_Envelope_repeatability_tag;
+    r.body.repeatability.count = 30;
+    r.body.repeatability.stddev_nm = 4000;
+    writer.append(r);
+    writer.append(batch_message(1, 16, 0));
+  }
+  const dg::host::ScanData data = dg::host::read_scan_file(path);
+  CHECK(data.repeatability.has_value());
+  LONGS_EQUAL(30, data.repeatability->count);
+  LONGS_EQUAL(4000, data.repeatability->stddev_nm);
+  const std::string csv_named = path + ".scan";
+  std::rename(path.c_str(), csv_named.c_str());
+  const dg::host::PointCloud cloud = dg::host::read_points(csv_named);
+  std::remove(csv_named.c_str());
+  CHECK(cloud.sigma.has_value());
+  LONGS_EQUAL(16, cloud.sigma->size());
+  DOUBLES_EQUAL(std::sqrt(16.0 + 1.0 / 12.0) * 1e-3, cloud.sigma->front(), 1e-12);
+  STRCMP_CONTAINS("repeatability", cloud.sigma_from.c_str());
+}
+
+// A scan without one keeps its points' uncertainty open (the fit estimates the noise instead).
+TEST(ScanFile, AScanWithoutARepeatabilityGivesNoSigma) {
+  write_three_batches();
+  const std::string named = path + ".scan";
+  std::rename(path.c_str(), named.c_str());
+  const dg::host::PointCloud cloud = dg::host::read_points(named);
+  std::remove(named.c_str());
+  CHECK_FALSE(cloud.sigma.has_value());
 }
 
 // A scan file is never replaced by a new writer.
