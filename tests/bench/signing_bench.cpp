@@ -4,7 +4,9 @@
 #include <cmath>
 #include <cstdio>
 
+#include "host/device/repeatability.h"
 #include "host/scan/lts_filter.h"
+#include "host/transport/transport.h"
 #include "tests/support/monte_carlo_uncertainty.h"
 #include "tests/support/planted_outliers.h"
 
@@ -48,6 +50,31 @@ int main() {
     std::printf("  %-32s u max %.5f mean %.5f mm, worst |predicted/empirical - 1| %.1f %% (%.1f s)\n",
                 weighted ? "sigma 2-10 um per point (weighted)" : "sigma 5 um (unweighted)", m.predicted_max_mm,
                 m.predicted_mean_mm, m.worst_relative * 100, seconds);
+  }
+  std::printf("\nA scan's per-point uncertainty from scan --repeatability 30 (s of 30 readings at the first point, with\n"
+              "the gauge's 1 um step: u = sqrt(s^2 + q^2/12)) against the simulated gauge's true noise sigma\n"
+              "(sqrt(sigma^2 + q^2/12) for a rounded reading), six seeds per row\n");
+  std::printf("%8s %12s %12s %12s %10s\n", "sigma um", "u true um", "u min um", "u max um", "time/run");
+  for (double sigma_um : {0.5, 1.0, 2.0, 5.0, 10.0}) {
+    const double q_um = 1.0;
+    const double truth_um = std::sqrt(sigma_um * sigma_um + q_um * q_um / 12.0);
+    double lo = 1e9, hi = 0, seconds = 0;
+    for (unsigned seed = 1; seed <= 6; ++seed) {
+      char uri[96];
+      std::snprintf(uri, sizeof uri, "sim:part=flat,noise_um=%g,seed=%u", sigma_um, seed);
+      const auto start = Clock::now();
+      auto transport = dg::host::open_transport(uri);
+      dg::host::Session session(*transport);
+      const digitizer_Hello hello = session.hello(5000);
+      dg::host::move_table_to(session, 20000000, 15000000, hello.axis_resolution_nm, 10000, 60000);
+      const digitizer_Repeatability r = dg::host::measure_repeatability(session, 30);
+      seconds += std::chrono::duration<double>(Clock::now() - start).count();
+      const double s_um = r.stddev_nm * 1e-3;
+      const double u_um = std::sqrt(s_um * s_um + hello.gauge_resolution_nm * 1e-3 * hello.gauge_resolution_nm * 1e-3 / 12.0);
+      lo = std::fmin(lo, u_um);
+      hi = std::fmax(hi, u_um);
+    }
+    std::printf("%8.1f %12.3f %12.3f %12.3f %9.2fs\n", sigma_um, truth_um, lo, hi, seconds / 6);
   }
   return 0;
 }
