@@ -22,6 +22,9 @@
 #include <Standard_Failure.hxx>
 #include <Standard_Version.hxx>
 #include <TopExp.hxx>
+#include <TopExp_Explorer.hxx>
+#include <Geom2d_Curve.hxx>
+#include <gp_Vec2d.hxx>
 #include <TopLoc_Location.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS.hxx>
@@ -34,8 +37,10 @@
 #include <cmath>
 #include <fstream>
 #include <set>
+#include <utility>
 #include <vector>
 
+#include "host/cad/trim_grid.h"
 #include "host/cad/vertex_welder.h"
 #include "host/geometry/triangle_mesh.h"
 #include "host/geometry/vec3.h"
@@ -49,8 +54,14 @@ struct CadNominal::Impl {
   std::vector<TopoDS_Face> faces;
   std::vector<std::unique_ptr<BRepAdaptor_Surface>> surfaces;     // per face
   std::vector<std::unique_ptr<BRepTopAdaptor_FClass2d>> inside;  // per face: (u, v) in its trims
+  // Per face, loaded once: building one for each point measured took most of the time a point took.
+  std::vector<std::unique_ptr<BRepGProp_Face>> normals;
   std::vector<size_t> face_of_triangle;
   std::vector<std::array<gp_Pnt2d, 3>> uv_of_corner;  // per triangle, when the face's mesh has them
+  // Per face: where (u, v) is inside its trims for sure, so the classifier (a point-in-polygon
+  // test over every trim curve: on a plate with 24 holes two thirds of a point's time) is asked
+  // only near the face's edges.
+  std::vector<TrimGrid> trim_grids;
   std::unique_ptr<MeshLocator> mesh;
   double deflection_mm = 0;
   mutable size_t fallbacks = 0;
@@ -66,13 +77,40 @@ void silence_opencascade() {
 
 // The unit normal of a face at (u, v) as the part orients the face (outward on a solid); false,
 // and `normal` untouched, where the face has none.
-bool oriented_normal(const TopoDS_Face& face, double u, double v, Point3& normal) {
+bool oriented_normal(const BRepGProp_Face& face, double u, double v, Point3& normal) {
   gp_Pnt at;
   gp_Vec n;
-  BRepGProp_Face(face).Normal(u, v, at, n);
+  face.Normal(u, v, at, n);
   if (!(n.Magnitude() > 0)) return false;
   normal = (1.0 / n.Magnitude()) * Point3{n.X(), n.Y(), n.Z()};
   return true;
+}
+
+// The face's trims as (u, v) polygons from its edges' curves on the surface, 32 pieces an edge, and
+// how far the true curves stray from them: measured at each piece's middle parameter, doubled.
+TrimGrid trim_grid_of(const TopoDS_Face& face, const BRepTopAdaptor_FClass2d& classifier) {
+  std::vector<TrimGrid::Segment> segments;
+  double sagitta = 0;
+  for (TopExp_Explorer e(face, TopAbs_EDGE); e.More(); e.Next()) {
+    const TopoDS_Edge& edge = TopoDS::Edge(e.Current());
+    Standard_Real first = 0, last = 0;
+    const Handle(Geom2d_Curve) curve = BRep_Tool::CurveOnSurface(edge, face, first, last);
+    if (curve.IsNull() || !std::isfinite(first) || !std::isfinite(last)) return {};
+    constexpr int kPieces = 32;
+    gp_Pnt2d from = curve->Value(first);
+    for (int k = 1; k <= kPieces; ++k) {
+      const double t0 = first + (last - first) * (k - 1) / kPieces, t1 = first + (last - first) * k / kPieces;
+      const gp_Pnt2d to = curve->Value(t1), middle = curve->Value(0.5 * (t0 + t1));
+      const gp_Vec2d chord(from, to);
+      const double length = chord.Magnitude();
+      const gp_Vec2d off(from, middle);
+      const double stray = length > 0 ? std::fabs(chord.Crossed(off)) / length : off.Magnitude();
+      sagitta = std::max(sagitta, 2 * stray);
+      segments.push_back({from.X(), from.Y(), to.X(), to.Y()});
+      from = to;
+    }
+  }
+  return TrimGrid(segments, sagitta, [&](double u, double v) { return classifier.Perform(gp_Pnt2d(u, v)) == TopAbs_IN; });
 }
 
 TopoDS_Shape read_shape(const std::string& path) {
@@ -144,9 +182,11 @@ CadNominal CadNominal::read(const std::string& path) {
       impl->faces.push_back(face);
       impl->surfaces.push_back(std::make_unique<BRepAdaptor_Surface>(face));
       impl->inside.push_back(std::make_unique<BRepTopAdaptor_FClass2d>(face, 1e-7));
+      impl->normals.push_back(std::make_unique<BRepGProp_Face>(face));
+      impl->trim_grids.push_back(trim_grid_of(face, *impl->inside.back()));
     }
     if (mesh.triangles.empty()) throw CadNominalError(path + ": the part's faces give no triangles");
-    impl->mesh = std::make_unique<MeshLocator>(mesh);
+    impl->mesh = std::make_unique<MeshLocator>(std::move(mesh));
   } catch (const Standard_Failure& e) {
     throw CadNominalError(path + ": OpenCASCADE failed on it: " + std::string(e.GetMessageString() ? e.GetMessageString() : "?"));
   } catch (const std::invalid_argument& e) {
@@ -174,11 +214,11 @@ bool CadNominal::local_closest(const Point3& p, size_t t, const Closest& on_mesh
   if (!locate.IsDone()) return false;
   Standard_Real u = 0, v = 0;
   locate.Point().Parameter(u, v);
-  if (impl_->inside[f]->Perform(gp_Pnt2d(u, v)) != TopAbs_IN) return false;
+  if (!impl_->trim_grids[f].surely_inside(u, v) && impl_->inside[f]->Perform(gp_Pnt2d(u, v)) != TopAbs_IN) return false;
   const gp_Pnt foot = locate.Point().Value();
   const double distance = std::sqrt(locate.SquareDistance());
   if (!(std::fabs(distance - std::fabs(on_mesh.distance)) <= 2 * impl_->deflection_mm)) return false;
-  if (!oriented_normal(impl_->faces[f], u, v, out.normal)) return false;
+  if (!oriented_normal(*impl_->normals[f], u, v, out.normal)) return false;
   out.point = {foot.X(), foot.Y(), foot.Z()};
   out.distance = dot(p - out.point, out.normal) < 0 ? -distance : distance;
   return std::isfinite(out.distance);
@@ -219,7 +259,7 @@ Closest CadNominal::closest(const Point3& p) const {
         // Inside the face its own normal, as the part orients the face, gives the side.
         Standard_Real u = 0, v = 0;
         extrema.ParOnFaceS2(1, u, v);
-        oriented_normal(impl_->faces[f], u, v, c.normal);
+        oriented_normal(*impl_->normals[f], u, v, c.normal);
       }
       c.distance = dot(p - c.point, c.normal) < 0 ? -distance : distance;
       best = c;

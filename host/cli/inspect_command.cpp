@@ -315,9 +315,16 @@ int run_inspect(const InspectArgs& given) {
     else std::fprintf(stderr, "digitizer: no PDF of the report: %s\n", why.c_str());
   }
   if (a.json) {
-    std::fputs(
-        inspection_json_text(r, a.points, a.surface, aligned ? &*aligned : nullptr, decision ? &*decision : nullptr, a.fields).c_str(),
-        stdout);
+    NominalNote note;
+    if (nominal) {
+      note.summary = surface.nominal_summary;
+      note.measured_on_mesh = cad ? cad->mesh_fallbacks() : 0;
+      note.mesh_deflection_mm = cad ? cad->deflection_mm() : 0;
+    }
+    std::fputs(inspection_json_text(r, a.points, a.surface, aligned ? &*aligned : nullptr, decision ? &*decision : nullptr,
+                                    a.fields, nominal ? &note : nullptr)
+                   .c_str(),
+               stdout);
     return exit_code;
   }
   const DistanceStats& s = r.stats;

@@ -55,7 +55,7 @@ Point3 closest_on_triangle(const Point3& p, const Point3& a, const Point3& b, co
   return a + (vb * denominator) * ab + (vc * denominator) * ac;
 }
 
-MeshLocator::MeshLocator(const Mesh& mesh) : mesh_(mesh) {
+MeshLocator::MeshLocator(Mesh mesh) : mesh_(std::move(mesh)) {
   if (mesh_.triangles.empty()) throw std::invalid_argument("the mesh has no triangles");
   const size_t n = mesh_.vertices.size();
   for (size_t v = 0; v < n; ++v) {

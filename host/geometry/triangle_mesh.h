@@ -25,7 +25,8 @@ class MeshLocator {
  public:
   // Throws std::invalid_argument for no triangles, an index out of range or a coordinate that is
   // not finite (naming it).
-  explicit MeshLocator(const Mesh& mesh);
+  // Takes the mesh by value: a caller done with its mesh moves it in instead of keeping two copies.
+  explicit MeshLocator(Mesh mesh);
   // `triangle`, when given, receives the nearest triangle's index in the mesh.
   Closest closest(const Point3& p, size_t* triangle = nullptr) const;
   // Every triangle (index into the mesh) that comes within `radius_mm` of p, in no order.

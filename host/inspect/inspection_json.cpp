@@ -6,7 +6,8 @@
 namespace dg::host {
 
 std::string inspection_json_text(const Inspection& r, const std::string& points_file, const std::string& surface_file,
-                                 const AlignmentSummary* alignment, const Decision* decision, const ReportFields& fields) {
+                                 const AlignmentSummary* alignment, const Decision* decision, const ReportFields& fields,
+                                 const NominalNote* nominal) {
   nlohmann::json j;
   j["format"] = "digitizer-inspection";
   j["version"] = 1;
@@ -19,6 +20,11 @@ std::string inspection_json_text(const Inspection& r, const std::string& points_
                                    {"company", &fields.company}}) {
     if (!value->empty()) j[key] = *value;
   }
+  // null: the surface is a fit of these points, not a nominal.
+  j["nominal"] = nominal ? nlohmann::json{{"summary", nominal->summary},
+                                          {"points_measured_on_mesh", nominal->measured_on_mesh},
+                                          {"mesh_deflection_mm", nominal->mesh_deflection_mm}}
+                         : nlohmann::json(nullptr);
   const DistanceStats& s = r.stats;
   j["deviation"] = {{"count", s.count}, {"mean", s.mean},     {"median", s.median}, {"stddev", s.stddev},
                     {"rms", s.rms},     {"max", s.max},       {"min", s.min},       {"max_abs", s.max_abs}};

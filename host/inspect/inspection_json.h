@@ -2,6 +2,7 @@
 // were aligned to it.
 #pragma once
 #include <array>
+#include <cstddef>
 #include <string>
 
 #include "host/geometry/point3.h"
@@ -27,10 +28,18 @@ struct ReportFields {
   std::string part, serial, operator_name, company;
 };
 
+// A nominal measured against (not a fit of the points): what it is, and how many points were
+// measured on its mesh because the exact search on a CAD part's faces found no distance.
+struct NominalNote {
+  std::string summary;               // "STEP, 54 faces ...", "a mesh of 1,200 triangles"
+  size_t measured_on_mesh = 0;
+  double mesh_deflection_mm = 0;     // how far that mesh may be from the exact part
+};
+
 // `alignment`: null when the points were measured where they are ("alignment": null).
 // `decision`: the tolerance's verdict (null in the JSON when no tolerance was given).
 std::string inspection_json_text(const Inspection& inspection, const std::string& points_file, const std::string& surface_file,
                                  const AlignmentSummary* alignment = nullptr, const Decision* decision = nullptr,
-                                 const ReportFields& fields = ReportFields{});
+                                 const ReportFields& fields = ReportFields{}, const NominalNote* nominal = nullptr);
 
 }  // namespace dg::host

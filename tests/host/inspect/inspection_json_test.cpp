@@ -55,3 +55,18 @@ TEST(InspectionJson, NamesThePartSerialOperatorAndCompanyGivenAndOnlyThose) {
   CHECK(!j.contains("serial"));
   CHECK(!j.contains("company"));
 }
+
+// Against a nominal the JSON says what it was and how many points the exact search left to its
+// mesh, so a script can refuse an inspection that leaned on the mesh; against a fit, null.
+TEST(InspectionJson, NamesTheNominalAndThePointsMeasuredOnItsMesh) {
+  NominalNote note;
+  note.summary = "STEP, 54 faces";
+  note.measured_on_mesh = 3;
+  note.mesh_deflection_mm = 0.005;
+  const nlohmann::json j =
+      nlohmann::json::parse(inspection_json_text(plane_inspection(), "p.csv", "part.stp", nullptr, nullptr, ReportFields{}, &note));
+  STRCMP_EQUAL("STEP, 54 faces", j["nominal"]["summary"].get<std::string>().c_str());
+  LONGS_EQUAL(3, j["nominal"]["points_measured_on_mesh"].get<int>());
+  DOUBLES_EQUAL(0.005, j["nominal"]["mesh_deflection_mm"].get<double>(), 0);
+  CHECK(nlohmann::json::parse(inspection_json_text(plane_inspection(), "p.csv", "s.json"))["nominal"].is_null());
+}
