@@ -1,6 +1,8 @@
 // The 3D view: points and colours as JSON arrays in the page, drawn far to near on a 2D canvas in
-// an orthographic projection that mouse drags and arrow keys turn. Each drawing leaves the number
-// of points drawn in the canvas's data-drawn attribute, where a browser test can read it.
+// an orthographic projection that mouse drags and arrow keys turn, shift-drags move, and the wheel
+// or + and - zoom about the cursor (the page's #zoom=F opens it zoomed). Each drawing leaves the
+// numbers of points drawn and on the canvas, and the zoom, in the canvas's data-drawn,
+// data-visible and data-zoom attributes, where a browser test can read them.
 #include "host/inspect/view3d.h"
 
 #include <algorithm>
@@ -44,19 +46,32 @@ std::string view3d_html(const Inspection& inspection, double range_mm, size_t ma
 let lo=[1/0,1/0,1/0],hi=[-1/0,-1/0,-1/0];
 for(let i=0;i<n;i++)for(let a=0;a<3;a++){lo[a]=Math.min(lo[a],p[3*i+a]);hi[a]=Math.max(hi[a],p[3*i+a]);}
 const m=[0,1,2].map(a=>(lo[a]+hi[a])/2),r=Math.max(1e-9,Math.hypot(hi[0]-lo[0],hi[1]-lo[1],hi[2]-lo[2])/2);
-let yaw=-0.6,pitch=1.0;const order=new Array(n),q=new Float64Array(3*n);
-function draw(){const s=0.9*Math.min(v.width,v.height)/(2*r),cy=Math.cos(yaw),sy=Math.sin(yaw),cp=Math.cos(pitch),sp=Math.sin(pitch);
+const h=/zoom=([0-9.]+)/.exec(location.hash);
+let yaw=-0.6,pitch=1.0,zoom=h?Math.max(0.5,Math.min(50,+h[1])):1,pan=[0,0];const order=new Array(n),q=new Float64Array(3*n);
+function draw(){const s=zoom*0.9*Math.min(v.width,v.height)/(2*r),cy=Math.cos(yaw),sy=Math.sin(yaw),cp=Math.cos(pitch),sp=Math.sin(pitch);
+let seen=0;
 for(let i=0;i<n;i++){const x=p[3*i]-m[0],y=p[3*i+1]-m[1],z=p[3*i+2]-m[2];const X=cy*x-sy*y,Y=sy*x+cy*y;
-q[3*i]=v.width/2+s*X;q[3*i+1]=v.height/2-s*(Y*cp+z*sp);q[3*i+2]=z*cp-Y*sp;order[i]=i;}
+q[3*i]=v.width/2+pan[0]+s*X;q[3*i+1]=v.height/2+pan[1]-s*(Y*cp+z*sp);q[3*i+2]=z*cp-Y*sp;order[i]=i;
+if(q[3*i]>=0&&q[3*i]<v.width&&q[3*i+1]>=0&&q[3*i+1]<v.height)seen++;}
 order.sort((a,b)=>q[3*a+2]-q[3*b+2]);g.clearRect(0,0,v.width,v.height);
-const d=Math.max(2,Math.min(8,s*2*r/Math.sqrt(n)));
+const d=Math.max(2,Math.min(8*Math.sqrt(zoom),s*2*r/Math.sqrt(n)));
 for(const i of order){g.fillStyle=c[i];g.fillRect(q[3*i]-d/2,q[3*i+1]-d/2,d,d);}
-g.fillStyle='#333';g.font='13px sans-serif';g.fillText('drag or use the arrow keys to turn',10,v.height-10);v.dataset.drawn=n;}
-let drag=null;v.addEventListener('mousedown',e=>{drag=[e.clientX,e.clientY];});
+g.fillStyle='#333';g.font='13px sans-serif';
+g.fillText('drag to turn, shift-drag to move, wheel or + and - to zoom ('+zoom.toFixed(1)+'x), 0 to reset',10,v.height-10);
+v.dataset.drawn=n;v.dataset.visible=seen;v.dataset.zoom=zoom;}
+function zoom_at(f,cx,cy){const z=Math.max(0.5,Math.min(50,zoom*f)),k=z/zoom;
+pan=[(pan[0]-(cx-v.width/2))*k+(cx-v.width/2),(pan[1]-(cy-v.height/2))*k+(cy-v.height/2)];zoom=z;draw();}
+let drag=null;v.addEventListener('mousedown',e=>{drag=[e.clientX,e.clientY,e.shiftKey];});
 window.addEventListener('mouseup',()=>{drag=null;});
-window.addEventListener('mousemove',e=>{if(!drag)return;yaw+=(e.clientX-drag[0])*0.01;
-pitch=Math.max(0,Math.min(Math.PI,pitch+(e.clientY-drag[1])*0.01));drag=[e.clientX,e.clientY];draw();});
+window.addEventListener('mousemove',e=>{if(!drag)return;const dx=e.clientX-drag[0],dy=e.clientY-drag[1];
+if(drag[2]){pan=[pan[0]+dx,pan[1]+dy];}else{yaw+=dx*0.01;pitch=Math.max(0,Math.min(Math.PI,pitch+dy*0.01));}
+drag=[e.clientX,e.clientY,drag[2]];draw();});
+v.addEventListener('wheel',e=>{const b=v.getBoundingClientRect();
+zoom_at(Math.exp(-e.deltaY*0.0015),(e.clientX-b.left)*v.width/b.width,(e.clientY-b.top)*v.height/b.height);e.preventDefault();},{passive:false});
 v.addEventListener('keydown',e=>{const k={ArrowLeft:[-0.1,0],ArrowRight:[0.1,0],ArrowUp:[0,-0.1],ArrowDown:[0,0.1]}[e.key];
+if(e.key==='+'||e.key==='='){zoom_at(1.25,v.width/2,v.height/2);e.preventDefault();return;}
+if(e.key==='-'){zoom_at(0.8,v.width/2,v.height/2);e.preventDefault();return;}
+if(e.key==='0'){zoom=1;pan=[0,0];yaw=-0.6;pitch=1.0;draw();e.preventDefault();return;}
 if(!k)return;yaw+=k[0];pitch=Math.max(0,Math.min(Math.PI,pitch+k[1]));draw();e.preventDefault();});
 draw();})();
 </script>
