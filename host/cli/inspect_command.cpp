@@ -13,6 +13,7 @@
 #include "host/cli/device_choice.h"
 #include "host/inspect/deviation_file.h"
 #include "host/cli/pdf_print.h"
+#include "host/cli/zone_option.h"
 #include "host/io/file_name.h"
 #include "host/scan/ply_reader.h"
 #include "host/scan/point_reader.h"
@@ -50,6 +51,9 @@ CLI::App* add_inspect_command(CLI::App& app, InspectArgs& a) {
       ->check(CLI::PositiveNumber);
   cmd->add_option("--upper", a.upper_mm, "the tolerance's upper limit of the signed deviation, mm (with --lower)");
   cmd->add_option("--lower", a.lower_mm, "the tolerance's lower limit of the signed deviation, mm (with --upper)");
+  cmd->add_option("--zone", a.zones,
+                  "NAME=X0:X1,Y0:Y1,TOL (or ...,LOWER:UPPER): the points in this box (mm, the nominal's x and y) are decided "
+                  "with this tolerance instead of the general one; repeat for more zones, the first that holds a point decides it");
   cmd->add_option("--point-u", a.point_u_mm,
                   "the points' standard uncertainty, mm, when the points carry no sigma column (default: the noise estimated from the scan)")
       ->check(CLI::PositiveNumber);
@@ -221,15 +225,22 @@ Mesh read_ply_mesh(const std::string& path) {
 
 // The verdict's lines for a reader.
 void print_decision(const Decision& d, const Inspection& r) {
-  std::printf("tolerance %+.4f..%+.4f mm, decided with U = 2u up to %.4f mm (u from %s): %s\n", d.limits.lower_mm,
+  std::printf("%stolerance %+.4f..%+.4f mm, decided with U = 2u up to %.4f mm (u from %s): %s\n", d.zones.empty() ? "" : "general ", d.limits.lower_mm,
               d.limits.upper_mm, d.max_expanded_mm, d.uncertainty_from.c_str(), verdict_name(d.verdict));
   std::printf("  %zu pass, %zu fail, %zu inconclusive (ISO 14253-1: pass inside the tolerance shrunk by U, fail outside it "
               "widened by U)\n",
               d.pass, d.fail, d.inconclusive);
+  for (const ZoneDecision& z : d.zones) {
+    const bool elsewhere = &z == &d.zones.back();
+    std::printf("  zone %s%s: %+.4f..%+.4f mm, %zu pass, %zu fail, %zu inconclusive: %s\n", z.zone.name.c_str(),
+                elsewhere ? " (in no zone)" : "", z.zone.limits.lower_mm, z.zone.limits.upper_mm, z.pass, z.fail,
+                z.inconclusive, verdict_name(z.verdict));
+  }
   for (size_t i : d.worst) {
     const PointDeviation& p = r.points[i];
-    std::printf("  point %zu at (%.3f, %.3f, %.4f): deviation %+.4f mm, U %.4f: %s\n", i + 1, p.point.x, p.point.y, p.point.z,
-                p.distance, d.expanded_mm[i], verdict_name(d.points[i]));
+    std::printf("  point %zu at (%.3f, %.3f, %.4f): deviation %+.4f mm, U %.4f: %s%s%s\n", i + 1, p.point.x, p.point.y, p.point.z,
+                p.distance, d.expanded_mm[i], verdict_name(d.points[i]), d.zones.empty() ? "" : " in zone ",
+                d.zones.empty() ? "" : d.zones[d.zone_of_point[i]].zone.name.c_str());
   }
 }
 }  // namespace
@@ -286,6 +297,11 @@ int run_inspect(const InspectArgs& given) {
   }
   const std::string alignment = aligned ? alignment_text(*aligned) : std::string();
   const std::optional<ToleranceLimits> limits = tolerance_limits(a);
+  std::vector<ToleranceZone> zones;
+  for (const std::string& z : a.zones) zones.push_back(parse_tolerance_zone(z));
+  if (!zones.empty() && !limits) {
+    throw std::invalid_argument("--zone needs the general tolerance (--tolerance, or --upper and --lower) for the points in no zone");
+  }
   std::vector<double> bands = a.bands_mm;
   std::sort(bands.begin(), bands.end());
   const Inspection r = nominal                 ? inspect_nominal(cloud.points, nominal, bands)
@@ -299,7 +315,7 @@ int run_inspect(const InspectArgs& given) {
   if (limits) {
     std::string from;
     const std::vector<double> u = deviation_uncertainty(a, cloud, surface, static_cast<bool>(nominal), r, &from);
-    decision = decide(r, *limits, u, from);
+    decision = decide(r, *limits, u, from, zones);
   }
   const int exit_code = !decision                                  ? 0
                         : decision->verdict == Verdict::kFail         ? kExitInspectionFail

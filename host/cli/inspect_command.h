@@ -20,6 +20,7 @@ struct InspectArgs {
   // given), and the points' standard uncertainty when neither a sigma column nor the scan gives it.
   double tolerance_mm = 0;
   double upper_mm = NAN, lower_mm = NAN;
+  std::vector<std::string> zones;  // --zone NAME=X0:X1,Y0:Y1,TOL: regions with tolerances of their own
   double point_u_mm = 0;
   // The report's part, serial number, operator and company; operator and company default to the
   // config file's `operator =` and `company =`.

@@ -167,12 +167,27 @@ std::string html_report(const ReportInputs& in) {
     std::string verdict = verdict_name(d.verdict);
     for (char& c : verdict) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
     h += "<h2>Verdict: <span style=\"color:" + std::string(colour) + "\">" + verdict + "</span></h2>\n<table>\n" +
-         row("tolerance (mm)", number(d.limits.lower_mm) + " to " + number(d.limits.upper_mm)) +
+         row(d.zones.empty() ? "tolerance (mm)" : "general tolerance (mm)", number(d.limits.lower_mm) + " to " + number(d.limits.upper_mm)) +
          row("decision rule", "ISO 14253-1: pass inside the tolerance shrunk by U, fail outside it widened by U") +
          row("expanded uncertainty U = 2u, largest (mm)", number(d.max_expanded_mm)) + row("u from", d.uncertainty_from) +
          row("points pass / fail / inconclusive",
              std::to_string(d.pass) + " / " + std::to_string(d.fail) + " / " + std::to_string(d.inconclusive)) +
          "</table>\n";
+    if (!d.zones.empty()) {
+      h += "<table><tr><th>zone</th><th>x (mm)</th><th>y (mm)</th><th>tolerance (mm)</th><th>pass / fail / inconclusive</th>"
+           "<th>verdict</th></tr>\n";
+      for (size_t k = 0; k < d.zones.size(); ++k) {
+        const ZoneDecision& z = d.zones[k];
+        const bool boxed = k + 1 < d.zones.size();
+        h += "<tr><td>" + escape(z.zone.name) + "</td><td>" +
+             (boxed ? number(z.zone.x0_mm) + " to " + number(z.zone.x1_mm) : std::string("in no zone")) + "</td><td>" +
+             (boxed ? number(z.zone.y0_mm) + " to " + number(z.zone.y1_mm) : std::string()) + "</td><td>" +
+             number(z.zone.limits.lower_mm) + " to " + number(z.zone.limits.upper_mm) + "</td><td>" + std::to_string(z.pass) +
+             " / " + std::to_string(z.fail) + " / " + std::to_string(z.inconclusive) + "</td><td>" + verdict_name(z.verdict) +
+             "</td></tr>\n";
+      }
+      h += "</table>\n";
+    }
     if (!d.worst.empty()) {
       h += "<table><tr><th>point</th><th>x</th><th>y</th><th>z</th><th>deviation</th><th>U</th><th>verdict</th></tr>\n";
       for (size_t i : d.worst) {

@@ -56,6 +56,18 @@ std::string inspection_json_text(const Inspection& r, const std::string& points_
                        {"deviation", p.distance},
                        {"expanded_uncertainty", d.expanded_mm[i]},
                        {"verdict", verdict_name(d.points[i])}});
+      if (!d.zones.empty()) worst.back()["zone"] = d.zones[d.zone_of_point[i]].zone.name;
+    }
+    // Each zone with its box and limits and its own counts; the last, "elsewhere", has no box.
+    nlohmann::json zones = nlohmann::json::array();
+    for (size_t k = 0; k < d.zones.size(); ++k) {
+      const ZoneDecision& z = d.zones[k];
+      nlohmann::json zone = {{"name", z.zone.name},         {"lower_limit", z.zone.limits.lower_mm},
+                             {"upper_limit", z.zone.limits.upper_mm}, {"verdict", verdict_name(z.verdict)},
+                             {"pass", z.pass},              {"fail", z.fail},
+                             {"inconclusive", z.inconclusive}};
+      if (k + 1 < d.zones.size()) zone["box_mm"] = {{z.zone.x0_mm, z.zone.x1_mm}, {z.zone.y0_mm, z.zone.y1_mm}};
+      zones.push_back(zone);
     }
     j["decision"] = {{"rule", "ISO 14253-1"},
                      {"lower_limit", d.limits.lower_mm},
@@ -67,7 +79,8 @@ std::string inspection_json_text(const Inspection& r, const std::string& points_
                      {"coverage_factor", 2},
                      {"max_expanded_uncertainty", d.max_expanded_mm},
                      {"uncertainty_from", d.uncertainty_from},
-                     {"worst", worst}};
+                     {"worst", worst},
+                     {"zones", zones}};
   } else {
     j["decision"] = nullptr;
   }
