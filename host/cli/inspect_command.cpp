@@ -46,6 +46,10 @@ CLI::App* add_inspect_command(CLI::App& app, InspectArgs& a) {
   cmd->add_flag("--json", a.json, "print the summary as JSON");
   cmd->add_option("--deviations", a.deviations_csv, "write x,y,z,deviation per point: CSV, or .ply with the deviation as a scalar field (CloudCompare colours it)");
   cmd->add_flag("--align", a.align, "rigid best-fit alignment of the points to the surface before measuring");
+  cmd->add_option("--datum", a.datums,
+                  "NAME=X0:X1,Y0:Y1 (mm, the scan's x and y): a datum region; one to three, primary first, align the part "
+                  "3-2-1 (the first fixes tilt and height, the second the turn and x and y, a third y) instead of --align")
+      ->excludes("--align");
   cmd->add_option("-o,--report", a.report_html, "write a self-contained HTML report (and its pictures as PNG/SVG beside it)");
   cmd->add_option("--tolerance", a.tolerance_mm, "decide a profile tolerance of +-MM: pass, fail or inconclusive per point and for the part")
       ->check(CLI::PositiveNumber);
@@ -98,11 +102,18 @@ std::vector<std::string> scan_facts(const std::string& path) {
 std::string alignment_text(const AlignmentSummary& s) {
   char text[320];
   std::snprintf(text, sizeof text,
-                "aligned by a rigid best fit: rotation %.4f deg, translation (%.4f, %.4f, %.4f) mm, RMS %.4f -> %.4f mm "
+                "aligned by %s: rotation %.4f deg, translation (%.4f, %.4f, %.4f) mm, RMS %.4f -> %.4f mm "
                 "in %d steps%s; %zu points beyond 3 robust sigmas left out of the fit",
-                s.rotation_deg, s.translation_mm.x, s.translation_mm.y, s.translation_mm.z, s.rms_before_mm, s.rms_after_mm,
-                s.iterations, s.converged ? "" : " (not converged)", s.left_out);
-  return text;
+                s.datums.empty() ? "a rigid best fit" : "datums (3-2-1)", s.rotation_deg, s.translation_mm.x, s.translation_mm.y,
+                s.translation_mm.z, s.rms_before_mm, s.rms_after_mm, s.iterations, s.converged ? "" : " (not converged)",
+                s.left_out);
+  std::string out = text;
+  for (const DatumSummary& d : s.datums) {
+    std::snprintf(text, sizeof text, "\n  datum %s (x %.3f..%.3f, y %.3f..%.3f mm, %zu points) fixed %s; its RMS %.4f mm",
+                  d.name.c_str(), d.x0_mm, d.x1_mm, d.y0_mm, d.y1_mm, d.points, d.fixes.c_str(), d.rms_after_mm);
+    out += text;
+  }
+  return out;
 }
 
 // Returns whether the uncertainty map was drawn (the surface, or every face, carries its grid).
@@ -286,14 +297,35 @@ int run_inspect(const InspectArgs& given) {
     surface.source = a.surface;
   }
   std::optional<AlignmentSummary> aligned;
-  if (a.align && !surface.faces.empty()) {
-    throw std::invalid_argument("--align: aligning to trimmed faces is not supported yet; align to a single-surface fit");
+  const bool by_datums = !a.datums.empty();
+  if ((a.align || by_datums) && !surface.faces.empty()) {
+    throw std::invalid_argument(std::string(a.align ? "--align" : "--datum") +
+                                ": aligning to trimmed faces is not supported yet; align to a single-surface fit or a nominal");
   }
-  if (a.align) {
-    const Alignment fit = nominal ? align_to_nominal(cloud.points, nominal) : align_to_surface(cloud.points, SurfaceLocator(surface.surface));
+  if (a.align || by_datums) {
+    std::optional<SurfaceLocator> locator;
+    if (!nominal) locator.emplace(surface.surface);
+    const std::function<Closest(const Point3&)> closest = nominal ? nominal : [&](const Point3& p) { return locator->closest(p); };
+    std::vector<DatumFit> datums;
+    std::vector<ToleranceZone> boxes;
+    if (by_datums && a.datums.size() > 3) throw std::invalid_argument("--datum: one, two or three datums (primary first)");
+    for (const std::string& text : a.datums) {
+      boxes.push_back(parse_datum_region(text));
+      DatumFit d;
+      d.name = boxes.back().name;
+      for (const Point3& p : cloud.points) {
+        if (boxes.back().contains(p.x, p.y)) d.points.push_back(p);
+      }
+      datums.push_back(std::move(d));
+    }
+    const Alignment fit = by_datums ? align_to_datums(datums, closest) : align_to_nominal(cloud.points, closest);
     for (Point3& p : cloud.points) p = fit.transform.apply(p);
     aligned = AlignmentSummary{fit.transform.rotation, fit.transform.translation, fit.transform.angle_deg(),
-                               fit.rms_before_mm, fit.rms_after_mm, fit.iterations, fit.converged, fit.left_out};
+                               fit.rms_before_mm, fit.rms_after_mm, fit.iterations, fit.converged, fit.left_out, {}};
+    for (size_t k = 0; k < datums.size(); ++k) {
+      aligned->datums.push_back({datums[k].name, boxes[k].x0_mm, boxes[k].x1_mm, boxes[k].y0_mm, boxes[k].y1_mm,
+                                 datums[k].points.size(), datums[k].fixes_text, datums[k].rms_after_mm});
+    }
   }
   const std::string alignment = aligned ? alignment_text(*aligned) : std::string();
   const std::optional<ToleranceLimits> limits = tolerance_limits(a);

@@ -16,6 +16,7 @@ struct InspectArgs {
   std::string deviations_csv;    // per point: x,y,z,deviation
   std::string report_html;       // the report, with its pictures beside it
   bool align = false;            // rigid best fit of the points to the surface first
+  std::vector<std::string> datums;  // --datum NAME=X0:X1,Y0:Y1: a 3-2-1 datum alignment instead, in order
   // A profile tolerance to decide: --tolerance T (symmetric, +-T), or --upper and --lower (NaN: not
   // given), and the points' standard uncertainty when neither a sigma column nor the scan gives it.
   double tolerance_mm = 0;

@@ -4,6 +4,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "host/geometry/vec3.h"
 
@@ -32,20 +33,28 @@ double rms_of(const std::vector<Point3>& points, const RigidTransform& t, const 
   return std::sqrt(sum / static_cast<double>(std::max<size_t>(1, points.size())));
 }
 
-}  // namespace
-
-Alignment align_to_nominal(const std::vector<Point3>& all, const std::function<Closest(const Point3&)>& closest, size_t max_points) {
+// ICP steps from `start` moving only the freedoms in `free`; the points' sensitivities to them
+// (the normal matrix over the points taking part, rotations scaled by their RMS radius) left in
+// `sensitivity` for a caller that must know each freedom is determined.
+Alignment align_steps(const std::vector<Point3>& all, const std::function<Closest(const Point3&)>& closest, size_t max_points,
+                      const RigidTransform& start, const FreedomMask& free, Eigen::Matrix<double, 6, 6>* sensitivity) {
   std::vector<Point3> points;
   const size_t stride = std::max<size_t>(1, all.size() / std::max<size_t>(1, max_points));
   for (size_t k = 0; k < all.size(); k += stride) points.push_back(all[k]);
   Alignment out;
+  out.transform = start;
   // Rotations about the points' centroid keep the linear system well conditioned.
   Point3 centroid;
-  for (const Point3& p : points) centroid += p;
+  for (const Point3& p : points) centroid += start.apply(p);
   centroid = (1.0 / static_cast<double>(std::max<size_t>(1, points.size()))) * centroid;
+  double radius2 = 0;
+  for (const Point3& p : points) radius2 += dot(start.apply(p) - centroid, start.apply(p) - centroid);
+  const double radius = std::sqrt(radius2 / static_cast<double>(std::max<size_t>(1, points.size())));
   out.rms_before_mm = rms_of(points, out.transform, closest);
-  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
-  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d rotation;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) rotation(i, j) = start.rotation[i][j];
+  Eigen::Vector3d translation(start.translation.x, start.translation.y, start.translation.z);
   for (int iteration = 1; iteration <= 50; ++iteration) {
     Eigen::Matrix<double, 6, 6> normal = Eigen::Matrix<double, 6, 6>::Zero();
     Eigen::Matrix<double, 6, 1> rhs = Eigen::Matrix<double, 6, 1>::Zero();
@@ -64,6 +73,7 @@ Alignment align_to_nominal(const std::vector<Point3>& all, const std::function<C
     // Never below 1 nm: the closest points themselves settle to 1e-7 mm.
     const double cutoff = std::max(3 * 1.4826 * (sorted.empty() ? 0.0 : sorted[sorted.size() / 2]), 1e-6);
     out.left_out = 0;
+    size_t used = 0;
     for (size_t k = 0; k < points.size(); ++k) {
       const Point3& moved = moved_points[k];
       const Closest& c = feet[k];
@@ -79,11 +89,19 @@ Alignment align_to_nominal(const std::vector<Point3>& all, const std::function<C
       const Point3 a = cross(arm, n);
       Eigen::Matrix<double, 6, 1> row;
       row << a.x, a.y, a.z, n.x, n.y, n.z;
+      for (int f = 0; f < 6; ++f) row(f) = free[static_cast<size_t>(f)] ? row(f) : 0.0;
       normal += row * row.transpose();
       rhs -= row * residual;
+      ++used;
+    }
+    if (sensitivity) {
+      // Rotations in radians times the points' RMS radius: a distance, as translations are.
+      const Eigen::Matrix<double, 6, 1> scale = (Eigen::Matrix<double, 6, 1>() << 1 / std::max(radius, 1e-12),
+                                                 1 / std::max(radius, 1e-12), 1 / std::max(radius, 1e-12), 1, 1, 1).finished();
+      *sensitivity = scale.asDiagonal() * normal * scale.asDiagonal() / static_cast<double>(std::max<size_t>(1, used));
     }
     // A plane or a cylinder lets points slide along it without changing a distance: a tiny ridge
-    // keeps those directions at no move instead of an arbitrary one.
+    // keeps those directions at no move instead of an arbitrary one (and the held ones at none).
     normal.diagonal().array() += 1e-9 * normal.trace() / 6 + 1e-300;
     const Eigen::Matrix<double, 6, 1> step = normal.ldlt().solve(rhs);
     if (!step.allFinite()) break;
@@ -100,13 +118,73 @@ Alignment align_to_nominal(const std::vector<Point3>& all, const std::function<C
     out.iterations = iteration;
     // The largest move of a point: the rotation's arm times its angle, plus the translation.
     double reach = 0;
-    for (const Point3& p : points) reach = std::max(reach, norm(p - centroid));
+    for (const Point3& p : points) reach = std::max(reach, norm(start.apply(p) - centroid));
     if (angle * reach + step.tail<3>().norm() < 1e-7) {
       out.converged = true;
       break;
     }
   }
   out.rms_after_mm = rms_of(points, out.transform, closest);
+  return out;
+}
+
+}  // namespace
+
+Alignment align_to_nominal(const std::vector<Point3>& all, const std::function<Closest(const Point3&)>& closest, size_t max_points) {
+  return align_steps(all, closest, max_points, RigidTransform{}, FreedomMask{true, true, true, true, true, true}, nullptr);
+}
+
+Alignment align_to_datums(std::vector<DatumFit>& datums, const std::function<Closest(const Point3&)>& closest) {
+  if (datums.empty() || datums.size() > 3) throw std::invalid_argument("a datum alignment takes one, two or three datums");
+  static const char* const kFreedom[6] = {"tilt about x", "tilt about y", "rotation about z", "x", "y", "height (z)"};
+  const size_t n = datums.size();
+  datums[0].fixes = {true, true, false, false, false, true};
+  datums[0].fixes_text = "tilt about x and y, height";
+  if (n >= 2) {
+    datums[1].fixes = n == 2 ? FreedomMask{false, false, true, true, true, false} : FreedomMask{false, false, true, true, false, false};
+    datums[1].fixes_text = n == 2 ? "rotation about z, x and y" : "rotation about z, x";
+  }
+  if (n == 3) {
+    datums[2].fixes = {false, false, false, false, true, false};
+    datums[2].fixes_text = "y";
+  }
+  Alignment out;
+  out.converged = true;
+  std::vector<Point3> together;
+  for (const DatumFit& d : datums) together.insert(together.end(), d.points.begin(), d.points.end());
+  for (DatumFit& d : datums) {
+    if (d.points.empty()) throw std::invalid_argument("datum " + d.name + " holds none of the points: is its box in the scan's coordinates?");
+    Eigen::Matrix<double, 6, 6> sensitivity;
+    const Alignment step = align_steps(d.points, closest, 20000, out.transform, d.fixes, &sensitivity);
+    // Each freedom the datum fixes must be determined by it, and not only together with another:
+    // the smallest eigenvalue of its freedoms' block, and each freedom's own diagonal.
+    std::vector<int> fixed;
+    for (int f = 0; f < 6; ++f)
+      if (d.fixes[static_cast<size_t>(f)]) fixed.push_back(f);
+    Eigen::MatrixXd block(fixed.size(), fixed.size());
+    for (size_t i = 0; i < fixed.size(); ++i)
+      for (size_t j = 0; j < fixed.size(); ++j) block(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = sensitivity(fixed[i], fixed[j]);
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(block);
+    constexpr double kMinSensitivity = 1e-4;
+    if (eigen.eigenvalues().minCoeff() < kMinSensitivity) {
+      // Name the freedom the weakest direction leans on most.
+      Eigen::Index weakest = 0;
+      eigen.eigenvectors().col(0).cwiseAbs().maxCoeff(&weakest);
+      throw std::invalid_argument("datum " + d.name + " cannot fix the " + kFreedom[fixed[static_cast<size_t>(weakest)]] +
+                                  ": moving the part that way hardly changes its points' distances to the nominal (a datum "
+                                  "fixes x or y only where it slopes along them, by more than about 0.6 degrees, and no turn "
+                                  "about z where it is round about a vertical axis); name another region, or fewer datums");
+    }
+    d.used = std::min(d.points.size(), static_cast<size_t>(20000));
+    out.transform = step.transform;
+    out.iterations += step.iterations;
+    out.left_out += step.left_out;
+    out.converged = out.converged && step.converged;
+  }
+  // Each datum's RMS, and all of theirs together, before and once every datum has moved the part.
+  for (DatumFit& d : datums) d.rms_after_mm = rms_of(d.points, out.transform, closest);
+  out.rms_before_mm = rms_of(together, RigidTransform{}, closest);
+  out.rms_after_mm = rms_of(together, out.transform, closest);
   return out;
 }
 

@@ -3,6 +3,7 @@
 #pragma once
 #include <array>
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "host/geometry/surface_locator.h"
@@ -33,5 +34,30 @@ struct Alignment {
 Alignment align_to_nominal(const std::vector<Point3>& points, const std::function<Closest(const Point3&)>& closest,
                            size_t max_points = 20000);
 Alignment align_to_surface(const std::vector<Point3>& points, const SurfaceLocator& nominal, size_t max_points = 20000);
+
+// The degrees of freedom a step may move, in the order rotation about x, y, z, translation along x,
+// y, z.
+using FreedomMask = std::array<bool, 6>;
+
+// One datum of a datum alignment: the measured points of the region the user named, and what it
+// fixes (the mask) with what was found.
+struct DatumFit {
+  std::string name;
+  std::vector<Point3> points;  // measured, in the scan's coordinates
+  FreedomMask fixes{};
+  size_t used = 0;             // points that took part (at most 20,000, evenly strided)
+  double rms_after_mm = 0;     // its points' RMS distance to the nominal once aligned
+  std::string fixes_text;      // "tilt about x and y, height"
+};
+
+// A 3-2-1 datum alignment, as a drawing's datum reference frame: each datum in turn is fitted to
+// the nominal with only the freedoms it fixes, the earlier ones held. One datum (A) fixes the
+// tilts and the height (the part resting on a plane); two add, from B, the rotation about z and
+// both translations in the table's plane; three split those, B fixing the rotation about z and x,
+// C the translation along y. A height-only scan fixes x and y only where the datum's surface
+// slopes: a datum whose points leave one of its freedoms undetermined (its mean squared
+// sensitivity to that freedom, rotations taken over the points' own radius, below 1e-4: less than
+// a 0.6 degree slope) throws std::invalid_argument naming the datum and the freedom.
+Alignment align_to_datums(std::vector<DatumFit>& datums, const std::function<Closest(const Point3&)>& closest);
 
 }  // namespace dg::host

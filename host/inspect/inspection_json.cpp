@@ -40,7 +40,19 @@ std::string inspection_json_text(const Inspection& r, const std::string& points_
                       {"rms_after_mm", a.rms_after_mm},
                       {"iterations", a.iterations},
                       {"converged", a.converged},
-                      {"points_left_out", a.left_out}};
+                      {"points_left_out", a.left_out},
+                      {"method", a.datums.empty() ? "best fit" : "datums"}};
+    if (!a.datums.empty()) {
+      nlohmann::json datums = nlohmann::json::array();
+      for (const DatumSummary& d : a.datums) {
+        datums.push_back({{"name", d.name},
+                          {"box_mm", {{d.x0_mm, d.x1_mm}, {d.y0_mm, d.y1_mm}}},
+                          {"points", d.points},
+                          {"fixes", d.fixes},
+                          {"rms_after_mm", d.rms_after_mm}});
+      }
+      j["alignment"]["datums"] = datums;
+    }
   } else {
     j["alignment"] = nullptr;
   }

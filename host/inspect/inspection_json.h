@@ -4,6 +4,7 @@
 #include <array>
 #include <cstddef>
 #include <string>
+#include <vector>
 
 #include "host/geometry/point3.h"
 #include "host/inspect/decision.h"
@@ -12,6 +13,15 @@
 namespace dg::host {
 
 // A rigid alignment applied to the points before they were measured (measured -> nominal).
+// One datum of a datum alignment: its region (in the scan's coordinates), what it fixed.
+struct DatumSummary {
+  std::string name;
+  double x0_mm = 0, x1_mm = 0, y0_mm = 0, y1_mm = 0;
+  size_t points = 0;
+  std::string fixes;          // "tilt about x and y, height"
+  double rms_after_mm = 0;    // its points to the nominal once aligned
+};
+
 struct AlignmentSummary {
   std::array<std::array<double, 3>, 3> rotation{{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
   Point3 translation_mm;
@@ -20,6 +30,7 @@ struct AlignmentSummary {
   int iterations = 0;
   bool converged = false;
   size_t left_out = 0;  // points beyond 3 robust sigmas, left out of the last step
+  std::vector<DatumSummary> datums;  // empty: a best fit of all the points; else the datums in order
 };
 
 // What a signed report names besides the numbers: the part, its serial number, who measured it and

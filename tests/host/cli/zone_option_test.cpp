@@ -48,3 +48,16 @@ TEST(ZoneOption, SaysWhatIsWrong) {
   STRCMP_CONTAINS("tolerance 'nan' is not a number", refusal("seal=10:30,5:12,nan").c_str());
   STRCMP_CONTAINS("tolerance 0.01:-0.01 must have MIN < MAX", refusal("seal=10:30,5:12,0.01:-0.01").c_str());
 }
+
+TEST(ZoneOption, ReadsADatumRegionWithoutATolerance) {
+  const dg::host::ToleranceZone d = dg::host::parse_datum_region("A=0:40,0:4");
+  STRCMP_EQUAL("A", d.name.c_str());
+  DOUBLES_EQUAL(40, d.x1_mm, 0);
+  DOUBLES_EQUAL(4, d.y1_mm, 0);
+  try {
+    dg::host::parse_datum_region("A=0:40,0:4,0.01");
+    FAIL("a datum with a tolerance was accepted");
+  } catch (const std::invalid_argument& e) {
+    STRCMP_CONTAINS("--datum A: give X0:X1,Y0:Y1 after the name", e.what());
+  }
+}

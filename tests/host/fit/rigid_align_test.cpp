@@ -4,7 +4,9 @@
 
 #include <CppUTest/TestHarness.h>
 
+#include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "host/geometry/triangle_mesh.h"
 #include "host/geometry/vec3.h"
@@ -87,4 +89,107 @@ TEST(RigidAlign, OutliersDoNotPullTheFit) {
     if (k % 20) worst = std::max(worst, std::fabs(locator.closest(r.transform.apply(measured[k])).distance));
   }
   CHECK(worst < 1e-5);
+}
+
+namespace {
+
+// A 40 x 30 mm plate with two ridges 2 mm high: one along y at x = 30 (its flanks slope in x), one
+// along x at y = 20 (flanks slope in y). Planar in every 0.5 mm cell, so the mesh is exact.
+double ridges(double x, double y) {
+  return std::max(0.0, 2 - 0.4 * std::fabs(x - 30)) + std::max(0.0, 2 - 0.4 * std::fabs(y - 20));
+}
+
+Mesh ridge_plate() {
+  Mesh m;
+  const int nx = 80, ny = 60;
+  for (int j = 0; j <= ny; ++j)
+    for (int i = 0; i <= nx; ++i) m.vertices.push_back({0.5 * i, 0.5 * j, ridges(0.5 * i, 0.5 * j)});
+  auto at = [&](int i, int j) { return static_cast<uint32_t>(j * (nx + 1) + i); };
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      m.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      m.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  return m;
+}
+
+// The part as measured: the plate's points (away from its border, so every point has its nominal
+// under it) turned 0.8 degrees about a tilted axis and shifted.
+std::vector<Point3> misplaced_plate() {
+  const double angle = 0.8 * M_PI / 180;
+  const Point3 u = (1.0 / norm(Point3{0.2, 0.3, 0.93})) * Point3{0.2, 0.3, 0.93};
+  std::vector<Point3> measured;
+  for (double y = 2; y <= 28; y += 0.5)
+    for (double x = 2; x <= 38; x += 0.5) {
+      const Point3 p{x, y, ridges(x, y)};
+      measured.push_back(std::cos(angle) * p + std::sin(angle) * cross(u, p) + (1 - std::cos(angle)) * dot(u, p) * u +
+                         Point3{0.3, -0.2, 0.15});
+    }
+  return measured;
+}
+
+DatumFit datum_in(const char* name, const std::vector<Point3>& points, double x0, double x1, double y0, double y1) {
+  DatumFit d;
+  d.name = name;
+  for (const Point3& p : points)
+    if (p.x >= x0 && p.x <= x1 && p.y >= y0 && p.y <= y1) d.points.push_back(p);
+  return d;
+}
+
+}  // namespace
+
+// 3-2-1: A (flat plate) fixes tilt and height, B (the ridge's x flanks) the rotation about z and x,
+// C (the other ridge's y flanks) y. Together they undo the misplacement: every point of the part,
+// not only the datums', lands on the nominal.
+TEST(RigidAlign, ThreeDatumsUndoAKnownMisplacement) {
+  const MeshLocator nominal(ridge_plate());
+  auto closest = [&](const Point3& p) { return nominal.closest(p); };
+  const std::vector<Point3> measured = misplaced_plate();
+  std::vector<DatumFit> datums = {datum_in("A", measured, 2, 18, 2, 12), datum_in("B", measured, 25, 35, 2, 12),
+                                  datum_in("C", measured, 2, 14, 15, 25)};
+  const Alignment r = align_to_datums(datums, closest);
+  CHECK(r.rms_before_mm > 0.05);
+  DOUBLES_EQUAL(0.8, r.transform.angle_deg(), 0.01);
+  double worst = 0;
+  for (const Point3& p : measured) worst = std::max(worst, std::fabs(nominal.closest(r.transform.apply(p)).distance));
+  CHECK(worst < 1e-4);
+  STRCMP_EQUAL("tilt about x and y, height", datums[0].fixes_text.c_str());
+  STRCMP_EQUAL("rotation about z, x", datums[1].fixes_text.c_str());
+  STRCMP_EQUAL("y", datums[2].fixes_text.c_str());
+  CHECK(datums[1].rms_after_mm < 1e-4);
+}
+
+// Only the plate as datum A: tilt and height are undone, the part's x, y and turn about z are left
+// as they were placed, so the ridges stay off (an honest, partial alignment).
+TEST(RigidAlign, OneDatumFixesOnlyTiltAndHeight) {
+  const MeshLocator nominal(ridge_plate());
+  const std::vector<Point3> measured = misplaced_plate();
+  std::vector<DatumFit> datums = {datum_in("A", measured, 2, 18, 2, 12)};
+  const Alignment r = align_to_datums(datums, [&](const Point3& p) { return nominal.closest(p); });
+  CHECK(datums[0].rms_after_mm < 1e-4);
+  // The plate's own points are flat now: z = 0 after the transform.
+  for (const Point3& p : datums[0].points) DOUBLES_EQUAL(0.0, r.transform.apply(p).z, 1e-4);
+}
+
+// A second datum on the flat plate cannot fix x, y or the turn: refused, naming it.
+TEST(RigidAlign, ADatumThatCannotFixItsFreedomsIsRefusedByName) {
+  const MeshLocator nominal(ridge_plate());
+  const std::vector<Point3> measured = misplaced_plate();
+  std::vector<DatumFit> datums = {datum_in("A", measured, 2, 18, 2, 12), datum_in("B", measured, 2, 12, 2, 10)};
+  try {
+    align_to_datums(datums, [&](const Point3& p) { return nominal.closest(p); });
+    FAIL("a flat secondary datum was accepted");
+  } catch (const std::invalid_argument& e) {
+    STRCMP_CONTAINS("datum B cannot fix", e.what());
+  }
+  // B on the ridge that slopes only in x: with two datums it must fix y too, and cannot.
+  std::vector<DatumFit> x_only = {datum_in("A", measured, 2, 18, 2, 12), datum_in("B", measured, 25, 35, 2, 12)};
+  try {
+    align_to_datums(x_only, [&](const Point3& p) { return nominal.closest(p); });
+    FAIL("a secondary datum that slopes only in x was asked to fix y and accepted");
+  } catch (const std::invalid_argument& e) {
+    STRCMP_CONTAINS("datum B cannot fix the y", e.what());
+  }
+  std::vector<DatumFit> none = {datum_in("A", measured, 100, 110, 2, 12)};
+  CHECK_THROWS(std::invalid_argument, align_to_datums(none, [&](const Point3& p) { return nominal.closest(p); }));
 }

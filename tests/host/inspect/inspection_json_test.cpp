@@ -70,3 +70,22 @@ TEST(InspectionJson, NamesTheNominalAndThePointsMeasuredOnItsMesh) {
   DOUBLES_EQUAL(0.005, j["nominal"]["mesh_deflection_mm"].get<double>(), 0);
   CHECK(nlohmann::json::parse(inspection_json_text(plane_inspection(), "p.csv", "s.json"))["nominal"].is_null());
 }
+
+// A datum alignment says so, with each datum's region, what it fixed and its RMS.
+TEST(InspectionJson, ADatumAlignmentListsItsDatums) {
+  AlignmentSummary a;
+  a.datums.push_back({"A", 0, 40, 0, 4, 205, "tilt about x and y, height", 0.0021});
+  a.datums.push_back({"B", 10, 30, 5, 25, 441, "rotation about z, x and y", 0.0018});
+  const nlohmann::json j = nlohmann::json::parse(inspection_json_text(plane_inspection(), "p.csv", "s.json", &a));
+  STRCMP_EQUAL("datums", j["alignment"]["method"].get<std::string>().c_str());
+  LONGS_EQUAL(2, j["alignment"]["datums"].size());
+  STRCMP_EQUAL("B", j["alignment"]["datums"][1]["name"].get<std::string>().c_str());
+  DOUBLES_EQUAL(25, j["alignment"]["datums"][1]["box_mm"][1][1].get<double>(), 0);
+  LONGS_EQUAL(441, j["alignment"]["datums"][1]["points"].get<int>());
+  STRCMP_EQUAL("tilt about x and y, height", j["alignment"]["datums"][0]["fixes"].get<std::string>().c_str());
+  AlignmentSummary best;
+  STRCMP_EQUAL("best fit",
+               nlohmann::json::parse(inspection_json_text(plane_inspection(), "p.csv", "s.json", &best))["alignment"]["method"]
+                   .get<std::string>()
+                   .c_str());
+}
