@@ -33,6 +33,19 @@ double rms_of(const std::vector<Point3>& points, const RigidTransform& t, const 
   return std::sqrt(sum / static_cast<double>(std::max<size_t>(1, points.size())));
 }
 
+// The trimmed cost of an alignment: the mean of the smallest 90 % of the squared distances. Trimmed
+// ICP need not lower it at every step (its points in and out change), so the best transform seen
+// by this one measure is the one kept.
+double trimmed_cost(std::vector<double> distances) {
+  if (distances.empty()) return 0;
+  for (double& d : distances) d *= d;
+  const size_t keep = std::max<size_t>(1, distances.size() * 9 / 10);
+  std::nth_element(distances.begin(), distances.begin() + static_cast<std::ptrdiff_t>(keep - 1), distances.end());
+  double sum = 0;
+  for (size_t k = 0; k < keep; ++k) sum += distances[k];
+  return sum / static_cast<double>(keep);
+}
+
 // ICP steps from `start` moving only the freedoms in `free`; the points' sensitivities to them
 // (the normal matrix over the points taking part, rotations scaled by their RMS radius) left in
 // `sensitivity` for a caller that must know each freedom is determined.
@@ -55,6 +68,8 @@ Alignment align_steps(const std::vector<Point3>& all, const std::function<Closes
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) rotation(i, j) = start.rotation[i][j];
   Eigen::Vector3d translation(start.translation.x, start.translation.y, start.translation.z);
+  RigidTransform best = start;
+  double best_cost = HUGE_VAL;
   for (int iteration = 1; iteration <= 50; ++iteration) {
     Eigen::Matrix<double, 6, 6> normal = Eigen::Matrix<double, 6, 6>::Zero();
     Eigen::Matrix<double, 6, 1> rhs = Eigen::Matrix<double, 6, 1>::Zero();
@@ -68,6 +83,8 @@ Alignment align_steps(const std::vector<Point3>& all, const std::function<Closes
       feet.push_back(closest(moved_points.back()));
       distances.push_back(std::fabs(feet.back().distance));
     }
+    const double cost = trimmed_cost(distances);
+    if (cost < best_cost) best_cost = cost, best = out.transform;
     std::vector<double> sorted = distances;
     std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
     // Never below 1 nm: the closest points themselves settle to 1e-7 mm.
@@ -124,6 +141,10 @@ Alignment align_steps(const std::vector<Point3>& all, const std::function<Closes
       break;
     }
   }
+  // The last transform against the best seen before it.
+  std::vector<double> last;
+  for (const Point3& p : points) last.push_back(std::fabs(closest(out.transform.apply(p)).distance));
+  if (!out.converged && trimmed_cost(last) > best_cost) out.transform = best;
   out.rms_after_mm = rms_of(points, out.transform, closest);
   return out;
 }
