@@ -8,6 +8,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "host/parallel/parallel_for.h"
 #include "host/scan/difference_noise.h"
 #include "host/scan/local_polynomial.h"
 #include "host/scan/neighbours.h"
@@ -471,22 +472,36 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
   if (!result.gridded) nearest_neighbourhoods(points, static_cast<size_t>(n_max), hood);
 
   std::vector<double> reference(points.size());
-  std::vector<double> values;
-  std::vector<std::pair<double, size_t>> by_distance;  // (|residual|, neighbour index)
-  std::vector<size_t> chosen;
-  for (size_t i = 0; i < points.size(); ++i) {
-    values.clear();
-    for (size_t j : hood[i]) values.push_back(points[j].z);
-    reference[i] = median_of(values);
-  }
+  const unsigned workers = worker_count();
+  // Each worker's scratch: (|residual|, neighbour index) pairs, the chosen subset, the window's heights.
+  std::vector<std::vector<std::pair<double, size_t>>> by_distance_of(workers);
+  std::vector<std::vector<size_t>> chosen_of(workers);
+  std::vector<std::vector<double>> values_of(workers);
+  parallel_for(points.size(), [&](size_t begin, size_t end, unsigned w) {
+    std::vector<double>& values = values_of[w];
+    for (size_t i = begin; i < end; ++i) {
+      values.clear();
+      for (size_t j : hood[i]) values.push_back(points[j].z);
+      reference[i] = median_of(values);
+    }
+  });
   std::vector<double> before(points.size(), HUGE_VAL);  // the output two iterations back
   size_t previous_moved = SIZE_MAX;
   double previous_largest = HUGE_VAL;
   for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
-    double largest_change = 0;
-    size_t moved = 0;
+    // Each point's next estimate reads only the reference, so the points are shared among the
+    // cores; the largest change and the count of moves are gathered per worker.
+    std::vector<double> largest_of(workers, 0.0);
+    std::vector<size_t> moved_of(workers, 0);
     std::vector<double> next(points.size());
-    for (size_t i = 0; i < points.size(); ++i) {
+    parallel_for(points.size(), [&](size_t begin, size_t end, unsigned w) {
+      std::vector<std::pair<double, size_t>>& by_distance = by_distance_of[w];
+      std::vector<size_t>& chosen = chosen_of[w];
+      // Gathered here and stored once a chunk: workers writing neighbouring slots for every point
+      // would share their cache line.
+      double largest = 0;
+      size_t moved_here = 0;
+      for (size_t i = begin; i < end; ++i) {
       const int n = static_cast<int>(hood[i].size());
       // A truncated window (an edge or a corner of the scan) cannot carry a quadratic robustly: with
       // 9 points a 6-term model fits its own noise. Use a plane below 4/5 of a full window and a
@@ -524,9 +539,15 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
           for (int m = 0; m < h; ++m) chosen.push_back(by_distance[m].second);
         }
       }
-      largest_change = std::max(largest_change, std::fabs(next[i] - reference[i]));
-      moved += std::fabs(next[i] - reference[i]) > options.converged_mm;
-    }
+      largest = std::max(largest, std::fabs(next[i] - reference[i]));
+      moved_here += std::fabs(next[i] - reference[i]) > options.converged_mm;
+      }
+      largest_of[w] = std::max(largest_of[w], largest);
+      moved_of[w] += moved_here;
+    });
+    const double largest_change = *std::max_element(largest_of.begin(), largest_of.end());
+    size_t moved = 0;
+    for (size_t m : moved_of) moved += m;
     // Heights quantised by the gauge make ties, and a tie can make a window alternate between two
     // trimmed subsets for ever (seen on a 1 um-resolution scan: one point swinging by 3.9 um). Two
     // steps back equal to the new output is a fixed point of the two-step map: settle on the mean
@@ -563,10 +584,12 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
   std::vector<PointTest> tests(points.size());
   std::vector<double> abs_full(points.size());
   std::vector<char> suspect(points.size(), 0);
-  for (size_t i = 0; i < points.size(); ++i) {
-    tests[i] = test_point(points, hood[i], i, reference, suspect);
-    abs_full[i] = std::fabs(tests[i].residual[0]);
-  }
+  parallel_for(points.size(), [&](size_t begin, size_t end, unsigned) {
+    for (size_t i = begin; i < end; ++i) {
+      tests[i] = test_point(points, hood[i], i, reference, suspect);
+      abs_full[i] = std::fabs(tests[i].residual[0]);
+    }
+  });
   // 1.4826 * MAD of the whole-neighbourhood residuals: the noise of the scan (outliers and model
   // errors at creases are a minority and do not move the median).
   result.sigma_mm = 1.4826 * median_of(abs_full);
@@ -595,8 +618,12 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
       if (wider.model[0].ok && wider.model[0].scale <= 2.5 * sigma) tests[i] = wider;
     }
   };
-  for (size_t i = 0; i < points.size() && result.gridded; ++i) {
-    if (!some_window_describes(tests[i], sigma)) retest(i, suspect);
+  if (result.gridded) {
+    parallel_for(points.size(), [&](size_t begin, size_t end, unsigned) {
+      for (size_t i = begin; i < end; ++i) {
+        if (!some_window_describes(tests[i], sigma)) retest(i, suspect);
+      }
+    });
   }
   // The window whose prediction replaces point i, or -1 for an inlier.
   auto outlier_window = [&](size_t i) {
@@ -636,13 +663,15 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
     const std::vector<char> before_round = suspect;
     std::vector<char> left_out(points.size(), 0);
     for (size_t i = 0; i < points.size(); ++i) left_out[i] = suspect[i] && outlier_window(i) == 0;
-    for (size_t i = 0; i < points.size(); ++i) {
-      bool beside = false;
-      for (size_t j : hood[i]) beside = beside || (j != i && left_out[j]);
-      if (!beside && !tested_without[i]) continue;
-      retest(i, left_out);
-      tested_without[i] = beside;
-    }
+    parallel_for(points.size(), [&](size_t begin, size_t end, unsigned) {
+      for (size_t i = begin; i < end; ++i) {
+        bool beside = false;
+        for (size_t j : hood[i]) beside = beside || (j != i && left_out[j]);
+        if (!beside && !tested_without[i]) continue;
+        retest(i, left_out);
+        tested_without[i] = beside;
+      }
+    });
     classify();
     if (suspect == before_round) break;
   }

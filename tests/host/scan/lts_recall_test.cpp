@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <random>
 #include <set>
 
@@ -104,4 +105,20 @@ TEST(LtsRecall, AnOutlierOnAPlateSliverIsCaughtWithoutCondemningTheRimBesideIt) 
   CHECK(tried > 40);
   LONGS_EQUAL(tried, caught);
   CHECK(false_alarms <= tried / 8);
+}
+
+// The filter shares its points among the cores; one thread or four find the same heights and the
+// same outliers, to the last bit.
+TEST(LtsRecall, OneThreadAndFourGiveTheSameResult) {
+  const dg::test::Planted p = dg::test::plant_outliers(dg::sim::PartKind::kDome, 2.0, 2);
+  setenv("DIGITIZER_THREADS", "1", 1);
+  const LtsResult one = lts_filter(p.points, LtsOptions{});
+  setenv("DIGITIZER_THREADS", "4", 1);
+  const LtsResult four = lts_filter(p.points, LtsOptions{});
+  unsetenv("DIGITIZER_THREADS");
+  CHECK(one.z == four.z);
+  LONGS_EQUAL(one.outliers.size(), four.outliers.size());
+  for (size_t k = 0; k < one.outliers.size(); ++k) LONGS_EQUAL(one.outliers[k].index, four.outliers[k].index);
+  LONGS_EQUAL(one.iterations, four.iterations);
+  CHECK(!one.outliers.empty());
 }
