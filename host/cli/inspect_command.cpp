@@ -336,7 +336,7 @@ int run_inspect(const InspectArgs& given) {
   }
   std::vector<double> bands = a.bands_mm;
   std::sort(bands.begin(), bands.end());
-  const Inspection r = nominal                 ? inspect_nominal(cloud.points, nominal, bands)
+  const Inspection r = nominal                 ? inspect_nominal(cloud.points, nominal, bands, static_cast<bool>(mesh))
                        : surface.faces.empty() ? inspect(cloud.points, surface.surface, bands)
                                                : inspect_faces(cloud.points, surface.faces, bands);
   if (!a.deviations_csv.empty()) {

@@ -7,31 +7,44 @@
 #include <string>
 
 #include "host/geometry/surface_locator.h"
+#include "host/parallel/parallel_for.h"
 
 namespace dg::host {
 
 namespace {
 
-// Every point's closest point by `closest(p)`, checked finite, with the statistics and bands.
+// Every point's closest point by `closest(p)`, checked finite, with the statistics and bands; on
+// every core when `concurrent` (each point's result has its own slot, so the results are those of
+// one thread).
 template <class Closest>
-Inspection measure(const std::vector<Point3>& points, Closest closest, const std::vector<double>& bands_mm) {
+Inspection measure(const std::vector<Point3>& points, Closest closest, const std::vector<double>& bands_mm, bool concurrent) {
   Inspection out;
   if (points.empty()) throw std::invalid_argument("there are no points to inspect");
-  out.points.reserve(points.size());
-  std::vector<double> distances;
-  distances.reserve(points.size());
-  for (const Point3& p : points) {
-    const dg::host::Closest c = closest(p);
+  out.points.resize(points.size());
+  std::vector<double> distances(points.size());
+  auto measure_range = [&](size_t begin, size_t end, unsigned) {
+    for (size_t i = begin; i < end; ++i) {
+      const dg::host::Closest c = closest(points[i]);
+      out.points[i] = {points[i], c.point, c.distance};
+      distances[i] = c.distance;
+    }
+  };
+  if (concurrent) {
+    parallel_for(points.size(), measure_range);
+  } else {
+    measure_range(0, points.size(), 0);
+  }
+  for (size_t i = 0; i < points.size(); ++i) {
+    const PointDeviation& d = out.points[i];
     // A coordinate near the limits of a double (1e308) makes the distance overflow: no statistic
-    // is printed from it.
-    if (!std::isfinite(c.distance) || !std::isfinite(c.point.x + c.point.y + c.point.z)) {
+    // is printed from it. The first such point is named, whichever thread measured it.
+    if (!std::isfinite(d.distance) || !std::isfinite(d.foot.x + d.foot.y + d.foot.z)) {
+      const Point3& p = points[i];
       char where[160];
-      std::snprintf(where, sizeof where, "point %zu (%.6g, %.6g, %.6g)", out.points.size() + 1, p.x, p.y, p.z);
+      std::snprintf(where, sizeof where, "point %zu (%.6g, %.6g, %.6g)", i + 1, p.x, p.y, p.z);
       throw std::invalid_argument(std::string(where) +
                                   ": its distance to the surface is not a finite number; a coordinate that large is no measurement");
     }
-    out.points.push_back({p, c.point, c.distance});
-    distances.push_back(c.distance);
   }
   out.stats = distance_stats(distances);
   for (double limit : bands_mm) {
@@ -49,7 +62,7 @@ Inspection measure(const std::vector<Point3>& points, Closest closest, const std
 Inspection inspect(const std::vector<Point3>& points, const BSplineSurface& surface, const std::vector<double>& bands_mm) {
   if (points.empty()) throw std::invalid_argument("there are no points to inspect");
   const SurfaceLocator locator(surface);
-  return measure(points, [&](const Point3& p) { return locator.closest(p); }, bands_mm);
+  return measure(points, [&](const Point3& p) { return locator.closest(p); }, bands_mm, true);
 }
 
 Inspection inspect_faces(const std::vector<Point3>& points, const std::vector<TrimmedFace>& faces,
@@ -71,12 +84,12 @@ Inspection inspect_faces(const std::vector<Point3>& points, const std::vector<Tr
         }
         return best;
       },
-      bands_mm);
+      bands_mm, true);
 }
 
 Inspection inspect_nominal(const std::vector<Point3>& points, const std::function<Closest(const Point3&)>& closest,
-                           const std::vector<double>& bands_mm) {
-  return measure(points, closest, bands_mm);
+                           const std::vector<double>& bands_mm, bool concurrent) {
+  return measure(points, closest, bands_mm, concurrent);
 }
 
 }  // namespace dg::host

@@ -39,7 +39,9 @@ Inspection inspect_faces(const std::vector<Point3>& points, const std::vector<Tr
                          const std::vector<double>& bands_mm);
 
 // The same against any nominal that finds closest points: a mesh (MeshLocator), a CAD part's faces.
+// With `concurrent`, `closest` is called from several threads at once (a MeshLocator may be; a CAD
+// part's OpenCASCADE surfaces keep evaluation caches and may not).
 Inspection inspect_nominal(const std::vector<Point3>& points, const std::function<Closest(const Point3&)>& closest,
-                           const std::vector<double>& bands_mm);
+                           const std::vector<double>& bands_mm, bool concurrent = false);
 
 }  // namespace dg::host
