@@ -215,6 +215,9 @@ Header parse_header(const uint8_t* data, size_t size, const std::string& name) {
         throw PointFileError(here + "element needs a name and a count");
       }
       e.count = n;
+      for (const PlyElement& earlier : h.elements) {
+        if (earlier.name == e.name) throw PointFileError(here + "element '" + e.name + "' appears twice");
+      }
       h.elements.push_back(e);
     } else if (key == "property") {
       if (h.elements.empty()) throw PointFileError(here + "property before any element");
@@ -349,7 +352,10 @@ PointCloud parse_ply(const uint8_t* data, size_t size, const std::string& name, 
             }
           }
         } else {
-          values[k] = binary ? bin.read(p.type, name, where) : text.read(name, p.name);
+          // Only the vertex element's values are kept: another element may have more properties
+          // than `values` holds (a fuzzed face element with seven once wrote past it).
+          const double value = binary ? bin.read(p.type, name, where) : text.read(name, p.name);
+          if (e == vertex_index) values[k] = value;
         }
       }
       if (e != vertex_index) continue;

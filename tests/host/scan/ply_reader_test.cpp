@@ -124,6 +124,21 @@ TEST(PlyReader, NamesWhatIsWrongAndWhere) {
                            "property float y\nproperty float z\nend_header\n").c_str());
 }
 
+// Found by the mesh reader's fuzzer: another element with more plain properties than the vertex
+// element once wrote past the vertex's values; such a file is read (its other element skipped)
+// or refused, never overrun. An element named twice is refused.
+TEST(PlyReader, AnElementWithMorePropertiesThanTheVertexIsSkippedSafely) {
+  const std::string bytes =
+      "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
+      "element extra 1\nproperty list uchar int ids\nproperty float a\nproperty float b\nproperty float c\n"
+      "property float d\nend_header\n1 2 3\n2 7 8 1 2 3 4\n";
+  const dg::host::PointCloud cloud = read(bytes);
+  LONGS_EQUAL(1, cloud.points.size());
+  DOUBLES_EQUAL(3.0, cloud.points[0].z, 0);
+  STRCMP_CONTAINS("element 'vertex' appears twice",
+                  error_of("ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nelement vertex 0\nend_header\n").c_str());
+}
+
 TEST(PlyReader, ReadsBackWhatExportWritesWithItsLines) {
   std::vector<dg::PointSample> samples(3);
   for (uint32_t i = 0; i < 3; ++i) {
