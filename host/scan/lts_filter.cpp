@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <set>
 #include <stdexcept>
@@ -186,8 +187,20 @@ LooModel line_model(const std::vector<Point3>& points, const std::vector<size_t>
   return out;
 }
 
+// Which of a window's points its model misses, for the whole window's model only (kept apart from
+// LooModel, of which every point holds seventeen): the judge may pass over a suspected neighbour,
+// but not a surface beyond a crease.
+struct WindowMisses {
+  size_t near_index[4] = {};  // point i's four nearest neighbours in the window
+  double near_residual[4] = {};  // and their |residuals|
+  static constexpr int kWorst = 5;
+  size_t worst_index[kWorst] = {};  // the window's points with the largest |residuals|, largest first
+  double worst_residual[kWorst] = {};
+};
+
 LooModel loo_model(const std::vector<Point3>& points, const std::vector<size_t>& window, size_t i,
-                   const std::vector<double>& reference, int max_order) {
+                   const std::vector<double>& reference, int max_order, double keep = 0.7,
+                   WindowMisses* misses = nullptr) {
   LooModel out;
   const int n = static_cast<int>(window.size());
   if (n < 3) return out;
@@ -203,7 +216,7 @@ LooModel loo_model(const std::vector<Point3>& points, const std::vector<size_t>&
   if (spread < 2) return out;
   const int order = std::min(max_order, n >= 20 && spread >= 4 ? 3 : n >= 12 && spread >= 3 ? 2 : n >= 6 ? 1 : 0);
   const int p = order == 0 ? 1 : order == 1 ? 3 : order == 2 ? 6 : 10;
-  const int h = std::min(n, std::max(n / 2 + (p + 1) / 2, static_cast<int>(std::ceil(0.7 * n))));
+  const int h = std::min(n, std::max(n / 2 + (p + 1) / 2, static_cast<int>(std::ceil(keep * n))));
   std::vector<std::pair<double, size_t>> by_residual;
   for (size_t j : window) by_residual.push_back({std::fabs(points[j].z - reference[j]), j});
   std::nth_element(by_residual.begin(), by_residual.begin() + (h - 1), by_residual.end());
@@ -251,10 +264,21 @@ LooModel loo_model(const std::vector<Point3>& points, const std::vector<size_t>&
     const size_t count = std::min<size_t>(4, nearest.size());
     std::partial_sort(nearest.begin(), nearest.begin() + static_cast<std::ptrdiff_t>(count), nearest.end());
     out.near_worst = count == 4 ? 0 : HUGE_VAL;
+    if (misses != nullptr) {
+      *misses = WindowMisses{};
+      std::vector<std::pair<double, size_t>> worst;
+      for (size_t j : window) worst.push_back({std::fabs(points[j].z - model.at(points[j].x, points[j].y)), j});
+      const size_t kept = std::min<size_t>(WindowMisses::kWorst, worst.size());
+      std::partial_sort(worst.begin(), worst.begin() + static_cast<std::ptrdiff_t>(kept), worst.end(),
+                        [](const auto& a, const auto& b) { return a.first > b.first; });
+      for (size_t m = 0; m < kept; ++m) misses->worst_residual[m] = worst[m].first, misses->worst_index[m] = worst[m].second;
+    }
     for (size_t m = 0; m < count; ++m) {
       const size_t j = nearest[m].second;
       if (std::find(chosen.begin(), chosen.end(), j) != chosen.end()) ++out.near_kept;
-      out.near_worst = std::max(out.near_worst, std::fabs(points[j].z - model.at(points[j].x, points[j].y)));
+      const double residual = std::fabs(points[j].z - model.at(points[j].x, points[j].y));
+      if (misses != nullptr) misses->near_index[m] = j, misses->near_residual[m] = residual;
+      out.near_worst = std::max(out.near_worst, residual);
     }
   }
   return out;
@@ -268,6 +292,7 @@ constexpr int kWindows = 9;  // the whole neighbourhood and eight half-planes th
 struct PointTest {
   LooModel model[kWindows + kLines];
   double residual[kWindows + kLines] = {};
+  WindowMisses whole_misses;  // of model[0]
 };
 
 PointTest test_point(const std::vector<Point3>& points, const std::vector<size_t>& hood, size_t i,
@@ -288,7 +313,8 @@ PointTest test_point(const std::vector<Point3>& points, const std::vector<size_t
   for (int w = 0; w < kWindows; ++w) {
     // The whole neighbourhood, a cubic: at 0.5 um of noise a quadratic's shape error over 5 x 5 mm
     // of the canister's dish is several sigma. A half-plane holds too few points for one.
-    t.model[w] = loo_model(points, windows[w], i, reference, w == 0 ? 3 : 2);
+    t.model[w] = w == 0 ? loo_model(points, windows[w], i, reference, 3, 0.7, &t.whole_misses)
+                        : loo_model(points, windows[w], i, reference, 2);
     if (t.model[w].ok) t.residual[w] = points[i].z - t.model[w].prediction;
   }
   return t;
@@ -390,6 +416,84 @@ SplitModels split_model(const std::vector<Point3>& points, const std::vector<siz
   return best;
 }
 
+// Two surfaces that meet in a crease make, together, the larger of the two (a ridge: the dome's
+// cap standing on its plate) or the smaller (a valley). Started from the best cut's two models, each
+// window point goes to the model that is the envelope there and both are refitted; the envelope
+// then describes the whole window, the crease's curve included, however it bends across it, and
+// predicts the point on whichever side of the crease it lies. A straight or refined cut only says
+// which side each point is on by its distances, so a point raised near the crease passes as the
+// other surface's continuation; the envelope knows where that surface ends. Not ok where either
+// side keeps fewer than kSplitSide points.
+struct CreaseModel {
+  bool ok = false;
+  double prediction = 0;  // the envelope at point i
+  double scale = 0;       // trimmed residual scale of the window's points to the envelope
+  double gain = 0;        // the active side's [(X^T X)^-1]_00 at point i
+  double near_worst = HUGE_VAL;  // the largest |residual| among point i's four nearest neighbours
+};
+CreaseModel crease_model(const std::vector<Point3>& points, const std::vector<size_t>& hood, size_t i,
+                         const std::vector<double>& reference, const std::vector<char>& excluded,
+                         const SplitModels& start) {
+  CreaseModel best;
+  if (!start.own.ok || !start.other.ok) return best;
+  std::vector<size_t> members;
+  for (size_t j : hood) {
+    if (j != i && !excluded[j]) members.push_back(j);
+  }
+  std::vector<size_t> side_a, side_b;
+  std::vector<double> squares;
+  for (bool ridge : {true, false}) {
+    auto envelope = [ridge](double a, double b) { return ridge ? std::max(a, b) : std::min(a, b); };
+    LooModel a = start.own, b = start.other;
+    bool ok = true;
+    for (int round = 0; round < 3 && ok; ++round) {
+      side_a.clear(), side_b.clear();
+      for (size_t j : members) {
+        const double za = a.polynomial.at(points[j].x, points[j].y), zb = b.polynomial.at(points[j].x, points[j].y);
+        (envelope(za, zb) == za ? side_a : side_b).push_back(j);
+      }
+      if (side_a.size() < kSplitSide || side_b.size() < kSplitSide) {
+        ok = false;
+        break;
+      }
+      a = loo_model(points, side_a, i, reference, 3);
+      b = loo_model(points, side_b, i, reference, 3);
+      ok = a.ok && b.ok;
+    }
+    if (!ok) continue;
+    squares.clear();
+    for (size_t j : members) {
+      const double r = points[j].z - envelope(a.polynomial.at(points[j].x, points[j].y), b.polynomial.at(points[j].x, points[j].y));
+      squares.push_back(r * r);
+    }
+    // 90 % kept: the suspects are out already, and a looser trim let an envelope that had settled
+    // on a wrong split of its window (a side holding both far corners) pass for one that describes
+    // it, with its 14 worst points trimmed away.
+    const size_t h = static_cast<size_t>(std::ceil(0.9 * static_cast<double>(squares.size())));
+    std::nth_element(squares.begin(), squares.begin() + static_cast<std::ptrdiff_t>(h - 1), squares.end());
+    double trimmed = 0;
+    for (size_t m = 0; m < h; ++m) trimmed += squares[m];
+    const int dof = std::max(1, static_cast<int>(h) - a.polynomial.terms() - b.polynomial.terms());
+    const double scale = std::sqrt(trimmed / dof);
+    if (best.ok && !(scale < best.scale)) continue;
+    const bool a_active = envelope(a.prediction, b.prediction) == a.prediction;
+    std::vector<std::pair<double, size_t>> nearest;
+    for (size_t j : members) nearest.push_back({std::hypot(points[j].x - points[i].x, points[j].y - points[i].y), j});
+    const size_t count = std::min<size_t>(4, nearest.size());
+    std::partial_sort(nearest.begin(), nearest.begin() + static_cast<std::ptrdiff_t>(count), nearest.end());
+    best.near_worst = count == 4 ? 0 : HUGE_VAL;
+    for (size_t m = 0; m < count; ++m) {
+      const Point3& q = points[nearest[m].second];
+      best.near_worst = std::max(best.near_worst, std::fabs(q.z - envelope(a.polynomial.at(q.x, q.y), b.polynomial.at(q.x, q.y))));
+    }
+    best.ok = true;
+    best.prediction = envelope(a.prediction, b.prediction);
+    best.scale = scale;
+    best.gain = a_active ? a.gain : b.gain;
+  }
+  return best;
+}
+
 // The line models of a point the windows suspect, from neighbours they do not suspect: an outlier
 // beside it on the line would otherwise bend the quadratic towards it.
 void add_line_models(const std::vector<Point3>& points, const LineSides& sides, size_t i,
@@ -401,6 +505,42 @@ void add_line_models(const std::vector<Point3>& points, const LineSides& sides, 
   }
 }
 
+// A whole neighbourhood that is one smooth surface (noise-level scale) and describes all four of
+// the point's nearest neighbours within the bound has the point inside its surface: it alone
+// judges. Its prediction at its own centre is an interpolation; a half-plane's or a line's at its
+// edge is an extrapolation, whose shape error (tens of sigma at 0.5 um on the canister's dish)
+// would vouch for an outlier of 20 sigma.
+// One of the four that is itself suspected is passed over where the window without its suspects
+// is one smooth surface (`smooth_around`, asked only then): two outliers side by side would
+// otherwise each spoil the other's whole window and leave both to the looser half-planes and lines.
+// Near a crease a suspect may be a false one on a sliver, and passing over it condemned the rim
+// point beside it.
+bool whole_judges(const PointTest& t, double sigma, double k, const std::vector<char>* suspect,
+                  const std::function<bool()>& smooth_around) {
+  const LooModel& whole = t.model[0];
+  if (!whole.ok || whole.scale > 2.5 * sigma || !std::isfinite(whole.near_worst)) return false;
+  const double bound = k * std::hypot(sigma, whole.scale);
+  int passed_over = 0;
+  for (int m = 0; m < 4; ++m) {
+    if (t.whole_misses.near_residual[m] <= bound) continue;
+    if (suspect == nullptr || !(*suspect)[t.whole_misses.near_index[m]] || ++passed_over > 1) return false;
+  }
+  if (passed_over == 0) return true;
+  // Having passed over a neighbour, the window judges only a point it finds far off (twice the
+  // bound): its verdict rests on one neighbour fewer, and a false suspect on a sliver of surface at a
+  // crease, passed over, made a rim point 9 sigma off its window's cubic an outlier.
+  if (std::fabs(t.residual[0]) <= 2 * bound || !smooth_around()) return false;
+  // Every point of the window the model misses by twice the bound must be a suspect too: at a
+  // crease the other surface's points are many and mostly not suspected. (Twice: the window's
+  // corners lie where the cubic's own error is largest; one at 2.7 sigma of noise was 5.9 off.)
+  const WindowMisses& misses = t.whole_misses;
+  if (misses.worst_residual[WindowMisses::kWorst - 1] > 2 * bound) return false;
+  for (int m = 0; m < WindowMisses::kWorst - 1; ++m) {
+    if (misses.worst_residual[m] > 2 * bound && !(*suspect)[misses.worst_index[m]]) return false;
+  }
+  return true;
+}
+
 // The verdict on one point given the scan's noise sigma. A window vouches for the point when it
 // describes its own neighbours (trimmed scale within 2 sigma: a window that holds too many
 // outliers, or straddles a crease, does not, and its prediction is no evidence either way), keeps
@@ -408,17 +548,11 @@ void add_line_models(const std::vector<Point3>& points, const LineSides& sides, 
 // point's), and predicts the point within `k` times its noise and scale together. The point is an
 // outlier when no window vouches for it but some describe their neighbours; the best-describing
 // one's prediction replaces it. Returns that window, or -1 for an inlier.
-int verdict(const PointTest& t, double sigma, double k) {
-  // A whole neighbourhood that is one smooth surface (noise-level scale) and describes all four of
-  // the point's nearest neighbours within the bound has the point inside its surface: it alone
-  // judges. Its prediction at its own centre is an interpolation; a half-plane's or a line's at its
-  // edge is an extrapolation, whose shape error (tens of sigma at 0.5 um on the canister's dish)
-  // would vouch for an outlier of 20 sigma.
-  const LooModel& whole = t.model[0];
-  const double whole_bound = k * std::hypot(sigma, whole.scale);
-  if (whole.ok && whole.near_worst <= whole_bound && whole.scale <= 2.5 * sigma) {
-    return std::fabs(t.residual[0]) <= whole_bound ? -1 : 0;
-  }
+// `suspect`: the last classification's suspects, which the whole window may pass over where the
+// point's wider window is smooth (`smooth_around`).
+int verdict(const PointTest& t, double sigma, double k, const std::vector<char>* suspect,
+            const std::function<bool()>& smooth_around) {
+  if (whole_judges(t, sigma, k, suspect, smooth_around)) return std::fabs(t.residual[0]) <= k * std::hypot(sigma, t.model[0].scale) ? -1 : 0;
   int best = -1;
   for (int w = 0; w < kWindows + kLines; ++w) {
     const LooModel& m = t.model[w];
@@ -626,11 +760,24 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
     });
   }
   // The window whose prediction replaces point i, or -1 for an inlier.
+  // `prior`: the suspects of the last classification (none before the first).
+  std::vector<char> prior(points.size(), 0);
   auto outlier_window = [&](size_t i) {
-    const int window = verdict(tests[i], sigma, options.outlier_sigmas);
+    // A cubic that keeps 90 % of the window's unsuspected points within the noise: a crease leaves
+    // more than a tenth of it off any one surface.
+    const std::function<bool()> smooth_around = [&]() {
+      std::vector<size_t> others;
+      for (size_t j : wide[i]) {
+        if (j != i && !prior[j]) others.push_back(j);
+      }
+      const LooModel m = loo_model(points, others, i, reference, 3, 0.9);
+      return m.ok && m.scale <= 2.5 * sigma;
+    };
+    const int window = verdict(tests[i], sigma, options.outlier_sigmas, &prior, smooth_around);
     return window >= 0 && std::fabs(tests[i].residual[window]) > limit ? window : -1;
   };
   auto classify = [&]() {
+    prior = suspect;
     for (size_t i = 0; i < points.size(); ++i) {
       for (int d = 0; d < kLines; ++d) tests[i].model[kWindows + d] = LooModel{};
       suspect[i] = outlier_window(i) >= 0;
@@ -684,7 +831,33 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
     // clear a suspect, and where no window describes its neighbours (the point's surface a sliver
     // among another's), a point that neither side's model comes near is condemned.
     const bool undescribed = !some_window_describes(tests[i], sigma);
-    if (result.gridded && near_crease(tests[i], sigma) && (outlier || undescribed)) {
+    // Near a crease, an envelope of two models that describes its window judges alone, both ways:
+    // first over the point's own window, then over the wider one where the own one holds too
+    // little of one side.
+    bool crease_judged = false;
+    if (result.gridded && near_crease(tests[i], sigma) && !whole_judges(tests[i], sigma, options.outlier_sigmas, nullptr, [] { return false; })) {
+      for (const std::vector<size_t>* around : {&hood[i], &wide[i]}) {
+        // Only a window that is not one smooth surface: where outliers crowd a smooth one, the
+        // larger or smaller of two fits to the same surface is biased by their noise.
+        std::vector<size_t> members;
+        for (size_t j : *around) {
+          if (j != i && !suspect[j]) members.push_back(j);
+        }
+        const LooModel single = loo_model(points, members, i, reference, 3);
+        if (single.ok && single.scale <= 2.5 * sigma) continue;
+        const SplitModels split = split_model(points, *around, i, reference, suspect);
+        const CreaseModel crease = crease_model(points, *around, i, reference, suspect, split);
+        if (!crease.ok || crease.scale > 2.0 * sigma || crease.gain > kLineGainMax) continue;
+        const double bound =
+            options.outlier_sigmas * std::sqrt(sigma * sigma * (1 + crease.gain) + crease.scale * crease.scale);
+        if (crease.near_worst > bound) continue;
+        outlier = std::fabs(points[i].z - crease.prediction) > std::max(bound, limit);
+        prediction = crease.prediction;
+        crease_judged = true;
+        break;
+      }
+    }
+    if (!crease_judged && result.gridded && near_crease(tests[i], sigma) && (outlier || undescribed)) {
       const SplitModels split = split_model(points, wide[i], i, reference, suspect);
       if (split.own.ok && split.own.scale <= 2.0 * sigma && split.other.ok) {
         auto predicts = [&](const LooModel& m, double widen) {

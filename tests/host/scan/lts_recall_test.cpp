@@ -54,13 +54,13 @@ TEST(LtsRecall, FindsEveryOutlierOfTwentySigmaOnSmoothPartsWithFewFalseAlarms) {
 
 // The dome's rim is a crease that grazes the scan's edges and corners: there a point on a sliver
 // of base plate one grid step wide has no window on its own side; the lines along the scan's rows,
-// columns and diagonals, and a window cut in two along the rim, vouch for it. Measured: recall 0.968
-// and precision 0.958 at worst (before the cut 0.957 and 0.957; the false alarms left are cap points
-// within 0.2 mm of the rim in the scan's corners, whose height above the plate only an exact model
-// of the curved rim could tell from an outlier's).
+// columns and diagonals, a window cut in two along the rim, and the envelope of the cap's and the
+// plate's models vouch for it or condemn it. Measured: recall 0.989 and precision 0.959 at worst
+// (before the envelope 0.968 and 0.958; before the cut 0.957 and 0.957). What is left is on slivers
+// one point wide along the scan's edges, where no side of any window holds enough plate to model.
 TEST(LtsRecall, CatchesNearlyEveryOutlierAcrossTheDomesRim) {
   const Score s = score(dg::sim::PartKind::kDome);
-  CHECK(s.worst_recall >= 0.95);
+  CHECK(s.worst_recall >= 0.98);
   CHECK(s.worst_precision >= 0.95);
 }
 
@@ -80,31 +80,75 @@ TEST(LtsRecall, WindowsThatKeepAlternatingEndTheIterationWithTheSameOutliers) {
 }
 
 // Points of base plate within 1.5 mm outside the dome's rim in the scan's corners, one outlier of
-// 100 sigma at a time: their 5 x 5 windows are mostly cap, and the rim points beside the outlier
-// had no window that describes their neighbours either. Every outlier was caught before the window
-// cut along the rim, but with 48 false alarms over the 44 scans; the cut clears them (2 left).
-// (At 40 sigma, 0.2 mm, six plate points 0.2 mm outside the rim are missed with or without the cut:
-// raised by that much a point there reads as the cap reaching 0.2 mm further, which a 1 mm grid
-// cannot tell apart.)
-TEST(LtsRecall, AnOutlierOnAPlateSliverIsCaughtWithoutCondemningTheRimBesideIt) {
+// `sigmas` at a time (raised and lowered in turn) on a 5 um scan.
+namespace {
+struct PlateOutliers {
+  size_t tried = 0, caught = 0, false_alarms = 0;
+};
+PlateOutliers plate_outliers_beside_the_rim(double sigmas) {
   dg::test::PartScan s;
   s.sigma_um = 5;
   const std::vector<Point3> clean = dg::test::scan_part(s, 2).points;
-  size_t tried = 0, caught = 0, false_alarms = 0;
+  PlateOutliers out;
   for (size_t i = 0; i < clean.size(); ++i) {
     const double from_centre = std::hypot(clean[i].x - 20, clean[i].y - 15);
     const bool corner = (clean[i].x < 8 || clean[i].x > 32) && (clean[i].y < 6 || clean[i].y > 24);
     if (!corner || from_centre < 20.4 || from_centre > 21.9) continue;
     std::vector<Point3> points = clean;
-    points[i].z += (tried % 2 ? -100 : 100) * s.sigma_um * 1e-3;
-    ++tried;
+    points[i].z += (out.tried % 2 ? -sigmas : sigmas) * s.sigma_um * 1e-3;
+    ++out.tried;
     const LtsResult r = lts_filter(points, LtsOptions{});
-    for (const LtsOutlier& o : r.outliers) (o.index == i ? caught : false_alarms) += 1;
+    for (const LtsOutlier& o : r.outliers) (o.index == i ? out.caught : out.false_alarms) += 1;
   }
-  std::printf("\n  %zu of %zu caught, %zu false alarms", caught, tried, false_alarms);
-  CHECK(tried > 40);
-  LONGS_EQUAL(tried, caught);
-  CHECK(false_alarms <= tried / 8);
+  std::printf("\n  %zu of %zu caught at %g sigma, %zu false alarms", out.caught, out.tried, sigmas, out.false_alarms);
+  return out;
+}
+}  // namespace
+
+// At 100 sigma their 5 x 5 windows are mostly cap, and the rim points beside the outlier had no
+// window that describes their neighbours either. Every outlier was caught before the window cut
+// along the rim, but with 48 false alarms over the 44 scans; the cut cleared them (2 left), the
+// envelope of cap and plate the rest.
+TEST(LtsRecall, AnOutlierOnAPlateSliverIsCaughtWithoutCondemningTheRimBesideIt) {
+  const PlateOutliers p = plate_outliers_beside_the_rim(100);
+  CHECK(p.tried > 40);
+  LONGS_EQUAL(p.tried, p.caught);
+  CHECK(p.false_alarms <= p.tried / 8);
+}
+
+// At 40 sigma (0.2 mm), a point 0.2 mm outside the rim raised by that much reads as the cap's
+// continuation to every model of one surface: six were missed with or without the cut. The
+// envelope of the cap's and the plate's models (the larger of the two) knows where the cap ends.
+TEST(LtsRecall, AFortySigmaOutlierJustOutsideTheRimIsCaughtByTheEnvelopeOfCapAndPlate) {
+  const PlateOutliers p = plate_outliers_beside_the_rim(40);
+  CHECK(p.tried > 40);
+  LONGS_EQUAL(p.tried, p.caught);
+  CHECK(p.false_alarms <= p.tried / 8);
+}
+
+// Two outliers side by side on a smooth part (the canister at 0.5 um, 24 and -135 sigma): each
+// spoilt the other's whole window, which then could not judge, and a line along the row, whose
+// extrapolation errs by several sigma on the dish, vouched for the smaller one. The whole window
+// now passes over a neighbour that is itself suspected.
+TEST(LtsRecall, TwoOutliersSideBySideOnASmoothPartAreBothCaught) {
+  dg::test::PartScan s;
+  s.kind = dg::sim::PartKind::kCanister;
+  s.sigma_um = 0.5;
+  std::vector<Point3> points = dg::test::scan_part(s, 3).points;
+  size_t first = points.size(), second = points.size();
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (points[i].x == 28 && points[i].y == 24) first = i;
+    if (points[i].x == 29 && points[i].y == 24) second = i;
+  }
+  CHECK(first < points.size() && second < points.size());
+  points[first].z += 24 * s.sigma_um * 1e-3;
+  points[second].z -= 135 * s.sigma_um * 1e-3;
+  const LtsResult r = lts_filter(points, LtsOptions{});
+  std::set<size_t> found;
+  for (const LtsOutlier& o : r.outliers) found.insert(o.index);
+  CHECK(found.count(first) == 1);
+  CHECK(found.count(second) == 1);
+  CHECK(found.size() <= 3);
 }
 
 // The filter shares its points among the cores; one thread or four find the same heights and the
