@@ -121,7 +121,7 @@ bool write_report(const InspectArgs& a, const Inspection& r, const FittedSurface
                   const Decision* decision) {
   std::string svg;
   ReportInputs in;
-  in.pictures = inspection_pictures(r, &svg, decision ? std::max(std::fabs(decision->limits.lower_mm), std::fabs(decision->limits.upper_mm)) : 0);
+  in.pictures = inspection_pictures(r, &svg, decision ? &decision->limits : nullptr);
   const std::time_t now = std::time(nullptr);
   char stamp[48];
   std::strftime(stamp, sizeof stamp, "%Y-%m-%d %H:%M:%S UTC", std::gmtime(&now));

@@ -17,6 +17,37 @@ Rgb diverging_colour(double t) {
 
 namespace {
 
+Rgb blend(Rgb a, Rgb b, double t) {
+  const auto mix = [t](uint8_t x, uint8_t y) { return static_cast<uint8_t>(std::lround(x + (y - x) * t)); };
+  return Rgb{mix(a.r, b.r), mix(a.g, b.g), mix(a.b, b.b)};
+}
+
+}  // namespace
+
+Rgb tolerance_colour(double value_mm, double lower_mm, double upper_mm) {
+  if (!std::isfinite(value_mm)) value_mm = 0;
+  if (value_mm > upper_mm) return kAboveUpperLimit;
+  if (value_mm < lower_mm) return kBelowLowerLimit;
+  const double nominal = lower_mm < 0 && upper_mm > 0 ? 0.0 : 0.5 * (lower_mm + upper_mm);
+  const bool above = value_mm >= nominal;
+  const double reach = above ? upper_mm - nominal : nominal - lower_mm;
+  const double t = reach > 0 ? std::clamp(std::fabs(value_mm - nominal) / reach, 0.0, 1.0) : 1.0;
+  // Green over the middle quarter of each half, then to the half's middle colour at 0.6 of the way
+  // and its full colour at the limit.
+  const Rgb green{40, 160, 75}, middle = above ? Rgb{235, 200, 30} : Rgb{30, 180, 200},
+            limit = above ? Rgb{215, 35, 35} : Rgb{30, 75, 205};
+  if (t <= 0.25) return green;
+  if (t <= 0.6) return blend(green, middle, (t - 0.25) / 0.35);
+  return blend(middle, limit, (t - 0.6) / 0.4);
+}
+
+Rgb scale_colour(const ColourScale& scale, double range_mm, double value_mm) {
+  if (scale.tolerance()) return tolerance_colour(value_mm, scale.lower_mm, scale.upper_mm);
+  return diverging_colour(value_mm / range_mm);
+}
+
+namespace {
+
 struct Layout {
   // The part's area: left and bottom margins hold the SVG's mm axes.
   int plot_x = 74, plot_y = 20, plot_w = 0, plot_h = 0;
@@ -43,7 +74,7 @@ Layout layout(const std::vector<MapPoint>& points, const MapPicture& pic) {
   const int room_w = pic.width - bar_area - l.plot_x - 10, room_h = pic.height - l.plot_y - axis_below;
   double largest = 0;
   for (const MapPoint& p : points) largest = std::max(largest, std::fabs(p.value_mm));
-  l.range = pic.range_mm > 0 ? pic.range_mm : (largest > 0 ? largest : 1e-3);
+  l.range = pic.scale.range_mm > 0 ? pic.scale.range_mm : (largest > 0 ? largest : 1e-3);
   // Bins about as wide as the points' spacing, at least 2 pixels; the plot is whole bins, and the
   // scale puts the last point inside the last bin, so no strip of empty frame is left at the edges.
   const double scale = std::min(room_w / span_x, room_h / span_y);
@@ -144,8 +175,51 @@ std::string axes_svg(const Layout& l) {
 
 std::string mm_label(double v) {
   char text[32];
-  std::snprintf(text, sizeof text, "%+.4f mm", v);
+  // Zero without a sign: "+0.0000" or "-0.0000" reads as a deviation that rounded away.
+  std::snprintf(text, sizeof text, std::fabs(v) < 5e-5 ? "%.4f mm" : "%+.4f mm", std::fabs(v) < 5e-5 ? 0.0 : v);
   return text;
+}
+
+// Text for an SVG element.
+std::string xml_text(const std::string& s) {
+  std::string out;
+  for (char ch : s) out += ch == '<' ? std::string("&lt;") : ch == '>' ? std::string("&gt;") : ch == '&' ? std::string("&amp;") : std::string(1, ch);
+  return out;
+}
+
+// The colour bar, top to bottom. A tolerance scale holds the out-of-tolerance colours in blocks of
+// kLimitBlock of its height above and below the ramp between the limits.
+constexpr double kLimitBlock = 0.08;
+
+// The colour at `from_top` (0 the bar's top, 1 its bottom).
+Rgb bar_colour(const ColourScale& s, double from_top) {
+  if (s.tolerance()) {
+    if (from_top < kLimitBlock) return kAboveUpperLimit;
+    if (from_top > 1 - kLimitBlock) return kBelowLowerLimit;
+    const double f = (from_top - kLimitBlock) / (1 - 2 * kLimitBlock);
+    return tolerance_colour(s.upper_mm - f * (s.upper_mm - s.lower_mm), s.lower_mm, s.upper_mm);
+  }
+  return diverging_colour(s.magnitude ? 1.0 - from_top : 1.0 - 2.0 * from_top);
+}
+
+struct BarLabel {
+  double from_top;
+  std::string text;
+};
+
+// Five values down the ramp; a tolerance scale also names its two blocks.
+std::vector<BarLabel> bar_labels(const ColourScale& s, double range) {
+  std::vector<BarLabel> out;
+  if (s.tolerance()) {
+    out.push_back({0.5 * kLimitBlock, "> " + mm_label(s.upper_mm)});
+    for (int k = 0; k <= 4; ++k) {
+      out.push_back({kLimitBlock + (1 - 2 * kLimitBlock) * k / 4.0, mm_label(s.upper_mm - (s.upper_mm - s.lower_mm) * k / 4.0)});
+    }
+    out.push_back({1 - 0.5 * kLimitBlock, "< " + mm_label(s.lower_mm)});
+    return out;
+  }
+  for (int k = 0; k <= 4; ++k) out.push_back({k / 4.0, mm_label(s.magnitude ? range * (1.0 - k / 4.0) : range * (1.0 - k / 2.0))});
+  return out;
 }
 
 }  // namespace
@@ -164,19 +238,18 @@ std::string deviation_map_png(const std::vector<MapPoint>& points, const MapPict
       const Bin& b = bins[static_cast<size_t>(r) * columns + c];
       if (!b.used) continue;
       const int x = l.plot_x + c * l.cell, y = l.plot_y + r * l.cell;
-      image.fill(x, y, x + l.cell, y + l.cell, diverging_colour(b.value / l.range));
+      image.fill(x, y, x + l.cell, y + l.cell, scale_colour(pic.scale, l.range, b.value));
     }
-  // The colour bar: +range at the top, -range (or 0 for a magnitude) at the bottom, five labels.
+  // The colour bar: +range at the top, -range (or 0 for a magnitude) at the bottom, or the limits
+  // and the blocks beyond them; its labels.
   for (int y = 0; y < l.bar_h; ++y) {
     const double from_top = static_cast<double>(y) / std::max(1, l.bar_h - 1);
-    const double t = pic.magnitude ? 1.0 - from_top : 1.0 - 2.0 * from_top;
-    image.fill(l.bar_x, l.bar_y + y, l.bar_x + l.bar_w, l.bar_y + y + 1, diverging_colour(t));
+    image.fill(l.bar_x, l.bar_y + y, l.bar_x + l.bar_w, l.bar_y + y + 1, bar_colour(pic.scale, from_top));
   }
-  for (int k = 0; k <= 4; ++k) {
-    const int y = l.bar_y + (l.bar_h - 1) * k / 4;
+  for (const BarLabel& label : bar_labels(pic.scale, l.range)) {
+    const int y = l.bar_y + static_cast<int>(std::lround((l.bar_h - 1) * label.from_top));
     image.fill(l.bar_x + l.bar_w, y, l.bar_x + l.bar_w + 6, y + 1, black);
-    const double value = pic.magnitude ? l.range * (1.0 - k / 4.0) : l.range * (1.0 - k / 2.0);
-    image.text(l.bar_x + l.bar_w + 10, y - 7, mm_label(value), black, 2);
+    image.text(l.bar_x + l.bar_w + 10, y - 7, label.text, black, 2);
   }
   return image.png();
 }
@@ -191,9 +264,7 @@ std::string deviation_map_svg(const std::vector<MapPoint>& points, const MapPict
                 "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%d\" height=\"%d\" viewBox=\"0 0 %d %d\">\n", pic.width,
                 pic.height, pic.width, pic.height);
   out += buffer;
-  std::string escaped;
-  for (char ch : title) escaped += ch == '<' ? std::string("&lt;") : ch == '&' ? std::string("&amp;") : std::string(1, ch);
-  out += "<title>" + escaped + "</title>\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
+  out += "<title>" + xml_text(title) + "</title>\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
   std::snprintf(buffer, sizeof buffer, "<rect x=\"%d\" y=\"%d\" width=\"%d\" height=\"%d\" fill=\"#ebebeb\" stroke=\"#787878\"/>\n",
                 l.plot_x, l.plot_y, l.plot_w, l.plot_h);
   out += buffer;
@@ -201,31 +272,33 @@ std::string deviation_map_svg(const std::vector<MapPoint>& points, const MapPict
     for (int c = 0; c < columns; ++c) {
       const Bin& b = bins[static_cast<size_t>(r) * columns + c];
       if (!b.used) continue;
-      const Rgb col = diverging_colour(b.value / l.range);
+      const Rgb col = scale_colour(pic.scale, l.range, b.value);
       std::snprintf(buffer, sizeof buffer, "<rect x=\"%d\" y=\"%d\" width=\"%d\" height=\"%d\" fill=\"#%02x%02x%02x\"/>\n",
                     l.plot_x + c * l.cell, l.plot_y + r * l.cell, l.cell, l.cell, col.r, col.g, col.b);
       out += buffer;
     }
   out += axes_svg(l);
-  // The colour bar: a gradient through the same colours as the cells, +range at the top; -range
-  // at the bottom, or 0 for a magnitude.
+  // The colour bar: a gradient through the same colours as the cells, sampled finely enough that
+  // the tolerance scale's green band and the edges of its out-of-tolerance blocks stay sharp.
   out += "<defs><linearGradient id=\"bar\" x1=\"0\" y1=\"0\" x2=\"0\" y2=\"1\">";
-  for (int k = 0; k <= 10; ++k) {
-    const Rgb col = diverging_colour(pic.magnitude ? 1.0 - k / 10.0 : 1.0 - k / 5.0);
-    std::snprintf(buffer, sizeof buffer, "<stop offset=\"%.1f\" stop-color=\"#%02x%02x%02x\"/>", k / 10.0, col.r, col.g, col.b);
+  constexpr int kStops = 200;
+  for (int k = 0; k <= kStops; ++k) {
+    const Rgb col = bar_colour(pic.scale, static_cast<double>(k) / kStops);
+    std::snprintf(buffer, sizeof buffer, "<stop offset=\"%.3f\" stop-color=\"#%02x%02x%02x\"/>", static_cast<double>(k) / kStops,
+                  col.r, col.g, col.b);
     out += buffer;
   }
   out += "</linearGradient></defs>\n";
   std::snprintf(buffer, sizeof buffer, "<rect x=\"%d\" y=\"%d\" width=\"%d\" height=\"%d\" fill=\"url(#bar)\"/>\n", l.bar_x, l.bar_y,
                 l.bar_w, l.bar_h);
   out += buffer;
-  for (int k = 0; k <= 4; ++k) {
-    const int y = l.bar_y + (l.bar_h - 1) * k / 4;
-    const double value = pic.magnitude ? l.range * (1.0 - k / 4.0) : l.range * (1.0 - k / 2.0);
+  for (const BarLabel& label : bar_labels(pic.scale, l.range)) {
+    const int y = l.bar_y + static_cast<int>(std::lround((l.bar_h - 1) * label.from_top));
+    const std::string text = xml_text(label.text);
     std::snprintf(buffer, sizeof buffer,
                   "<line x1=\"%d\" y1=\"%d\" x2=\"%d\" y2=\"%d\" stroke=\"#141414\"/>"
                   "<text x=\"%d\" y=\"%d\" font-family=\"sans-serif\" font-size=\"14\" dominant-baseline=\"middle\">%s</text>\n",
-                  l.bar_x + l.bar_w, y, l.bar_x + l.bar_w + 5, y, l.bar_x + l.bar_w + 8, y, mm_label(value).c_str());
+                  l.bar_x + l.bar_w, y, l.bar_x + l.bar_w + 5, y, l.bar_x + l.bar_w + 8, y, text.c_str());
     out += buffer;
   }
   out += "</svg>\n";

@@ -13,15 +13,35 @@ struct MapPoint {
   double value_mm = 0;        // what the colour shows
 };
 
-struct MapPicture {
-  int width = 900, height = 600;
-  double range_mm = 0;  // colours span [-range, +range]; 0: the largest |value|
+// How a value becomes a colour: one scale for a map, its colour bar and the 3D view.
+struct ColourScale {
+  double range_mm = 0;  // diverging colours span [-range, +range]; 0: the largest |value|
   // A value that is never negative (an uncertainty): white at 0 to red at +range, the bar from 0.
   bool magnitude = false;
+  // A tolerance's limits on the signed value: when lower < upper, the tolerance scale
+  // (tolerance_colour) instead, whatever the range.
+  double lower_mm = 0, upper_mm = 0;
+  bool tolerance() const { return lower_mm < upper_mm; }
+};
+
+struct MapPicture {
+  int width = 900, height = 600;
+  ColourScale scale;
 };
 
 // Blue (negative) through white (0) to red (positive); t in [-1, 1], clamped.
 Rgb diverging_colour(double t);
+
+// The tolerance scale, as inspection reports draw a profile tolerance: green about the nominal (0,
+// or the middle of limits that do not straddle it), graded through yellow to red at the upper
+// limit and through cyan to blue at the lower one; beyond the limits two colours the ramp never
+// takes, magenta above and dark violet below, so a point out of tolerance cannot pass for one near
+// a limit. A value on a limit is inside.
+Rgb tolerance_colour(double value_mm, double lower_mm, double upper_mm);
+constexpr Rgb kAboveUpperLimit{200, 20, 200}, kBelowLowerLimit{85, 20, 110};
+
+// The colour of `value_mm` on `scale`, `range_mm` being its range resolved (> 0).
+Rgb scale_colour(const ColourScale& scale, double range_mm, double value_mm);
 
 // The points are binned into cells a few pixels wide and each cell shows its largest |value|, so
 // one bad point stays visible among a million. Empty input gives an empty plot with its bar.

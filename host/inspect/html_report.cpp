@@ -60,7 +60,13 @@ std::string base64(const std::string& bytes) {
   return out;
 }
 
-std::vector<ReportPicture> inspection_pictures(const Inspection& inspection, std::string* svg, double range_mm) {
+ColourScale deviation_scale(const ToleranceLimits* limits) {
+  ColourScale scale;
+  if (limits) scale.lower_mm = limits->lower_mm, scale.upper_mm = limits->upper_mm;
+  return scale;
+}
+
+std::vector<ReportPicture> inspection_pictures(const Inspection& inspection, std::string* svg, const ToleranceLimits* limits) {
   std::vector<MapPoint> deviation, ex, ey, ez;
   for (const PointDeviation& d : inspection.points) {
     deviation.push_back({d.point.x, d.point.y, d.distance});
@@ -69,13 +75,17 @@ std::vector<ReportPicture> inspection_pictures(const Inspection& inspection, std
     ez.push_back({d.point.x, d.point.y, d.point.z - d.foot.z});
   }
   MapPicture picture;
-  picture.range_mm = range_mm;
+  picture.scale = deviation_scale(limits);
   MapPicture small;
   small.width = 600;
   small.height = 400;
-  const std::string scale = range_mm > 0 ? "; colours fixed to the tolerance, +-" + number(range_mm) + " mm, darkest at and beyond it" : "";
+  const std::string colours =
+      limits ? "colours fixed to the tolerance " + number(limits->lower_mm) + ".." + number(limits->upper_mm) +
+                   " mm: green near the nominal, graded to red at the upper limit and to blue at the lower; magenta "
+                   "above the upper limit and violet below the lower: out of tolerance"
+             : "red: material above the surface, blue: below";
   std::vector<ReportPicture> out = {
-      {"Signed orthogonal deviation over the part (red: material above the surface, blue: below" + scale + ")",
+      {"Signed orthogonal deviation over the part (" + colours + ")",
        deviation_map_png(deviation, picture), deviation_map_svg(deviation, picture, "signed orthogonal deviation, mm")},
       {"X error map: x of each point minus x of its closest surface point", deviation_map_png(ex, small),
        deviation_map_svg(ex, small, "X error, mm")},
@@ -135,7 +145,7 @@ ReportPicture uncertainty_picture(const FittedSurface& f) {
   }
   if (points.empty()) return out;
   MapPicture picture;
-  picture.magnitude = true;
+  picture.scale.magnitude = true;
   out.caption = "Expanded uncertainty U = 2u of the fitted surface" + std::string(f.faces.empty() ? "" : "'s faces") +
                 " (k = 2), from a point uncertainty of " + number(sigma_mm) + " mm (" + sigma_from +
                 "): the fit's precision, not its shape error";
@@ -207,8 +217,7 @@ std::string html_report(const ReportInputs& in) {
          "</figcaption></figure>\n";
     const DistanceStats& s = in.inspection->stats;
     // The points in 3D, coloured as the deviation map (fixed to the tolerance when one was asked).
-    const double range = in.decision ? std::max(std::fabs(in.decision->limits.lower_mm), std::fabs(in.decision->limits.upper_mm)) : 0;
-    const std::string view = view3d_html(*in.inspection, range);
+    const std::string view = view3d_html(*in.inspection, deviation_scale(in.decision ? &in.decision->limits : nullptr));
     if (!view.empty()) {
       h += "<h2>The measured points in 3D</h2>\n<figure>" + view +
            "<figcaption>Each point coloured by its signed deviation, on the deviation map's scale.</figcaption></figure>\n";

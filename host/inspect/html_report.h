@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "host/inspect/decision.h"
+#include "host/inspect/deviation_map.h"
 #include "host/inspect/inspect.h"
 #include "host/inspect/inspection_json.h"
 #include "host/geometry/fitted_surface.h"
@@ -35,9 +36,14 @@ std::string base64(const std::string& bytes);
 
 // The report's pictures for an inspection: the signed deviation and Hamdan's (2010) X, Y and Z error
 // maps (the components of point - foot), each as PNG; `svg` receives the deviation map as SVG.
-// `range_mm` > 0 fixes the deviation map's colours to +-range_mm (the tolerance), so a part in
-// tolerance looks it whatever its largest deviation; 0 stretches them to the data.
-std::vector<ReportPicture> inspection_pictures(const Inspection& inspection, std::string* svg, double range_mm = 0);
+// With `limits`, the deviation map's colours are the tolerance scale (tolerance_colour), so a part in
+// tolerance looks it whatever its largest deviation and a point beyond a limit stands out; without,
+// blue to red stretched to the data.
+std::vector<ReportPicture> inspection_pictures(const Inspection& inspection, std::string* svg,
+                                               const ToleranceLimits* limits = nullptr);
+
+// The scale the deviation map and the 3D view share.
+ColourScale deviation_scale(const ToleranceLimits* limits);
 
 // The map of the fitted surface's expanded uncertainty U = 2u over the part (from the u grid in
 // SURF.json, interpolated bilinearly and placed at the surface's x, y); empty png when the surface

@@ -13,10 +13,10 @@
 
 namespace dg::host {
 
-std::string view3d_html(const Inspection& inspection, double range_mm, size_t max_points) {
+std::string view3d_html(const Inspection& inspection, const ColourScale& scale, size_t max_points) {
   const std::vector<PointDeviation>& all = inspection.points;
   if (all.empty()) return "";
-  double range = range_mm;
+  double range = scale.range_mm;
   if (!(range > 0)) {
     for (const PointDeviation& d : all) range = std::max(range, std::fabs(d.distance));
   }
@@ -27,7 +27,7 @@ std::string view3d_html(const Inspection& inspection, double range_mm, size_t ma
   bool first = true;
   for (size_t k = 0; k < all.size(); k += stride) {
     const PointDeviation& d = all[k];
-    const Rgb c = diverging_colour(d.distance / range);
+    const Rgb c = scale_colour(scale, range, d.distance);
     std::snprintf(buffer, sizeof buffer, "%s%.4f,%.4f,%.4f", first ? "" : ",", d.point.x, d.point.y, d.point.z);
     xyz += buffer;
     std::snprintf(buffer, sizeof buffer, "%s\"#%02x%02x%02x\"", first ? "" : ",", c.r, c.g, c.b);

@@ -4,12 +4,13 @@
 #pragma once
 #include <string>
 
+#include "host/inspect/deviation_map.h"
 #include "host/inspect/inspect.h"
 
 namespace dg::host {
 
-// HTML (a canvas and its script) for at most `max_points` points, evenly strided; colours span
-// +-range_mm (0: the largest |deviation|). Empty for an inspection without points.
-std::string view3d_html(const Inspection& inspection, double range_mm, size_t max_points = 20000);
+// HTML (a canvas and its script) for at most `max_points` points, evenly strided, coloured on
+// `scale` (a diverging range of 0: the largest |deviation|). Empty for an inspection without points.
+std::string view3d_html(const Inspection& inspection, const ColourScale& scale, size_t max_points = 20000);
 
 }  // namespace dg::host

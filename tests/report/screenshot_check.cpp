@@ -90,10 +90,23 @@ int main(int argc, char** argv) {
       {"text drawn (near-black pixels)", shot.count({0, 0, 0}, 70), 5000, -1},
       {"the 3D view's canvas (#f4f5f8)", shot.count({0xf4, 0xf5, 0xf8}, 0), 100000, -1},
   };
+  // The deviation map and the 3D view are on the tolerance scale (tolerance_colour): green near the
+  // nominal, and the colour bar's blocks for beyond each limit, about 1,100 pixels each at this size.
+  // A failing part's points beyond the limits take those colours in the map and the 3D view too; a
+  // passing part has none (a point beyond a limit cannot pass), so there the blocks are all.
+  const dg::host::Rgb green = dg::host::tolerance_colour(0, -1, 1);
+  const long above = shot.count({dg::host::kAboveUpperLimit.r, dg::host::kAboveUpperLimit.g, dg::host::kAboveUpperLimit.b}, 2);
+  const long below = shot.count({dg::host::kBelowLowerLimit.r, dg::host::kBelowLowerLimit.g, dg::host::kBelowLowerLimit.b}, 2);
+  expectations.push_back({"the tolerance scale: green near the nominal", shot.count({green.r, green.g, green.b}, 2), 2000, -1});
+  expectations.push_back({"the tolerance scale: the block above the upper limit", above, 400, -1});
+  expectations.push_back({"the tolerance scale: the block below the lower limit", below, 400, -1});
+  if (pass) expectations.push_back({"the tolerance scale: no point beyond a limit", above + below, -1, 4000});
+  if (!pass) expectations.push_back({"the tolerance scale: points beyond the limits", above + below, 8000, -1});
   if (first_page) {
     expectations.erase(std::remove_if(expectations.begin(), expectations.end(),
                                       [](const Expectation& e) {
-                                        return std::strstr(e.what, "colour bars") || std::strstr(e.what, "3D view");
+                                        return std::strstr(e.what, "colour bars") || std::strstr(e.what, "3D view") ||
+                                               std::strstr(e.what, "tolerance scale");
                                       }),
                        expectations.end());
     for (Expectation& e : expectations) e.at_least /= 4;  // a page at 100 dpi holds a quarter of the pixels

@@ -7,6 +7,9 @@
 
 #include <png.h>
 
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <set>
 #include <vector>
 
@@ -45,6 +48,75 @@ std::vector<MapPoint> grid(double (*value)(int, int)) {
 
 TEST_GROUP(Report){};
 
+namespace {
+
+bool same(Rgb a, Rgb b) { return a.r == b.r && a.g == b.g && a.b == b.b; }
+
+// The largest difference in any channel: how far apart two colours look at the least.
+int channel_gap(Rgb a, Rgb b) {
+  return std::max({std::abs(a.r - b.r), std::abs(a.g - b.g), std::abs(a.b - b.b)});
+}
+
+bool has_pixel(const Decoded& d, Rgb c) {
+  for (size_t k = 0; k + 2 < d.rgb.size(); k += 3) {
+    if (d.rgb[k] == c.r && d.rgb[k + 1] == c.g && d.rgb[k + 2] == c.b) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+// A profile tolerance drawn as inspection reports draw it: green about the nominal, the ramp's ends
+// at the limits (a value on a limit is inside), and beyond each limit a colour that no value
+// inside ever takes, so an out-of-tolerance point cannot be read as one near a limit.
+TEST(Report, TheToleranceScaleIsGreenInsideAndDistinctBeyondEachLimit) {
+  const double lower = -0.02, upper = 0.03;
+  const Rgb green = tolerance_colour(0, lower, upper);
+  CHECK(green.g > 2 * green.r && green.g > 2 * green.b);
+  CHECK(same(tolerance_colour(0.004, lower, upper), green));
+  CHECK(same(tolerance_colour(-0.004, lower, upper), green));
+  const Rgb at_upper = tolerance_colour(upper, lower, upper), at_lower = tolerance_colour(lower, lower, upper);
+  CHECK(at_upper.r > 2 * at_upper.g && at_upper.r > 2 * at_upper.b);  // red
+  CHECK(at_lower.b > 2 * at_lower.r && at_lower.b > at_lower.g);        // blue
+  CHECK(same(tolerance_colour(upper + 1e-9, lower, upper), kAboveUpperLimit));
+  CHECK(same(tolerance_colour(lower - 1e-9, lower, upper), kBelowLowerLimit));
+  CHECK(same(tolerance_colour(5.0, lower, upper), kAboveUpperLimit));
+  for (int k = 0; k <= 1000; ++k) {
+    const double value = k == 1000 ? upper : lower + (upper - lower) * k / 1000.0;  // the sum may round past it
+    const Rgb inside = tolerance_colour(value, lower, upper);
+    CHECK(channel_gap(inside, kAboveUpperLimit) >= 60);
+    CHECK(channel_gap(inside, kBelowLowerLimit) >= 60);
+  }
+  CHECK(channel_gap(kAboveUpperLimit, kBelowLowerLimit) >= 60);
+  // Limits that do not straddle 0 (a part that must stand proud by 0.01 to 0.05 mm): green at
+  // their middle.
+  CHECK(same(tolerance_colour(0.03, 0.01, 0.05), tolerance_colour(0, -0.01, 0.01)));
+  CHECK(same(tolerance_colour(0.0, 0.01, 0.05), kBelowLowerLimit));
+}
+
+// With limits, the map and its bar use the tolerance scale: the bar names both limits and the two
+// out-of-tolerance blocks, and the one point beyond the upper limit shows in its colour.
+TEST(Report, AMapWithToleranceLimitsShowsAPointBeyondThemInTheOutOfToleranceColour) {
+  std::vector<MapPoint> points = grid([](int i, int j) { return 0.0004 * (i - 20) + 0.0002 * (j - 15); });
+  points[600].value_mm = 0.05;
+  MapPicture picture;
+  picture.scale.lower_mm = -0.02;
+  picture.scale.upper_mm = 0.02;
+  const std::string svg = deviation_map_svg(points, picture, "deviation");
+  STRCMP_CONTAINS("&gt; +0.0200 mm", svg.c_str());
+  STRCMP_CONTAINS("&lt; -0.0200 mm", svg.c_str());
+  char above[16];
+  std::snprintf(above, sizeof above, "#%02x%02x%02x", kAboveUpperLimit.r, kAboveUpperLimit.g, kAboveUpperLimit.b);
+  STRCMP_CONTAINS((std::string("fill=\"") + above).c_str(), svg.c_str());
+  const Decoded d = decode(deviation_map_png(points, picture));
+  CHECK(has_pixel(d, kAboveUpperLimit));
+  CHECK(has_pixel(d, tolerance_colour(0, -0.02, 0.02)));
+  // Without the outlier no cell is out of tolerance: the colour is left to the bar's block.
+  points[600].value_mm = 0.0;
+  const std::string inside = deviation_map_svg(points, picture, "deviation");
+  CHECK(inside.find(std::string("fill=\"") + above) == std::string::npos);
+}
+
 TEST(Report, DeviationMapHasItsSizeAndIsNotBlank) {
   const Decoded d = decode(deviation_map_png(grid([](int i, int j) { return 0.001 * (i - 20) + 0.0005 * (j - 15); }), MapPicture{}));
   LONGS_EQUAL(900, d.width);
@@ -68,7 +140,7 @@ TEST(Report, OneBadPointAmongManyStaysVisible) {
 TEST(Report, SvgAndHtmlCarryThePicturesAndTheNumbers) {
   const std::string svg = deviation_map_svg(grid([](int i, int) { return 0.001 * i; }), MapPicture{}, "a <title>");
   STRCMP_CONTAINS("<svg xmlns=", svg.c_str());
-  STRCMP_CONTAINS("a &lt;title>", svg.c_str());
+  STRCMP_CONTAINS("a &lt;title&gt;", svg.c_str());
   STRCMP_CONTAINS("+0.0400 mm", svg.c_str());
   Inspection inspection;
   inspection.stats.count = 3;
@@ -173,12 +245,14 @@ TEST(Report, TheUncertaintyMapOfTrimmedFacesTakesEachPointsOwnFace) {
 TEST(Report, TheThreeDViewCarriesAtMostItsPointsWithTheirColours) {
   Inspection inspection;
   for (int i = 0; i < 50000; ++i) inspection.points.push_back({{0.01 * i, 0, 1}, {0.01 * i, 0, 1}, i == 0 ? 0.02 : 0.0});
-  const std::string html = view3d_html(inspection, 0.02, 20000);
+  ColourScale scale;
+  scale.range_mm = 0.02;
+  const std::string html = view3d_html(inspection, scale, 20000);
   STRCMP_CONTAINS("<canvas id=\"view3d\"", html.c_str());
   // 50,000 points strided by 3: 16,667 colours, the first saturated red (at the range), the rest white.
   size_t colours = 0;
   for (size_t at = html.find("\"#"); at != std::string::npos; at = html.find("\"#", at + 1)) ++colours;
   LONGS_EQUAL(16667, colours);
   STRCMP_CONTAINS("const c=[\"#c81e1e\",\"#ffffff\"", html.c_str());
-  STRCMP_EQUAL("", view3d_html(Inspection{}, 0).c_str());
+  STRCMP_EQUAL("", view3d_html(Inspection{}, ColourScale{}).c_str());
 }
