@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "host/cli/scan_command.h"
+#include "host/scan/scan_facts.h"
 #include "host/scan/scan_file.h"
 
 namespace dg::host {
@@ -27,15 +28,7 @@ int run_info(const InfoArgs& a) {
                 r.step_x_nm * 1e-6, r.step_y_nm * 1e-6,
                 r.pattern == digitizer_ScanPattern_PATTERN_RASTER ? "raster" : "serpentine");
     // How each point was read, so a scan taken with the config file's settings says which.
-    if (r.feed_um_s) std::printf("feed %.2f mm/s, ", r.feed_um_s * 1e-3);
-    else std::printf("feed the device's default, ");
-    std::printf("%u sample%s per point (%s), settle %u ms",
-                r.samples_per_point > 1 ? r.samples_per_point : 1, r.samples_per_point > 1 ? "s" : "",
-                r.median ? "median" : "mean", r.settle_ms);
-    if (r.settle_tolerance_nm) std::printf(" until two readings agree within %.1f um", r.settle_tolerance_nm * 1e-3);
-    if (r.spread_tolerance_nm) std::printf(", spread within %.1f um", r.spread_tolerance_nm * 1e-3);
-    if (r.approach_nm) std::printf(", approach %.3f mm", r.approach_nm * 1e-6);
-    std::printf("\n");
+    std::printf("%s\n", reading_settings(r).c_str());
   }
   print_summary(data, "");
   if (!data.done) std::printf("the scan did not finish (no ScanDone record)\n");

@@ -20,6 +20,7 @@
 #include "host/io/whole_file.h"
 #include <ctime>
 
+#include "host/scan/scan_facts.h"
 #include "host/scan/scan_file.h"
 #include "host/io/atomic_file.h"
 #include "host/inspect/html_report.h"
@@ -71,31 +72,10 @@ CLI::App* add_inspect_command(CLI::App& app, InspectArgs& a) {
 
 namespace {
 
-// What a scan file says about how the points were measured.
-std::vector<std::string> scan_facts(const std::string& path) {
+// What a scan file says about how the points were measured; nothing for other point files.
+std::vector<std::string> facts_of(const std::string& path) {
   if (file_format(path) != FileFormat::kScan) return {};
-  const ScanData data = read_scan_file(path);
-  std::vector<std::string> facts;
-  if (data.device) {
-    facts.push_back(std::string("device ") + data.device->device_id + " (" + data.device->board + ", firmware " +
-                    data.device->firmware_version + "), gauge resolution " + std::to_string(data.device->gauge_resolution_nm) + " nm");
-  }
-  char line[160];
-  if (data.request) {
-    std::snprintf(line, sizeof line, "grid x %.3f..%.3f mm, y %.3f..%.3f mm, steps %.3f x %.3f mm", data.request->x.min_nm * 1e-6,
-                  data.request->x.max_nm * 1e-6, data.request->y.min_nm * 1e-6, data.request->y.max_nm * 1e-6,
-                  data.request->step_x_nm * 1e-6, data.request->step_y_nm * 1e-6);
-    facts.push_back(line);
-  }
-  std::snprintf(line, sizeof line, "%zu points in %zu lines", data.points.size(), data.lines.size());
-  facts.push_back(line);
-  if (data.done) {
-    std::snprintf(line, sizeof line, "scan %s in %.1f s of device time",
-                  data.done->reason == digitizer_ScanEnd_SCAN_COMPLETED ? "completed" : "cut short",
-                  static_cast<double>(data.done->duration_us) * 1e-6);
-    facts.push_back(line);
-  }
-  return facts;
+  return scan_facts(read_scan_file(path));
 }
 
 // The alignment for the printed summary and the report.
@@ -129,7 +109,7 @@ bool write_report(const InspectArgs& a, const Inspection& r, const FittedSurface
   in.fields = a.fields;
   in.points_file = a.points;
   in.surface_file = a.surface;
-  in.scan_facts = scan_facts(a.points);
+  in.scan_facts = facts_of(a.points);
   if (!alignment.empty()) in.scan_facts.push_back(alignment);
   in.surface = &surface;
   in.inspection = &r;

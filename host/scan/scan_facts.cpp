@@ -1,0 +1,73 @@
+// A scan's record put into words: the request's settings and what the device reported.
+#include "host/scan/scan_facts.h"
+
+#include <cstdio>
+
+namespace dg::host {
+
+std::string reading_settings(const digitizer_ScanRequest& r) {
+  char part[128];
+  std::string out;
+  if (r.feed_um_s) {
+    std::snprintf(part, sizeof part, "feed %.2f mm/s, ", r.feed_um_s * 1e-3);
+    out += part;
+  } else {
+    out += "feed the device's default, ";
+  }
+  std::snprintf(part, sizeof part, "%u sample%s per point (%s), settle %u ms", r.samples_per_point > 1 ? r.samples_per_point : 1,
+                r.samples_per_point > 1 ? "s" : "", r.median ? "median" : "mean", r.settle_ms);
+  out += part;
+  if (r.settle_tolerance_nm) {
+    std::snprintf(part, sizeof part, " until two readings agree within %.1f um", r.settle_tolerance_nm * 1e-3);
+    out += part;
+  }
+  if (r.spread_tolerance_nm) {
+    std::snprintf(part, sizeof part, ", spread within %.1f um", r.spread_tolerance_nm * 1e-3);
+    out += part;
+  }
+  if (r.approach_nm) {
+    std::snprintf(part, sizeof part, ", approach %.3f mm", r.approach_nm * 1e-6);
+    out += part;
+  }
+  return out;
+}
+
+std::vector<std::string> scan_facts(const ScanData& data) {
+  std::vector<std::string> facts;
+  char line[200];
+  if (data.device) {
+    std::snprintf(line, sizeof line, "device %s (%s, firmware %s), gauge resolution %u nm", data.device->device_id,
+                  data.device->board, data.device->firmware_version, static_cast<unsigned>(data.device->gauge_resolution_nm));
+    facts.push_back(line);
+  }
+  if (data.request) {
+    const digitizer_ScanRequest& r = *data.request;
+    std::snprintf(line, sizeof line, "grid x %.3f..%.3f mm, y %.3f..%.3f mm, steps %.3f x %.3f mm, %s", r.x.min_nm * 1e-6,
+                  r.x.max_nm * 1e-6, r.y.min_nm * 1e-6, r.y.max_nm * 1e-6, r.step_x_nm * 1e-6, r.step_y_nm * 1e-6,
+                  r.pattern == digitizer_ScanPattern_PATTERN_RASTER ? "raster" : "serpentine");
+    facts.push_back(line);
+    facts.push_back("read with " + reading_settings(r));
+  }
+  if (data.repeatability) {
+    const digitizer_Repeatability& q = *data.repeatability;
+    std::snprintf(line, sizeof line, "repeatability before the scan: s = %.2f um over %u readings at (%.3f, %.3f) mm",
+                  q.stddev_nm * 1e-3, static_cast<unsigned>(q.count), q.x_nm * 1e-6, q.y_nm * 1e-6);
+    facts.push_back(line);
+  } else {
+    facts.push_back("repeatability: not measured before the scan (scan --repeatability N)");
+  }
+  // No calibration can be applied yet: say so rather than leave a reader to assume one was.
+  facts.push_back("calibration: none; the points are the table's nominal positions and the gauge's readings, with no "
+                  "machine errors (squareness, scale, straightness) compensated");
+  std::snprintf(line, sizeof line, "%zu points in %zu lines", data.points.size(), data.lines.size());
+  facts.push_back(line);
+  if (data.done) {
+    std::snprintf(line, sizeof line, "scan %s in %.1f s of device time",
+                  data.done->reason == digitizer_ScanEnd_SCAN_COMPLETED ? "completed" : "cut short",
+                  static_cast<double>(data.done->duration_us) * 1e-6);
+    facts.push_back(line);
+  }
+  return facts;
+}
+
+}  // namespace dg::host
