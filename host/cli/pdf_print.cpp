@@ -89,8 +89,11 @@ std::string print_pdf(const std::string& html_path, const std::string& pdf_path)
   if (error || !mkdtemp(profile_template)) return "no temporary profile for Chromium could be made";
   const std::string profile = profile_template;
   const std::string part = pdf_path + ".part";
-  // No network, no GPU, nothing fetched in the background; the sandbox cannot start as root.
-  std::vector<std::string> arguments = {chromium, "--headless", "--disable-gpu", "--disable-quic", "--no-first-run",
+  // No network, nothing fetched in the background; the sandbox cannot start as root. The 3D view
+  // draws with WebGL, here on the CPU through SwiftShader on any machine (Chromium asks for the
+  // opt-in for software WebGL, given because the page is our own file).
+  std::vector<std::string> arguments = {chromium, "--headless", "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
+                                        "--disable-quic", "--no-first-run",
                                         "--disable-background-networking", "--disable-component-update", "--disable-sync",
                                         "--no-pdf-header-footer", "--user-data-dir=" + profile, "--print-to-pdf=" + part,
                                         file_url(html.string())};

@@ -1,8 +1,9 @@
-// The 3D view: points and colours as JSON arrays in the page, drawn far to near on a 2D canvas in
-// an orthographic projection that mouse drags and arrow keys turn, shift-drags move, and the wheel
-// or + and - zoom about the cursor (the page's #zoom=F opens it zoomed). Each drawing leaves the
-// numbers of points drawn and on the canvas, and the zoom, in the canvas's data-drawn,
-// data-visible and data-zoom attributes, where a browser test can read them.
+// The 3D view: the points and their colours as arrays in the page, drawn by Debian's three.js
+// (embedded in the page with its orbit controls, nothing fetched) as points in an orthographic
+// view that mouse drags turn, shift- or right-drags move, and the wheel or + and - zoom (0
+// resets; the page's #zoom=F opens it zoomed). Each drawing leaves the numbers of points drawn and
+// on the canvas, and the zoom, in the canvas's data-drawn, data-visible and data-zoom attributes,
+// where a browser test can read them.
 #include "host/inspect/view3d.h"
 
 #include <algorithm>
@@ -10,6 +11,7 @@
 #include <cstdio>
 
 #include "host/inspect/deviation_map.h"
+#include "host/inspect/three_js.h"
 
 namespace dg::host {
 
@@ -30,49 +32,56 @@ std::string view3d_html(const Inspection& inspection, const ColourScale& scale, 
     const Rgb c = scale_colour(scale, range, d.distance);
     std::snprintf(buffer, sizeof buffer, "%s%.4f,%.4f,%.4f", first ? "" : ",", d.point.x, d.point.y, d.point.z);
     xyz += buffer;
-    std::snprintf(buffer, sizeof buffer, "%s\"#%02x%02x%02x\"", first ? "" : ",", c.r, c.g, c.b);
+    std::snprintf(buffer, sizeof buffer, "%s%.4f,%.4f,%.4f", first ? "" : ",", c.r / 255.0, c.g / 255.0, c.b / 255.0);
     colours += buffer;
     first = false;
   }
   xyz += "]";
   colours += "]";
-  // The script: centre and scale the points to the canvas, then draw each as a small square,
-  // farthest first, after turning them by yaw about z and tilting them by pitch about x (0: seen
-  // from above, x right and y up; pi/2: seen from the front, z up). Heights are drawn to scale.
-  return "<canvas id=\"view3d\" width=\"900\" height=\"560\" tabindex=\"0\" "
-         "style=\"background:#f4f5f8;border:1px solid #ccc;cursor:grab;max-width:100%\"></canvas>\n"
-         "<script>\n(function(){\nconst p=" + xyz + ";\nconst c=" + colours + ";\n" +
-         R"JS(const v=document.getElementById('view3d'),g=v.getContext('2d'),n=p.length/3;
+  // The script: the points centred on their bounding box, in a camera whose view at zoom 1 holds
+  // the box's bounding sphere, looking down at the part from the front and to the right (z up).
+  // Without WebGL the figure says so instead of failing on the page's console.
+  return "<div id=\"view3d\" tabindex=\"0\" style=\"max-width:100%\"></div>\n"
+         "<p id=\"view3d-help\" style=\"font-size:0.85em;color:#333\">Drag to turn, shift-drag or right-drag to move, "
+         "wheel or + and - to zoom, 0 to reset.</p>\n<script>\n" +
+         std::string(three_js()) + "\n</script>\n<script>\n" + three_orbit_controls() +
+         "\n</script>\n<script>\n(function(){\nconst p=" + xyz + ";\nconst c=" + colours + ";\n" +
+         R"JS(const box=document.getElementById('view3d'),W=900,H=560,n=p.length/3;
+const probe=document.createElement('canvas');
+if(!window.WebGLRenderingContext||!(probe.getContext('webgl')||probe.getContext('experimental-webgl'))){
+box.textContent='The 3D view needs WebGL, which this browser does not offer.';return;}
 let lo=[1/0,1/0,1/0],hi=[-1/0,-1/0,-1/0];
 for(let i=0;i<n;i++)for(let a=0;a<3;a++){lo[a]=Math.min(lo[a],p[3*i+a]);hi[a]=Math.max(hi[a],p[3*i+a]);}
 const m=[0,1,2].map(a=>(lo[a]+hi[a])/2),r=Math.max(1e-9,Math.hypot(hi[0]-lo[0],hi[1]-lo[1],hi[2]-lo[2])/2);
+const xyz=new Float32Array(3*n);for(let i=0;i<3*n;i++)xyz[i]=p[i]-m[i%3];
+const geometry=new THREE.BufferGeometry();
+geometry.setAttribute('position',new THREE.BufferAttribute(xyz,3));
+geometry.setAttribute('color',new THREE.BufferAttribute(new Float32Array(c),3));
+const size=Math.max(2,Math.min(8,0.9*Math.min(W,H)/Math.sqrt(n)));
+const scene=new THREE.Scene();
+scene.add(new THREE.Points(geometry,new THREE.PointsMaterial({size:size,sizeAttenuation:false,vertexColors:THREE.VertexColors})));
+const a=r/0.9,camera=new THREE.OrthographicCamera(-a*W/H,a*W/H,a,-a,-20*r,20*r);
+camera.up.set(0,0,1);camera.position.set(0.55*r,-1.1*r,0.95*r);camera.lookAt(0,0,0);
+const renderer=new THREE.WebGLRenderer({antialias:true,preserveDrawingBuffer:true});
+renderer.setClearColor(0xf4f5f8,1);renderer.setSize(W,H);
+const v=renderer.domElement;v.style.maxWidth='100%';v.style.height='auto';v.style.border='1px solid #ccc';v.style.cursor='grab';
+box.appendChild(v);
+const controls=new THREE.OrbitControls(camera,v);
+controls.screenSpacePanning=true;controls.minZoom=0.5;controls.maxZoom=50;controls.zoomSpeed=1.5;
 const h=/zoom=([0-9.]+)/.exec(location.hash);
-let yaw=-0.6,pitch=1.0,zoom=h?Math.max(0.5,Math.min(50,+h[1])):1,pan=[0,0];const order=new Array(n),q=new Float64Array(3*n);
-function draw(){const s=zoom*0.9*Math.min(v.width,v.height)/(2*r),cy=Math.cos(yaw),sy=Math.sin(yaw),cp=Math.cos(pitch),sp=Math.sin(pitch);
-let seen=0;
-for(let i=0;i<n;i++){const x=p[3*i]-m[0],y=p[3*i+1]-m[1],z=p[3*i+2]-m[2];const X=cy*x-sy*y,Y=sy*x+cy*y;
-q[3*i]=v.width/2+pan[0]+s*X;q[3*i+1]=v.height/2+pan[1]-s*(Y*cp+z*sp);q[3*i+2]=z*cp-Y*sp;order[i]=i;
-if(q[3*i]>=0&&q[3*i]<v.width&&q[3*i+1]>=0&&q[3*i+1]<v.height)seen++;}
-order.sort((a,b)=>q[3*a+2]-q[3*b+2]);g.clearRect(0,0,v.width,v.height);
-const d=Math.max(2,Math.min(8*Math.sqrt(zoom),s*2*r/Math.sqrt(n)));
-for(const i of order){g.fillStyle=c[i];g.fillRect(q[3*i]-d/2,q[3*i+1]-d/2,d,d);}
-g.fillStyle='#333';g.font='13px sans-serif';
-g.fillText('drag to turn, shift-drag to move, wheel or + and - to zoom ('+zoom.toFixed(1)+'x), 0 to reset',10,v.height-10);
-v.dataset.drawn=n;v.dataset.visible=seen;v.dataset.zoom=zoom;}
-function zoom_at(f,cx,cy){const z=Math.max(0.5,Math.min(50,zoom*f)),k=z/zoom;
-pan=[(pan[0]-(cx-v.width/2))*k+(cx-v.width/2),(pan[1]-(cy-v.height/2))*k+(cy-v.height/2)];zoom=z;draw();}
-let drag=null;v.addEventListener('mousedown',e=>{drag=[e.clientX,e.clientY,e.shiftKey];});
-window.addEventListener('mouseup',()=>{drag=null;});
-window.addEventListener('mousemove',e=>{if(!drag)return;const dx=e.clientX-drag[0],dy=e.clientY-drag[1];
-if(drag[2]){pan=[pan[0]+dx,pan[1]+dy];}else{yaw+=dx*0.01;pitch=Math.max(0,Math.min(Math.PI,pitch+dy*0.01));}
-drag=[e.clientX,e.clientY,drag[2]];draw();});
-v.addEventListener('wheel',e=>{const b=v.getBoundingClientRect();
-zoom_at(Math.exp(-e.deltaY*0.0015),(e.clientX-b.left)*v.width/b.width,(e.clientY-b.top)*v.height/b.height);e.preventDefault();},{passive:false});
-v.addEventListener('keydown',e=>{const k={ArrowLeft:[-0.1,0],ArrowRight:[0.1,0],ArrowUp:[0,-0.1],ArrowDown:[0,0.1]}[e.key];
-if(e.key==='+'||e.key==='='){zoom_at(1.25,v.width/2,v.height/2);e.preventDefault();return;}
-if(e.key==='-'){zoom_at(0.8,v.width/2,v.height/2);e.preventDefault();return;}
-if(e.key==='0'){zoom=1;pan=[0,0];yaw=-0.6;pitch=1.0;draw();e.preventDefault();return;}
-if(!k)return;yaw+=k[0];pitch=Math.max(0,Math.min(Math.PI,pitch+k[1]));draw();e.preventDefault();});
+if(h){camera.zoom=Math.max(0.5,Math.min(50,+h[1]));camera.updateProjectionMatrix();}
+controls.saveState();
+const q=new THREE.Vector3();
+function draw(){renderer.render(scene,camera);let seen=0;
+for(let i=0;i<n;i++){q.set(xyz[3*i],xyz[3*i+1],xyz[3*i+2]).project(camera);if(Math.abs(q.x)<=1&&Math.abs(q.y)<=1)seen++;}
+v.dataset.drawn=n;v.dataset.visible=seen;v.dataset.zoom=camera.zoom;}
+controls.addEventListener('change',draw);
+box.addEventListener('keydown',e=>{
+if(e.key==='+'||e.key==='='){camera.zoom=Math.min(50,camera.zoom*1.25);}
+else if(e.key==='-'){camera.zoom=Math.max(0.5,camera.zoom*0.8);}
+else if(e.key==='0'){controls.reset();camera.zoom=1;}
+else return;
+camera.updateProjectionMatrix();draw();e.preventDefault();});
 draw();})();
 </script>
 )JS";

@@ -1,6 +1,6 @@
-// The report's 3D view: the measured points, coloured by their deviation on the maps' scale, on a
-// canvas the reader turns with the mouse (or the arrow keys); plain JavaScript in the page, nothing
-// fetched.
+// The report's 3D view: the measured points, coloured by their deviation on the maps' scale, drawn by
+// three.js (Debian's, embedded in the page) in a view the reader turns, moves and zooms with the
+// mouse or the keys; nothing fetched, so it works from a file opened offline.
 #pragma once
 #include <string>
 
