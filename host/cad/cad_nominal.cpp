@@ -280,4 +280,6 @@ size_t CadNominal::triangle_count() const { return impl_->mesh->triangle_count()
 double CadNominal::deflection_mm() const { return impl_->deflection_mm; }
 size_t CadNominal::mesh_fallbacks() const { return impl_->fallbacks; }
 
+const Mesh& CadNominal::mesh() const { return impl_->mesh->mesh(); }
+
 }  // namespace dg::host

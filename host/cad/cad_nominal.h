@@ -7,6 +7,7 @@
 #include <string>
 
 #include "host/geometry/closest_point.h"
+#include "host/geometry/tessellate.h"
 
 namespace dg::host {
 
@@ -35,6 +36,8 @@ class CadNominal {
   size_t face_count() const;
   size_t triangle_count() const;
   double deflection_mm() const;
+  // The faces' mesh (to the deflection), in mm: what the report's 3D view draws.
+  const Mesh& mesh() const;
   // Points whose exact distance could not be found on any candidate face: measured on the mesh
   // instead (within the deflection).
   size_t mesh_fallbacks() const;

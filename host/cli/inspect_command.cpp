@@ -33,6 +33,7 @@
 #include "host/inspect/decision.h"
 #include "host/inspect/inspect.h"
 #include "host/inspect/inspection_json.h"
+#include "host/inspect/view_mesh.h"
 #include "host/cad/surface_json.h"
 
 namespace dg::host {
@@ -97,10 +98,34 @@ std::string alignment_text(const AlignmentSummary& s) {
 }
 
 // Returns whether the uncertainty map was drawn (the surface, or every face, carries its grid).
+// The surface the report's 3D view draws under the points: the nominal's mesh, or the fitted
+// surface meshed to a thousandth of the points' extent; none where it cannot be meshed.
+Mesh view_surface(const Inspection& r, const FittedSurface& surface, const MeshLocator* mesh, const CadNominal* cad) {
+  if (mesh) return mesh_for_view(mesh->mesh(), r);
+  if (cad) return mesh_for_view(cad->mesh(), r);
+  double x0 = HUGE_VAL, x1 = -HUGE_VAL, y0 = HUGE_VAL, y1 = -HUGE_VAL;
+  for (const PointDeviation& d : r.points) {
+    x0 = std::min(x0, d.point.x), x1 = std::max(x1, d.point.x), y0 = std::min(y0, d.point.y), y1 = std::max(y1, d.point.y);
+  }
+  const double extent = std::hypot(x1 - x0, y1 - y0);
+  if (!(extent > 0)) return Mesh{};
+  const double chord = std::max(0.002, 1e-3 * extent);
+  constexpr size_t kLargest = 400000;  // meshed finer than this, the surface is coarsened by mesh_for_view anyway
+  try {
+    if (!surface.faces.empty()) return mesh_for_view(tessellate_faces(surface.faces, chord, extent / 100, kLargest), r);
+    if (surface.surface.count_u > 0 && surface.surface.count_v > 0) return mesh_for_view(tessellate(surface.surface, chord, kLargest), r);
+  } catch (const std::invalid_argument&) {
+    // Too fine to mesh within the limit: the view shows the points alone.
+  }
+  return Mesh{};
+}
+
 bool write_report(const InspectArgs& a, const Inspection& r, const FittedSurface& surface, const std::string& alignment,
-                  const Decision* decision) {
+                  const Decision* decision, const Mesh& view_mesh) {
   std::string svg;
   ReportInputs in;
+  in.view_surface = &view_mesh;
+  in.view_surface_name = surface.model == "mesh" || surface.model == "cad" ? "the nominal" : "the fitted surface";
   in.pictures = inspection_pictures(r, &svg, decision ? &decision->limits : nullptr);
   const std::time_t now = std::time(nullptr);
   char stamp[48];
@@ -333,7 +358,9 @@ int run_inspect(const InspectArgs& given) {
                         : decision->verdict == Verdict::kFail         ? kExitInspectionFail
                         : decision->verdict == Verdict::kInconclusive ? kExitInspectionInconclusive
                                                                       : 0;
-  const bool uncertainty_drawn = !a.report_html.empty() && write_report(a, r, surface, alignment, decision ? &*decision : nullptr);
+  const bool uncertainty_drawn =
+      !a.report_html.empty() && write_report(a, r, surface, alignment, decision ? &*decision : nullptr,
+                                             view_surface(r, surface, mesh ? &*mesh : nullptr, cad ? &*cad : nullptr));
   // The PDF for sign-off, beside a report written to a regular file.
   std::string pdf_note;
   if (!a.report_html.empty() && a.pdf && a.report_html != "-") {

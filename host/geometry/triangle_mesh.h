@@ -35,6 +35,7 @@ class MeshLocator {
   const std::array<uint32_t, 3>& triangle(size_t t) const { return mesh_.triangles[t]; }
   const Point3& vertex(size_t v) const { return mesh_.vertices[v]; }
   size_t without_area() const { return without_area_; }  // triangles whose corners lie on one line
+  const Mesh& mesh() const { return mesh_; }
 
  private:
   struct Node {

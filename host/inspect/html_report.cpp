@@ -217,10 +217,16 @@ std::string html_report(const ReportInputs& in) {
          "</figcaption></figure>\n";
     const DistanceStats& s = in.inspection->stats;
     // The points in 3D, coloured as the deviation map (fixed to the tolerance when one was asked).
-    const std::string view = view3d_html(*in.inspection, deviation_scale(in.decision ? &in.decision->limits : nullptr));
+    const bool surface = in.view_surface && !in.view_surface->triangles.empty();
+    const std::string view = view3d_html(*in.inspection, deviation_scale(in.decision ? &in.decision->limits : nullptr),
+                                         surface ? in.view_surface : nullptr);
     if (!view.empty()) {
       h += "<h2>The measured points in 3D</h2>\n<figure>" + view +
-           "<figcaption>Each point coloured by its signed deviation, on the deviation map's scale.</figcaption></figure>\n";
+           "<figcaption>Each point coloured by its signed deviation, on the deviation map's scale" +
+           (surface ? ", over " + escape(in.view_surface_name) + " in translucent grey (" +
+                          std::to_string(in.view_surface->triangles.size()) + " triangles)"
+                    : std::string()) +
+           ".</figcaption></figure>\n";
     }
     h += "<h2>Orthogonal deviation (mm)</h2>\n<table>\n" + row("points", std::to_string(s.count)) + row("mean", number(s.mean)) +
          row("median", number(s.median)) + row("standard deviation", number(s.stddev)) + row("RMS", number(s.rms)) +

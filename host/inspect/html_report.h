@@ -9,6 +9,7 @@
 #include "host/inspect/inspect.h"
 #include "host/inspect/inspection_json.h"
 #include "host/geometry/fitted_surface.h"
+#include "host/geometry/tessellate.h"
 
 namespace dg::host {
 
@@ -29,6 +30,9 @@ struct ReportInputs {
   const Inspection* inspection = nullptr;
   const Decision* decision = nullptr;  // the tolerance's verdict, when one was asked
   std::vector<ReportPicture> pictures;
+  // The surface the 3D view draws under the points (mesh_for_view), and what it is, for the caption.
+  const Mesh* view_surface = nullptr;
+  std::string view_surface_name;
 };
 
 std::string html_report(const ReportInputs& inputs);

@@ -8,12 +8,14 @@
 #include <png.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <set>
 #include <vector>
 
 #include "host/inspect/deviation_map.h"
+#include "host/inspect/view_mesh.h"
 
 using namespace dg::host;
 
@@ -247,7 +249,7 @@ TEST(Report, TheThreeDViewCarriesAtMostItsPointsWithTheirColours) {
   for (int i = 0; i < 50000; ++i) inspection.points.push_back({{0.01 * i, 0, 1}, {0.01 * i, 0, 1}, i == 0 ? 0.02 : 0.0});
   ColourScale scale;
   scale.range_mm = 0.02;
-  const std::string html = view3d_html(inspection, scale, 20000);
+  const std::string html = view3d_html(inspection, scale, nullptr, 20000);
   STRCMP_CONTAINS("<div id=\"view3d\"", html.c_str());
   // three.js and its orbit controls are in the page itself: nothing is fetched when it opens.
   STRCMP_CONTAINS("REVISION", html.c_str());
@@ -261,4 +263,47 @@ TEST(Report, TheThreeDViewCarriesAtMostItsPointsWithTheirColours) {
   LONGS_EQUAL(3 * 16667, std::count(values.begin(), values.end(), ',') + 1);
   STRCMP_CONTAINS("const c=[0.7843,0.1176,0.1176,1.0000,1.0000,1.0000,", html.c_str());
   STRCMP_EQUAL("", view3d_html(Inspection{}, ColourScale{}).c_str());
+}
+
+// The surface under the points: the nominal's or the fitted surface's mesh, cropped to the points'
+// area and coarsened to what a page carries, its vertices near the surface they came from.
+TEST(Report, TheThreeDViewDrawsTheSurfaceCroppedAndCoarsenedUnderThePoints) {
+  // A 200 x 200 mm plane z = 0.01 x meshed at 0.5 mm (320,000 triangles); the points cover 40 x 30 mm.
+  Mesh plane;
+  const int n = 401;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) plane.vertices.push_back({-80 + 0.5 * i, -80 + 0.5 * j, 0.01 * (-80 + 0.5 * i)});
+  for (int j = 0; j + 1 < n; ++j)
+    for (int i = 0; i + 1 < n; ++i) {
+      const uint32_t a = static_cast<uint32_t>(j * n + i);
+      plane.triangles.push_back({a, a + 1, a + n + 1});
+      plane.triangles.push_back({a, a + n + 1, a + n});
+    }
+  Inspection inspection;
+  for (int j = 0; j <= 30; ++j)
+    for (int i = 0; i <= 40; ++i) inspection.points.push_back({{1.0 * i, 1.0 * j, 0.01 * i}, {1.0 * i, 1.0 * j, 0.01 * i}, 0.0});
+  const Mesh view = mesh_for_view(plane, inspection, 4000);
+  CHECK(!view.triangles.empty());
+  CHECK(view.triangles.size() <= 4000);
+  double x0 = HUGE_VAL, x1 = -HUGE_VAL;
+  for (const Point3& v : view.vertices) {
+    x0 = std::min(x0, v.x), x1 = std::max(x1, v.x);
+    DOUBLES_EQUAL(0.01 * v.x, v.z, 1e-9);  // merged vertices are means of vertices on the plane
+  }
+  // Cropped to the points' box widened by a tenth of its larger side (4 mm), give or take a cell.
+  CHECK(x0 > -4 - 3 && x0 < 0);
+  CHECK(x1 > 40 && x1 < 44 + 3);
+  for (const auto& t : view.triangles) {
+    CHECK(t[0] != t[1] && t[1] != t[2] && t[0] != t[2]);
+    for (uint32_t k : t) CHECK(k < view.vertices.size());
+  }
+  // A mesh already small enough comes back cropped only.
+  const Mesh small = mesh_for_view(plane, inspection, 1000000);
+  CHECK(small.triangles.size() > view.triangles.size());
+  ColourScale scale;
+  const std::string html = view3d_html(inspection, scale, &view);
+  STRCMP_CONTAINS("const st=[", html.c_str());
+  STRCMP_CONTAINS("MeshLambertMaterial", html.c_str());
+  STRCMP_EQUAL("", view3d_html(Inspection{}, scale, &view).c_str());
+  CHECK(mesh_for_view(plane, Inspection{}, 4000).triangles.empty());
 }
