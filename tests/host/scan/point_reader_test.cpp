@@ -66,6 +66,15 @@ TEST(PointReader, NamesTheLineOfEveryBadRow) {
   STRCMP_CONTAINS("empty file", error_of("").c_str());
 }
 
+// Of several repeated points, the one named is the first a reader meets going down the file, with
+// the earliest of its copies; 0 and -0 are one point.
+TEST(PointReader, NamesTheFirstRepeatInTheFileAndTheEarliestCopyOfIt) {
+  STRCMP_CONTAINS("in.csv:5: the same point as in.csv:3", error_of("x,y,z\n1,1,1\n2,2,2\n3,3,3\n2,2,2\n1,1,1\n").c_str());
+  STRCMP_CONTAINS("in.csv:4: the same point as in.csv:2", error_of("x,y,z\n1,1,1\n5,5,5\n1,1,1\n1,1,1\n5,5,5\n").c_str());
+  STRCMP_CONTAINS("in.csv:4: the same point as in.csv:3", error_of("x,y,z\n9,9,9\n0,1,2\n-0,1,2\n").c_str());
+  CHECK(error_of("x,y,z\n1,1,1\n1,1,2\n1,2,1\n2,1,1\n").empty());
+}
+
 TEST(PointReader, ReadsWhitespaceXyzAndRefusesShortRows) {
   const dg::host::PointCloud c = dg::host::parse_xyz_points("# comment\n1 2 3\n\t4  5 6\n", "in.xyz");
   LONGS_EQUAL(2, c.points.size());
