@@ -97,29 +97,14 @@ std::string alignment_text(const AlignmentSummary& s) {
   return out;
 }
 
-// Returns whether the uncertainty map was drawn (the surface, or every face, carries its grid).
-// The surface the report's 3D view draws under the points: the nominal's mesh, or the fitted
-// surface meshed to a thousandth of the points' extent; none where it cannot be meshed.
+// The surface the report's 3D view draws under the points: the nominal's mesh, or the fitted surface's.
 Mesh view_surface(const Inspection& r, const FittedSurface& surface, const MeshLocator* mesh, const CadNominal* cad) {
   if (mesh) return mesh_for_view(mesh->mesh(), r);
   if (cad) return mesh_for_view(cad->mesh(), r);
-  double x0 = HUGE_VAL, x1 = -HUGE_VAL, y0 = HUGE_VAL, y1 = -HUGE_VAL;
-  for (const PointDeviation& d : r.points) {
-    x0 = std::min(x0, d.point.x), x1 = std::max(x1, d.point.x), y0 = std::min(y0, d.point.y), y1 = std::max(y1, d.point.y);
-  }
-  const double extent = std::hypot(x1 - x0, y1 - y0);
-  if (!(extent > 0)) return Mesh{};
-  const double chord = std::max(0.002, 1e-3 * extent);
-  constexpr size_t kLargest = 400000;  // meshed finer than this, the surface is coarsened by mesh_for_view anyway
-  try {
-    if (!surface.faces.empty()) return mesh_for_view(tessellate_faces(surface.faces, chord, extent / 100, kLargest), r);
-    if (surface.surface.count_u > 0 && surface.surface.count_v > 0) return mesh_for_view(tessellate(surface.surface, chord, kLargest), r);
-  } catch (const std::invalid_argument&) {
-    // Too fine to mesh within the limit: the view shows the points alone.
-  }
-  return Mesh{};
+  return fitted_surface_for_view(surface, r);
 }
 
+// Returns whether the uncertainty map was drawn (the surface, or every face, carries its grid).
 bool write_report(const InspectArgs& a, const Inspection& r, const FittedSurface& surface, const std::string& alignment,
                   const Decision* decision, const Mesh& view_mesh) {
   std::string svg;

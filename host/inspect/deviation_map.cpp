@@ -1,5 +1,6 @@
 // Binning, colours and the two picture formats of the deviation maps.
 #include "host/inspect/deviation_map.h"
+#include "host/inspect/number_text.h"
 
 #include <algorithm>
 #include <cmath>
@@ -173,12 +174,7 @@ std::string axes_svg(const Layout& l) {
   return out;
 }
 
-std::string mm_label(double v) {
-  char text[32];
-  // Zero without a sign: "+0.0000" or "-0.0000" reads as a deviation that rounded away.
-  std::snprintf(text, sizeof text, std::fabs(v) < 5e-5 ? "%.4f mm" : "%+.4f mm", std::fabs(v) < 5e-5 ? 0.0 : v);
-  return text;
-}
+std::string mm_label(double v) { return number_text(v, "%+.4f") + " mm"; }
 
 // Text for an SVG element.
 std::string xml_text(const std::string& s) {

@@ -8,6 +8,7 @@
 
 #include "host/inspect/deviation_map.h"
 #include "host/inspect/histogram.h"
+#include "host/inspect/number_text.h"
 #include "host/inspect/view3d.h"
 
 namespace dg::host {
@@ -28,14 +29,7 @@ std::string escape(const std::string& text) {
   return out;
 }
 
-// A number as `format` prints it, without the sign of a value that rounds to zero ("-0.0000").
-std::string number(double v, const char* format = "%.4f") {
-  char text[48];
-  std::snprintf(text, sizeof text, format, v);
-  std::string out = text;
-  if (!out.empty() && out[0] == '-' && out.find_first_of("123456789") == std::string::npos) out.erase(0, 1);
-  return out;
-}
+std::string number(double v, const char* format = "%.4f") { return number_text(v, format); }
 
 std::string row(const std::string& name, const std::string& value) {
   return "<tr><th>" + escape(name) + "</th><td>" + escape(value) + "</td></tr>\n";

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <map>
 #include <set>
+#include <stdexcept>
 #include <tuple>
 
 namespace dg::host {
@@ -42,18 +43,28 @@ Mesh clustered(const Mesh& in, double cell_mm) {
   return out;
 }
 
+struct Box {
+  double x0 = HUGE_VAL, x1 = -HUGE_VAL, y0 = HUGE_VAL, y1 = -HUGE_VAL;
+};
+
+// The measured points' extent in XY.
+Box points_box(const Inspection& inspection) {
+  Box b;
+  for (const PointDeviation& d : inspection.points) {
+    b.x0 = std::min(b.x0, d.point.x), b.x1 = std::max(b.x1, d.point.x), b.y0 = std::min(b.y0, d.point.y), b.y1 = std::max(b.y1, d.point.y);
+  }
+  return b;
+}
+
 }  // namespace
 
 Mesh mesh_for_view(const Mesh& mesh, const Inspection& inspection, size_t max_triangles) {
   Mesh out;
   if (inspection.points.empty() || mesh.triangles.empty() || max_triangles == 0) return out;
-  double x0 = HUGE_VAL, x1 = -HUGE_VAL, y0 = HUGE_VAL, y1 = -HUGE_VAL;
-  for (const PointDeviation& d : inspection.points) {
-    x0 = std::min(x0, d.point.x), x1 = std::max(x1, d.point.x), y0 = std::min(y0, d.point.y), y1 = std::max(y1, d.point.y);
-  }
-  const double margin = 0.1 * std::max(x1 - x0, y1 - y0);
-  x0 -= margin, x1 += margin, y0 -= margin, y1 += margin;
-  auto inside = [&](const Point3& p) { return p.x >= x0 && p.x <= x1 && p.y >= y0 && p.y <= y1; };
+  Box b = points_box(inspection);
+  const double margin = 0.1 * std::max(b.x1 - b.x0, b.y1 - b.y0);
+  b.x0 -= margin, b.x1 += margin, b.y0 -= margin, b.y1 += margin;
+  auto inside = [&](const Point3& p) { return p.x >= b.x0 && p.x <= b.x1 && p.y >= b.y0 && p.y <= b.y1; };
   // The triangles near the points, with their vertices renumbered.
   std::vector<uint32_t> renumbered(mesh.vertices.size(), UINT32_MAX);
   for (const auto& t : mesh.triangles) {
@@ -67,10 +78,27 @@ Mesh mesh_for_view(const Mesh& mesh, const Inspection& inspection, size_t max_tr
     out.triangles.push_back(corners);
   }
   // A grid of about max_triangles / 2 cells over the area to start with, a third coarser each time.
-  double cell = std::hypot(x1 - x0, y1 - y0) / std::sqrt(static_cast<double>(max_triangles) / 2);
+  double cell = std::hypot(b.x1 - b.x0, b.y1 - b.y0) / std::sqrt(static_cast<double>(max_triangles) / 2);
   for (int round = 0; out.triangles.size() > max_triangles && round < 60; ++round, cell *= 1.5) out = clustered(out, cell);
   if (out.triangles.size() > max_triangles) out = Mesh{};
   return out;
+}
+
+Mesh fitted_surface_for_view(const FittedSurface& surface, const Inspection& inspection) {
+  const Box b = points_box(inspection);
+  const double extent = std::hypot(b.x1 - b.x0, b.y1 - b.y0);
+  if (!(extent > 0)) return Mesh{};
+  const double chord = std::max(0.002, 1e-3 * extent);
+  constexpr size_t kLargest = 400000;  // meshed finer than this, the surface is coarsened by mesh_for_view anyway
+  try {
+    if (!surface.faces.empty()) return mesh_for_view(tessellate_faces(surface.faces, chord, extent / 100, kLargest), inspection);
+    if (surface.surface.count_u > 0 && surface.surface.count_v > 0) {
+      return mesh_for_view(tessellate(surface.surface, chord, kLargest), inspection);
+    }
+  } catch (const std::invalid_argument&) {
+    // Too fine to mesh within the limit: the view shows the points alone.
+  }
+  return Mesh{};
 }
 
 }  // namespace dg::host

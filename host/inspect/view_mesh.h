@@ -3,6 +3,7 @@
 #pragma once
 #include <cstddef>
 
+#include "host/geometry/fitted_surface.h"
 #include "host/geometry/tessellate.h"
 #include "host/inspect/inspect.h"
 
@@ -13,5 +14,9 @@ namespace dg::host {
 // coarser until they fit, and triangles that collapse are dropped. Empty without points or
 // triangles near them.
 Mesh mesh_for_view(const Mesh& mesh, const Inspection& inspection, size_t max_triangles = 40000);
+
+// A fitted surface (one B-spline, or trimmed faces) meshed to a thousandth of the points' extent,
+// then as mesh_for_view; empty where it cannot be meshed within 400,000 triangles.
+Mesh fitted_surface_for_view(const FittedSurface& surface, const Inspection& inspection);
 
 }  // namespace dg::host

@@ -187,6 +187,26 @@ LooModel line_model(const std::vector<Point3>& points, const std::vector<size_t>
   return out;
 }
 
+// The window's points other than i and those `excluded` marks.
+std::vector<size_t> others_in(const std::vector<size_t>& window, size_t i, const std::vector<char>& excluded) {
+  std::vector<size_t> out;
+  for (size_t j : window) {
+    if (j != i && !excluded[j]) out.push_back(j);
+  }
+  return out;
+}
+
+// Up to four of `members`, the nearest to point i in XY, nearest first.
+std::vector<size_t> nearest_four(const std::vector<Point3>& points, const std::vector<size_t>& members, size_t i) {
+  std::vector<std::pair<double, size_t>> nearest;
+  for (size_t j : members) nearest.push_back({std::hypot(points[j].x - points[i].x, points[j].y - points[i].y), j});
+  const size_t count = std::min<size_t>(4, nearest.size());
+  std::partial_sort(nearest.begin(), nearest.begin() + static_cast<std::ptrdiff_t>(count), nearest.end());
+  std::vector<size_t> out;
+  for (size_t m = 0; m < count; ++m) out.push_back(nearest[m].second);
+  return out;
+}
+
 // Which of a window's points its model misses, for the whole window's model only (kept apart from
 // LooModel, of which every point holds seventeen): the judge may pass over a suspected neighbour,
 // but not a surface beyond a crease.
@@ -259,11 +279,8 @@ LooModel loo_model(const std::vector<Point3>& points, const std::vector<size_t>&
     out.polynomial = model;
   }
   if (out.ok) {
-    std::vector<std::pair<double, size_t>> nearest;
-    for (size_t j : window) nearest.push_back({std::hypot(points[j].x - points[i].x, points[j].y - points[i].y), j});
-    const size_t count = std::min<size_t>(4, nearest.size());
-    std::partial_sort(nearest.begin(), nearest.begin() + static_cast<std::ptrdiff_t>(count), nearest.end());
-    out.near_worst = count == 4 ? 0 : HUGE_VAL;
+    const std::vector<size_t> nearest = nearest_four(points, window, i);
+    out.near_worst = nearest.size() == 4 ? 0 : HUGE_VAL;
     if (misses != nullptr) {
       *misses = WindowMisses{};
       std::vector<std::pair<double, size_t>> worst;
@@ -273,8 +290,8 @@ LooModel loo_model(const std::vector<Point3>& points, const std::vector<size_t>&
                         [](const auto& a, const auto& b) { return a.first > b.first; });
       for (size_t m = 0; m < kept; ++m) misses->worst_residual[m] = worst[m].first, misses->worst_index[m] = worst[m].second;
     }
-    for (size_t m = 0; m < count; ++m) {
-      const size_t j = nearest[m].second;
+    for (size_t m = 0; m < nearest.size(); ++m) {
+      const size_t j = nearest[m];
       if (std::find(chosen.begin(), chosen.end(), j) != chosen.end()) ++out.near_kept;
       const double residual = std::fabs(points[j].z - model.at(points[j].x, points[j].y));
       if (misses != nullptr) misses->near_index[m] = j, misses->near_residual[m] = residual;
@@ -436,10 +453,7 @@ CreaseModel crease_model(const std::vector<Point3>& points, const std::vector<si
                          const SplitModels& start) {
   CreaseModel best;
   if (!start.own.ok || !start.other.ok) return best;
-  std::vector<size_t> members;
-  for (size_t j : hood) {
-    if (j != i && !excluded[j]) members.push_back(j);
-  }
+  const std::vector<size_t> members = others_in(hood, i, excluded);
   std::vector<size_t> side_a, side_b;
   std::vector<double> squares;
   for (bool ridge : {true, false}) {
@@ -477,13 +491,10 @@ CreaseModel crease_model(const std::vector<Point3>& points, const std::vector<si
     const double scale = std::sqrt(trimmed / dof);
     if (best.ok && !(scale < best.scale)) continue;
     const bool a_active = envelope(a.prediction, b.prediction) == a.prediction;
-    std::vector<std::pair<double, size_t>> nearest;
-    for (size_t j : members) nearest.push_back({std::hypot(points[j].x - points[i].x, points[j].y - points[i].y), j});
-    const size_t count = std::min<size_t>(4, nearest.size());
-    std::partial_sort(nearest.begin(), nearest.begin() + static_cast<std::ptrdiff_t>(count), nearest.end());
-    best.near_worst = count == 4 ? 0 : HUGE_VAL;
-    for (size_t m = 0; m < count; ++m) {
-      const Point3& q = points[nearest[m].second];
+    const std::vector<size_t> nearest = nearest_four(points, members, i);
+    best.near_worst = nearest.size() == 4 ? 0 : HUGE_VAL;
+    for (size_t j : nearest) {
+      const Point3& q = points[j];
       best.near_worst = std::max(best.near_worst, std::fabs(q.z - envelope(a.polynomial.at(q.x, q.y), b.polynomial.at(q.x, q.y))));
     }
     best.ok = true;
@@ -515,8 +526,8 @@ void add_line_models(const std::vector<Point3>& points, const LineSides& sides, 
 // otherwise each spoil the other's whole window and leave both to the looser half-planes and lines.
 // Near a crease a suspect may be a false one on a sliver, and passing over it condemned the rim
 // point beside it.
-bool whole_judges(const PointTest& t, double sigma, double k, const std::vector<char>* suspect,
-                  const std::function<bool()>& smooth_around) {
+bool whole_judges(const PointTest& t, double sigma, double k, const std::vector<char>* suspect = nullptr,
+                  const std::function<bool()>& smooth_around = {}) {
   const LooModel& whole = t.model[0];
   if (!whole.ok || whole.scale > 2.5 * sigma || !std::isfinite(whole.near_worst)) return false;
   const double bound = k * std::hypot(sigma, whole.scale);
@@ -764,13 +775,11 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
   std::vector<char> prior(points.size(), 0);
   auto outlier_window = [&](size_t i) {
     // A cubic that keeps 90 % of the window's unsuspected points within the noise: a crease leaves
-    // more than a tenth of it off any one surface.
+    // more than a tenth of it off any one surface. Only a grid has the wider windows; scattered
+    // points never pass a neighbour over.
     const std::function<bool()> smooth_around = [&]() {
-      std::vector<size_t> others;
-      for (size_t j : wide[i]) {
-        if (j != i && !prior[j]) others.push_back(j);
-      }
-      const LooModel m = loo_model(points, others, i, reference, 3, 0.9);
+      if (!result.gridded) return false;
+      const LooModel m = loo_model(points, others_in(wide[i], i, prior), i, reference, 3, 0.9);
       return m.ok && m.scale <= 2.5 * sigma;
     };
     const int window = verdict(tests[i], sigma, options.outlier_sigmas, &prior, smooth_around);
@@ -835,15 +844,11 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
     // first over the point's own window, then over the wider one where the own one holds too
     // little of one side.
     bool crease_judged = false;
-    if (result.gridded && near_crease(tests[i], sigma) && !whole_judges(tests[i], sigma, options.outlier_sigmas, nullptr, [] { return false; })) {
+    if (result.gridded && near_crease(tests[i], sigma) && !whole_judges(tests[i], sigma, options.outlier_sigmas)) {
       for (const std::vector<size_t>* around : {&hood[i], &wide[i]}) {
         // Only a window that is not one smooth surface: where outliers crowd a smooth one, the
         // larger or smaller of two fits to the same surface is biased by their noise.
-        std::vector<size_t> members;
-        for (size_t j : *around) {
-          if (j != i && !suspect[j]) members.push_back(j);
-        }
-        const LooModel single = loo_model(points, members, i, reference, 3);
+        const LooModel single = loo_model(points, others_in(*around, i, suspect), i, reference, 3);
         if (single.ok && single.scale <= 2.5 * sigma) continue;
         const SplitModels split = split_model(points, *around, i, reference, suspect);
         const CreaseModel crease = crease_model(points, *around, i, reference, suspect, split);

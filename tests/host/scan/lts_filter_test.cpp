@@ -64,6 +64,21 @@ TEST(LtsFilter, ScatteredPointsUseTheNearestNeighbours) {
   for (size_t k : spikes) CHECK(found.count(k) == 1);
 }
 
+// Two spikes side by side among scattered points: the whole window's passing over a suspected
+// neighbour asks whether the grid's wider window is smooth, and scattered points have none (it
+// read past an empty list and crashed, found by the stages fuzzer); they are still both found.
+TEST(LtsFilter, ScatteredPointsWithTwoSpikesSideBySideAreBothFound) {
+  std::set<size_t> spikes;
+  std::vector<Point3> p = grid_with_spikes(spikes, true);
+  p[600].z += 0.3, p[601].z -= 0.45;
+  spikes.insert(600), spikes.insert(601);
+  const LtsResult r = lts_filter(p, LtsOptions{});
+  CHECK(!r.gridded);
+  std::set<size_t> found;
+  for (const auto& o : r.outliers) found.insert(o.index);
+  for (size_t k : spikes) CHECK(found.count(k) == 1);
+}
+
 TEST(LtsFilter, TheConstantModelIsThePapersTrimmedMeanOf13) {
   // A flat grid with one spike: every 5x5 window's 13 nearest-to-median heights are the flat ones.
   std::vector<Point3> p;
