@@ -135,9 +135,12 @@ struct LooModel {
 
 // A quadratic in the distance along a line through the points on one side of point i,
 // extrapolated to i; ok only with at least four points (one degree of freedom left to measure
-// how well the quadratic describes them) and a gain of at most kLineGainMax.
+// how well the quadratic describes them) and a gain of at most kLineGainMax. Where the scan's noise
+// `sigma` explains the quadratic term (|c| within two standard errors), a straight line stands in:
+// on a flat sliver whose nearest neighbour is an outlier, the quadratic through the next five
+// points extrapolates with a gain of 15.8 and may not vouch, the straight line with 1.8.
 LooModel line_model(const std::vector<Point3>& points, const std::vector<size_t>& reach, size_t i,
-                    const std::vector<char>& suspect) {
+                    const std::vector<char>& suspect, double sigma) {
   LooModel out;
   std::vector<size_t> side;
   for (size_t j : reach) {
@@ -183,6 +186,21 @@ LooModel line_model(const std::vector<Point3>& points, const std::vector<size_t>
   // [(X^T X)^-1]_00, the cofactor over the determinant. Skipped suspects push the points away and
   // the gain up; beyond kLineGainMax the prediction is too loose to vouch for anything.
   out.gain = (m[1][1] * m[2][2] - m[1][2] * m[2][1]) / det;
+  // [(X^T X)^-1]_22 for the quadratic term's standard error.
+  const double curvature_se = sigma * std::sqrt((m[0][0] * m[1][1] - m[0][1] * m[1][0]) / det);
+  if (std::fabs(coefficient[2]) <= 2 * curvature_se) {
+    // z = a + b t: [(X^T X)^-1]_00 = sum t^2 / (n sum t^2 - (sum t)^2).
+    const double line_det = m[0][0] * m[1][1] - m[0][1] * m[0][1];
+    const double a = (m[1][1] * rhs[0] - m[0][1] * rhs[1]) / line_det, b = (m[0][0] * rhs[1] - m[0][1] * rhs[0]) / line_det;
+    double line_ss = 0;
+    for (int k = 0; k < n; ++k) {
+      const double r = points[side[static_cast<size_t>(k)]].z - (a + b * ts[static_cast<size_t>(k)]);
+      line_ss += r * r;
+    }
+    out.prediction = a;
+    out.scale = std::sqrt(line_ss / (n - 2));
+    out.gain = m[1][1] / line_det;
+  }
   out.ok = out.gain <= kLineGainMax;
   return out;
 }
@@ -508,10 +526,10 @@ CreaseModel crease_model(const std::vector<Point3>& points, const std::vector<si
 // The line models of a point the windows suspect, from neighbours they do not suspect: an outlier
 // beside it on the line would otherwise bend the quadratic towards it.
 void add_line_models(const std::vector<Point3>& points, const LineSides& sides, size_t i,
-                     const std::vector<char>& suspect, PointTest& t) {
+                     const std::vector<char>& suspect, double sigma, PointTest& t) {
   for (int d = 0; d < kLines; ++d) {
     LooModel& m = t.model[kWindows + d];
-    m = line_model(points, sides[static_cast<size_t>(d)], i, suspect);
+    m = line_model(points, sides[static_cast<size_t>(d)], i, suspect, sigma);
     if (m.ok) t.residual[kWindows + d] = points[i].z - m.prediction;
   }
 }
@@ -552,6 +570,26 @@ bool whole_judges(const PointTest& t, double sigma, double k, const std::vector<
   return true;
 }
 
+// Window or line w describes its own points and predicts point i within its bound. A window's
+// prediction errs by its noise and by its model's scale; a line's by the noise its extrapolation
+// amplifies, with a tighter bound (0.8 k), since a quadratic through five points can half absorb an
+// outlier beside it that its scale then hides.
+bool vouches(const PointTest& t, int w, double sigma, double k) {
+  const LooModel& m = t.model[w];
+  if (!m.ok || m.near_kept < 2 || m.scale > 2.0 * sigma) return false;
+  const double bound = w < kWindows ? k * std::sqrt(sigma * sigma * (1 + m.gain) + m.scale * m.scale)
+                                     : 0.8 * k * sigma * std::sqrt(1 + m.gain);
+  return std::fabs(t.residual[w]) <= bound;
+}
+
+// Some line model vouches for the point.
+bool a_line_vouches(const PointTest& t, double sigma, double k) {
+  for (int w = kWindows; w < kWindows + kLines; ++w) {
+    if (vouches(t, w, sigma, k)) return true;
+  }
+  return false;
+}
+
 // The verdict on one point given the scan's noise sigma. A window vouches for the point when it
 // describes its own neighbours (trimmed scale within 2 sigma: a window that holds too many
 // outliers, or straddles a crease, does not, and its prediction is no evidence either way), keeps
@@ -568,11 +606,7 @@ int verdict(const PointTest& t, double sigma, double k, const std::vector<char>*
   for (int w = 0; w < kWindows + kLines; ++w) {
     const LooModel& m = t.model[w];
     if (!m.ok || m.near_kept < 2 || m.scale > 2.0 * sigma) continue;
-    // A window's prediction errs by its noise and by its model's scale; a line's by the noise its
-    // extrapolation amplifies, with a tighter bound (0.8 k), since a quadratic through five points
-    // can half absorb an outlier beside it that its scale then hides.
-    const double bound = w < kWindows ? k * std::hypot(sigma, m.scale) : 0.8 * k * sigma * std::sqrt(1 + m.gain);
-    if (std::fabs(t.residual[w]) <= bound) return -1;
+    if (vouches(t, w, sigma, k)) return -1;
     if (w < kWindows && (best < 0 || m.scale < t.model[best].scale)) best = w;
   }
   // No window vouches and none that describes its neighbours keeps the point's nearest ones: they
@@ -785,15 +819,10 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
     const int window = verdict(tests[i], sigma, options.outlier_sigmas, &prior, smooth_around);
     return window >= 0 && std::fabs(tests[i].residual[window]) > limit ? window : -1;
   };
-  auto classify = [&]() {
-    prior = suspect;
-    for (size_t i = 0; i < points.size(); ++i) {
-      for (int d = 0; d < kLines; ++d) tests[i].model[kWindows + d] = LooModel{};
-      suspect[i] = outlier_window(i) >= 0;
-    }
+  // A suspect a line clears may clear the next one along it (a sliver one point wide along the
+  // scan's edge), so the lines are asked again until no suspect changes.
+  auto clear_by_lines = [&]() {
     if (!result.gridded) return;
-    // A suspect a line clears may clear the next one along it (a sliver one point wide along the
-    // scan's edge), so the lines are asked again until no suspect changes.
     for (bool changed = true; changed;) {
       std::vector<size_t> cleared;
       for (size_t i = 0; i < points.size(); ++i) {
@@ -801,12 +830,20 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
         // curved part a quadratic along five points has shape error enough to vouch for an outlier
         // that the windows see plainly (seen at the canister's dish: 0.027 mm off over 7 mm).
         if (!suspect[i] || !near_crease(tests[i], sigma)) continue;
-        add_line_models(points, sides[i], i, suspect, tests[i]);
+        add_line_models(points, sides[i], i, suspect, sigma, tests[i]);
         if (outlier_window(i) < 0) cleared.push_back(i);
       }
       for (size_t i : cleared) suspect[i] = 0;
       changed = !cleared.empty();
     }
+  };
+  auto classify = [&]() {
+    prior = suspect;
+    for (size_t i = 0; i < points.size(); ++i) {
+      for (int d = 0; d < kLines; ++d) tests[i].model[kWindows + d] = LooModel{};
+      suspect[i] = outlier_window(i) >= 0;
+    }
+    clear_by_lines();
   };
   classify();
   // Two or three outliers in one window, or a cluster at a crease, can leave no window that
@@ -831,10 +868,11 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
     classify();
     if (suspect == before_round) break;
   }
-  for (size_t i = 0; i < points.size(); ++i) {
+  // The final verdict on point i and, for an outlier, the height that replaces it.
+  auto judge = [&](size_t i, double& prediction) {
     const int window = outlier_window(i);
     bool outlier = window >= 0;
-    double prediction = outlier ? tests[i].model[window].prediction : 0;
+    prediction = outlier ? tests[i].model[window].prediction : 0;
     // Near a crease, a window cut along it has a second say when its two sides describe their
     // points: its own side's model (the point at the side's edge, so its gain widens the bound) may
     // clear a suspect, and where no window describes its neighbours (the point's surface a sliver
@@ -873,12 +911,40 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
         // The far side's model, extrapolated across the cut, clears only: it errs by its shape too.
         const bool near_either = predicts(split.own, kSplitCondemnWiden) || split.other.gain > kLineGainMax ||
                                  predicts(split.other, kSplitCondemnWiden);
-        if (!outlier && !near_either && undescribed) {
+        // Condemned only by an own side that predicts the point closely enough to be evidence.
+        if (!outlier && !near_either && undescribed && split.own.gain <= kLineGainMax) {
           outlier = true;
           prediction = split.own.prediction;
         }
       }
     }
+    return outlier;
+  };
+  std::vector<char> condemned(points.size(), 0);
+  std::vector<double> replacement(points.size(), 0);
+  parallel_for(points.size(), [&](size_t begin, size_t end, unsigned) {
+    for (size_t i = begin; i < end; ++i) condemned[i] = judge(i, replacement[i]);
+  });
+  // The crease judges condemn points the windows did not suspect (an outlier on a sliver of the
+  // part's other surface); a line along the sliver that read it as one of its points could not
+  // vouch for the sliver point beside it, which the half-planes, all of the other surface, then
+  // condemned. The lines are asked again without every condemned point, and a point one of them
+  // vouches for is judged again, until none is cleared. Only clearing: the envelope still judges
+  // alone where it describes its window.
+  for (bool changed = result.gridded; changed;) {
+    std::vector<size_t> cleared;
+    for (size_t i = 0; i < points.size(); ++i) {
+      if (!condemned[i] || !near_crease(tests[i], sigma)) continue;
+      add_line_models(points, sides[i], i, condemned, sigma, tests[i]);
+      double unused;
+      if (a_line_vouches(tests[i], sigma, options.outlier_sigmas) && !judge(i, unused)) cleared.push_back(i);
+    }
+    for (size_t i : cleared) condemned[i] = 0;
+    changed = !cleared.empty();
+  }
+  for (size_t i = 0; i < points.size(); ++i) {
+    const bool outlier = condemned[i];
+    const double prediction = replacement[i];
     if (outlier) {
       result.outliers.push_back({i, points[i].z - prediction});
       reference[i] = prediction;
