@@ -931,16 +931,34 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
   // condemned. The lines are asked again without every condemned point, and a point one of them
   // vouches for is judged again, until none is cleared. Only clearing: the envelope still judges
   // alone where it describes its window.
-  for (bool changed = result.gridded; changed;) {
-    std::vector<size_t> cleared;
-    for (size_t i = 0; i < points.size(); ++i) {
-      if (!condemned[i] || !near_crease(tests[i], sigma)) continue;
-      add_line_models(points, sides[i], i, condemned, sigma, tests[i]);
-      double unused;
-      if (a_line_vouches(tests[i], sigma, options.outlier_sigmas) && !judge(i, unused)) cleared.push_back(i);
+  auto clear_by_lines_again = [&]() {
+    for (bool changed = result.gridded; changed;) {
+      std::vector<size_t> cleared;
+      for (size_t i = 0; i < points.size(); ++i) {
+        if (!condemned[i] || !near_crease(tests[i], sigma)) continue;
+        add_line_models(points, sides[i], i, condemned, sigma, tests[i]);
+        double unused;
+        if (a_line_vouches(tests[i], sigma, options.outlier_sigmas) && !judge(i, unused)) cleared.push_back(i);
+      }
+      for (size_t i : cleared) condemned[i] = 0;
+      changed = !cleared.empty();
     }
-    for (size_t i : cleared) condemned[i] = 0;
-    changed = !cleared.empty();
+  };
+  clear_by_lines_again();
+  // The crease's judges read windows that still held the outliers only the envelope condemned: an
+  // outlier on the rim with such a one beside it was cleared by a cut's side bent towards it. The
+  // points they passed near a crease are judged again with every condemned point left out, only
+  // to condemn (a second round both ways alternated), and the lines may clear after.
+  if (result.gridded) {
+    suspect = condemned;
+    std::vector<char> newly(points.size(), 0);
+    parallel_for(points.size(), [&](size_t begin, size_t end, unsigned) {
+      for (size_t i = begin; i < end; ++i) {
+        if (!condemned[i] && near_crease(tests[i], sigma)) newly[i] = judge(i, replacement[i]);
+      }
+    });
+    for (size_t i = 0; i < points.size(); ++i) condemned[i] = condemned[i] || newly[i];
+    clear_by_lines_again();
   }
   for (size_t i = 0; i < points.size(); ++i) {
     const bool outlier = condemned[i];
