@@ -49,6 +49,7 @@ const std::vector<ConfigSetting>& config_settings() {
       {"spread_um", "scan", "--spread-um", "", "a point's samples must agree within this, um"},
       {"approach", "scan", "--approach", "", "overshoot so every point is reached moving towards +x/+y, mm"},
       {"repeatability", "scan", "--repeatability", "", "readings of the first point before a scan, for each point's uncertainty"},
+      {"calibration", "scan", "--calibration", "", "the table calibration every scan is corrected by (digitizer calibrate); none: no correction"},
       {"tolerance", "inspect", "--tolerance", "--upper --lower", "the part's profile tolerance +-MM that inspect decides"},
       {"bands", "inspect", "--band", "", "deviations inspect counts the points within, mm (a list)"},
       {"operator", "inspect", "--operator", "", "who measures, for the report"},

@@ -20,6 +20,7 @@
 #include "host/scan/height_map.h"
 #include "host/scan/point_export.h"
 #include "host/scan/scan_uncertainty.h"
+#include "host/scan/table_calibration.h"
 #include "host/scan/scan_file.h"
 
 namespace dg::host {
@@ -215,8 +216,11 @@ int run_export(const ExportArgs& a) {
   }
   const std::string output = with_default_format(a.output, ".csv");
   if (a.edges) throw std::invalid_argument("--edges exports a surface's edges: give a SURF.json");
-  const ScanData data = read_scan_file(input);
+  ScanData data = read_scan_file(input);
   for (const auto& w : data.warnings) std::fprintf(stderr, "digitizer: warning: %s\n", w.c_str());
+  // The points as the scan's calibration corrects them (the raw ones stay in the scan file).
+  ScanPointSigmas sigmas = scan_point_sigmas(data);
+  correct_by_record(data, &sigmas.sigma_mm, input);
   // --format names the format whatever the output's extension (a Klipper profile saved as .txt, say).
   static const std::map<std::string, FileFormat> kNamed = {{"csv", FileFormat::kCsv},          {"xyz", FileFormat::kXyz},
                                                            {"ply", FileFormat::kPly},          {"bcnc", FileFormat::kBcncProbe},
@@ -227,7 +231,6 @@ int run_export(const ExportArgs& a) {
   }
   if (a.relative) throw std::invalid_argument("--relative is for height maps (.probe, .map, .cfg)");
   // The points' standard uncertainty goes with them into a CSV, which is read back with it.
-  const ScanPointSigmas sigmas = scan_point_sigmas(data);
   write_points(output, data.points, format, sigmas.sigma_mm.empty() ? nullptr : &sigmas.sigma_mm);
   std::printf("wrote %zu points to %s%s\n", data.points.size(), output_name(output).c_str(),
               !sigmas.sigma_mm.empty() && format == FileFormat::kCsv ? " with each point's standard uncertainty (sigma)" : "");

@@ -18,6 +18,7 @@
 #include "host/cli/info_command.h"
 #include "host/cli/inspect_command.h"
 #include "host/cli/scan_command.h"
+#include "host/cli/calibrate_command.h"
 #include "host/cli/segment_command.h"
 #include "host/cli/self_description.h"
 #include "host/cli/superquadric_command.h"
@@ -55,6 +56,10 @@ int main(int argc, char** argv) {
   CLI::App* export_cmd = add_export_command(app, export_args);
   SegmentArgs segment_args;
   CLI::App* segment_cmd = add_segment_command(app, segment_args);
+  CalibrateArgs calibrate_args;
+  CLI::App* calibrate_cmd = add_calibrate_command(app, calibrate_args);
+  RecorrectArgs recorrect_args;
+  CLI::App* recorrect_cmd = add_recorrect_command(app, recorrect_args);
   InfoArgs info_args;
   CLI::App* info_cmd = add_info_command(app, info_args);
   FilterArgs filter;
@@ -125,6 +130,11 @@ int main(int argc, char** argv) {
       scan.device = chosen_device(scan.device);
       return run_scan(scan);
     }
+    if (*calibrate_cmd) {
+      calibrate_args.device = chosen_device(calibrate_args.device);
+      return run_calibrate(calibrate_args);
+    }
+    if (*recorrect_cmd) return run_recorrect(recorrect_args);
     if (*export_cmd) return run_export(export_args);
     if (*pull_cmd) {
       pull.device = chosen_device(pull.device);

@@ -5,10 +5,12 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cinttypes>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <optional>
 #include <random>
 
@@ -19,7 +21,9 @@
 #include "host/device/repeatability.h"
 #include "host/fit/device_fit_surface.h"
 #include "host/fit/propagated_uncertainty.h"
+#include "host/io/whole_file.h"
 #include "host/scan/point_reader.h"
+#include "host/scan/table_calibration.h"
 #include "host/cad/surface_json.h"
 #include "host/transport/transport.h"
 
@@ -167,6 +171,9 @@ CLI::App* add_scan_command(CLI::App& app, ScanArgs& scan) {
                   "first read the scan's first point N times (2..64), moving 1 mm away and back each time, and store the "
                   "spread in the scan file: every point then carries a standard uncertainty (0: none)")
       ->check(CLI::Range(0, 64));
+  cmd->add_option("--calibration", scan.calibration,
+                  "the table calibration (digitizer calibrate) that corrects this scan's points: recorded in the scan "
+                  "file with the raw points, which it must cover; none: no correction");
   cmd->add_option("-o,--output", scan.output, "scan file to write (with --resume: to continue)")->required();
   cmd->add_flag("--resume", scan.resume, "continue the scan in -o after Ctrl-C, a crash or a pulled cable; the grid comes from the file");
   cmd->add_flag("--force", scan.force, "replace an existing -o (once the device has accepted the new scan)")->excludes("--resume");
@@ -219,6 +226,21 @@ int run_scan(const ScanArgs& a) {
                           " bytes); give another name, --force to replace it, or --resume to continue the scan in it");
     }
   }
+  // The calibration is checked before the table moves: a scan it does not cover could not be corrected.
+  std::string calibration_json;
+  if (!a.resume && !a.calibration.empty() && a.calibration != "none") {
+    if (!read_whole_file(a.calibration, &calibration_json)) {
+      throw CalibrationError(a.calibration + ": cannot open: " + std::strerror(errno));
+    }
+    const TableCalibration c = calibration_from_json(calibration_json, a.calibration);
+    const double x0 = request.x.min_nm * 1e-6, x1 = request.x.max_nm * 1e-6, y0 = request.y.min_nm * 1e-6, y1 = request.y.max_nm * 1e-6;
+    if (!c.covers(x0, y0) || !c.covers(x1, y1)) {
+      char text[200];
+      std::snprintf(text, sizeof text, ": covers x %.3f..%.3f, y %.3f..%.3f mm; the scan asks x %.3f..%.3f, y %.3f..%.3f mm",
+                    c.x0_mm, c.x1_mm(), c.y0_mm, c.y1_mm(), x0, x1, y0, y1);
+      throw CalibrationError(a.calibration + text + "; calibrate over the whole area, or scan with --calibration none");
+    }
+  }
   uint32_t required = a.device_fit.empty() ? 0 : digitizer_Capability_CAP_DEVICE_FIT;
   if (a.resume) required |= digitizer_Capability_CAP_RESUME;
 
@@ -264,6 +286,7 @@ int run_scan(const ScanArgs& a) {
   sigaction(SIGTERM, &action, nullptr);
   options.stop_requested = [] { return g_interrupted != 0; };
 
+  if (!calibration_json.empty()) file.append_calibration(calibration_json);
   if (!stored && a.repeatability > 0) measure_first_point(session, device, request, a, file);
 
   CaptureResult result;

@@ -21,6 +21,7 @@ struct ScanArgs {
   bool median = false;     // the median of the samples instead of their mean
   double approach_mm = 0;  // single-direction approach: overshoot this far, come back towards +
   unsigned repeatability = 0;  // readings of the first point before the scan, for each point's uncertainty; 0: none
+  std::string calibration;  // --calibration: the table calibration recorded with the scan ("" or "none": none)
   std::string output;
   bool resume = false;     // continue the scan in `output` instead of starting one
   bool force = false;  // replace an existing -o

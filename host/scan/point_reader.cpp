@@ -19,6 +19,7 @@
 #include "host/scan/ply_reader.h"
 #include "host/scan/scan_file.h"
 #include "host/scan/scan_uncertainty.h"
+#include "host/scan/table_calibration.h"
 
 namespace dg::host {
 namespace {
@@ -229,7 +230,10 @@ PointCloud parse_xyz_points(const std::string& text, const std::string& name) {
 PointCloud read_points(const std::string& path) {
   const FileFormat format = file_format(path);
   if (format == FileFormat::kScan) {
-    const ScanData data = read_scan_file(path);
+    ScanData data = read_scan_file(path);
+    ScanPointSigmas sigmas = scan_point_sigmas(data);
+    // The scan's own calibration record corrects the raw points it keeps.
+    const std::optional<TableCalibration> calibration = correct_by_record(data, &sigmas.sigma_mm, path);
     PointCloud cloud;
     cloud.line.emplace();
     if (data.device && data.device->gauge_resolution_nm > 0) cloud.resolution_mm = data.device->gauge_resolution_nm * 1e-6;
@@ -237,11 +241,11 @@ PointCloud read_points(const std::string& path) {
       cloud.points.push_back({p.x_nm * 1e-6, p.y_nm * 1e-6, p.z_nm * 1e-6});
       cloud.line->push_back(p.line);
     }
-    ScanPointSigmas sigmas = scan_point_sigmas(data);
     if (!sigmas.sigma_mm.empty()) {
       cloud.sigma = std::move(sigmas.sigma_mm);
-      cloud.sigma_from = sigmas.from;
+      cloud.sigma_from = sigmas.from + (calibration ? " and the table calibration's map" : "");
     }
+    if (calibration) cloud.calibration = "the table calibration of " + (calibration->created_utc.empty() ? std::string("unknown date") : calibration->created_utc);
     return cloud;
   }
   std::string bytes;

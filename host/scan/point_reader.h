@@ -24,6 +24,7 @@ struct PointCloud {
   std::optional<std::vector<double>> sigma;   // per-point standard uncertainty, mm
   std::string sigma_from = "the points' sigma column";  // where `sigma` came from, for reports
   std::optional<double> resolution_mm;        // the gauge's reading step, when the file says it
+  std::string calibration;                    // the table calibration that corrected z ("" none)
 };
 
 // Picks the reader by extension: .csv, .xyz/.txt, .ply, .scan, and the height maps .probe (bCNC),

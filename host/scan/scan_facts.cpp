@@ -3,6 +3,8 @@
 
 #include <cstdio>
 
+#include "host/scan/table_calibration.h"
+
 namespace dg::host {
 
 std::string reading_settings(const digitizer_ScanRequest& r) {
@@ -56,9 +58,25 @@ std::vector<std::string> scan_facts(const ScanData& data) {
   } else {
     facts.push_back("repeatability: not measured before the scan (scan --repeatability N)");
   }
-  // No calibration can be applied yet: say so rather than leave a reader to assume one was.
-  facts.push_back("calibration: none; the points are the table's nominal positions and the gauge's readings, with no "
-                  "machine errors (squareness, scale, straightness) compensated");
+  // Say which calibration corrected the points, or that none did, rather than leave a reader to
+  // assume one was. A flat's calibration corrects the travel's height error only.
+  if (data.calibration_json) {
+    try {
+      const TableCalibration c = calibration_from_json(*data.calibration_json, "the scan's calibration record");
+      char text[400];
+      std::snprintf(text, sizeof text,
+                    "calibration: the table's travel height error, measured on a %s (flatness %.4f mm) on %s%s%s, over "
+                    "x %.3f..%.3f, y %.3f..%.3f mm; squareness and scale not compensated",
+                    c.artefact.c_str(), c.artefact_flatness_mm, c.created_utc.empty() ? "an unknown date" : c.created_utc.c_str(),
+                    c.device_id.empty() ? "" : " with ", c.device_id.c_str(), c.x0_mm, c.x1_mm(), c.y0_mm, c.y1_mm());
+      facts.push_back(text);
+    } catch (const CalibrationError& error) {
+      facts.push_back(std::string("calibration: a record that cannot be used: ") + error.what());
+    }
+  } else {
+    facts.push_back("calibration: none; the points are the table's nominal positions and the gauge's readings, with no "
+                    "machine errors (travel flatness, squareness, scale) compensated");
+  }
   std::snprintf(line, sizeof line, "%zu points in %zu lines", data.points.size(), data.lines.size());
   facts.push_back(line);
   if (data.done) {

@@ -22,6 +22,7 @@ namespace dg::host {
 // ScanFile.record's field number (ScanFile itself is skipped by nanopb: our code
 // reads records one at a time).
 constexpr uint32_t kScanFileRecordTag = 1;
+constexpr uint32_t kScanRecordCalibrationTag = 3;  // ScanRecord.calibration (FT_IGNORE in the generated code)
 
 namespace {
 
@@ -155,17 +156,36 @@ void ScanFileWriter::append(const digitizer_Envelope& message) {
   if (!pb_encode(&inner, digitizer_ScanRecord_fields, &record)) {
     throw ScanFileError(path_ + ": cannot encode a record: " + PB_GET_ERROR(&inner));
   }
-  // Prefix: ScanFile field 1, length-delimited.
-  uint8_t prefix[8];
+  write_record(buffer + 8, inner.bytes_written);
+}
+
+void ScanFileWriter::append_calibration(const std::string& json) {
+  // ScanRecord { calibration = 3 (bytes); crc32 = 2 }, encoded field by field (the generated struct
+  // leaves the field out: the device never carries it).
+  std::vector<uint8_t> record(json.size() + 32);
+  pb_ostream_t inner = pb_ostream_from_buffer(record.data(), record.size());
+  if (!pb_encode_tag(&inner, PB_WT_STRING, kScanRecordCalibrationTag) ||
+      !pb_encode_string(&inner, reinterpret_cast<const pb_byte_t*>(json.data()), json.size()) ||
+      !pb_encode_tag(&inner, PB_WT_32BIT, digitizer_ScanRecord_crc32_tag)) {
+    throw ScanFileError(path_ + ": cannot encode the calibration record");
+  }
+  const uint32_t crc = crc32(reinterpret_cast<const uint8_t*>(json.data()), json.size());
+  if (!pb_encode_fixed32(&inner, &crc)) throw ScanFileError(path_ + ": cannot encode the calibration record");
+  write_record(record.data(), inner.bytes_written);
+}
+
+void ScanFileWriter::write_record(const uint8_t* record, size_t size) {
+  // Prefix: ScanFile field 1, length-delimited; one write(2) for prefix and record together.
+  uint8_t prefix[16];
   pb_ostream_t head = pb_ostream_from_buffer(prefix, sizeof(prefix));
   pb_encode_tag(&head, PB_WT_STRING, kScanFileRecordTag);
-  pb_encode_varint(&head, inner.bytes_written);
-  uint8_t* start = buffer + 8 - head.bytes_written;
-  std::memcpy(start, prefix, head.bytes_written);
-  const size_t total = head.bytes_written + inner.bytes_written;
+  pb_encode_varint(&head, size);
+  std::vector<uint8_t> whole(prefix, prefix + head.bytes_written);
+  whole.insert(whole.end(), record, record + size);
+  const size_t total = whole.size();
   size_t done = 0;
   while (done < total) {
-    const ssize_t n = ::write(fd_, start + done, total - done);
+    const ssize_t n = ::write(fd_, whole.data() + done, total - done);
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) throw ScanFileError(path_ + ": write failed: " + std::strerror(errno));
     done += static_cast<size_t>(n);
@@ -264,6 +284,8 @@ ScanData parse_scan_bytes(const uint8_t* bytes, size_t size, const std::string& 
     pb_istream_t inner = pb_istream_from_buffer(record, static_cast<size_t>(length));
     const uint8_t* envelope_bytes = nullptr;
     uint64_t envelope_size = 0;
+    const uint8_t* calibration_bytes = nullptr;
+    uint64_t calibration_size = 0;
     uint32_t stored_crc = 0;
     bool has_crc = false;
     while (inner.bytes_left > 0) {
@@ -278,12 +300,28 @@ ScanData parse_scan_bytes(const uint8_t* bytes, size_t size, const std::string& 
         if (!pb_read(&inner, nullptr, static_cast<size_t>(envelope_size))) {
           throw ScanFileError(where + ": damaged record");
         }
+      } else if (tag == kScanRecordCalibrationTag && wire_type == PB_WT_STRING) {
+        if (!pb_decode_varint(&inner, &calibration_size) || calibration_size > inner.bytes_left) {
+          throw ScanFileError(where + ": damaged record");
+        }
+        calibration_bytes = record + (length - inner.bytes_left);
+        if (!pb_read(&inner, nullptr, static_cast<size_t>(calibration_size))) throw ScanFileError(where + ": damaged record");
       } else if (tag == digitizer_ScanRecord_crc32_tag && wire_type == PB_WT_32BIT) {
         if (!pb_decode_fixed32(&inner, &stored_crc)) throw ScanFileError(where + ": damaged record");
         has_crc = true;
       } else if (!pb_skip_field(&inner, wire_type)) {
         throw ScanFileError(where + ": damaged record");
       }
+    }
+    if (calibration_bytes != nullptr && envelope_bytes == nullptr && has_crc) {
+      if (crc32(calibration_bytes, static_cast<size_t>(calibration_size)) != stored_crc) {
+        throw ScanFileError(where + ": CRC mismatch in the calibration record (the file is damaged)");
+      }
+      data.calibration_json.emplace(reinterpret_cast<const char*>(calibration_bytes), static_cast<size_t>(calibration_size));
+      ++data.records;
+      offset += header + static_cast<size_t>(length);
+      data.complete_bytes = offset;
+      continue;
     }
     if (envelope_bytes == nullptr || !has_crc) {
       throw ScanFileError(where + ": record without message or CRC");

@@ -39,6 +39,9 @@ class ScanFileWriter : public ScanSink {
   // Appends one record with a single write(2): a crash leaves whole records and at
   // most one cut-off record at the end, which readers detect and skip.
   void append(const digitizer_Envelope& message) override;
+  // Appends a record that names the table calibration (its JSON text) correcting this scan's points;
+  // the points stay raw in the file, and a later record replaces an earlier one (re-correction).
+  void append_calibration(const std::string& json);
   // Forces everything appended so far to the disk (fdatasync).
   void sync() override;
   void accepted() override;
@@ -48,6 +51,7 @@ class ScanFileWriter : public ScanSink {
  private:
   ScanFileWriter() = default;
   void lock_or_throw();
+  void write_record(const uint8_t* record, size_t size);
   std::string path_;
   std::string pending_;  // the hidden file until accepted(); empty once the file is at path_
   bool replace_ = false;

@@ -21,6 +21,9 @@ struct ScanData {
   std::optional<digitizer_ScanDone> done;
   std::vector<digitizer_Fault> faults;
   std::vector<std::string> warnings;  // e.g. a cut-off last record
+  // The table calibration that corrects the points (the last calibration record's JSON); the
+  // points above are as the device measured them.
+  std::optional<std::string> calibration_json;
   uint64_t records = 0;
   uint64_t complete_bytes = 0;  // length of the whole records (less than the file after a crash)
 };

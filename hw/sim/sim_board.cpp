@@ -22,6 +22,16 @@ SimBoard::SimBoard(const SimConfig& config, LinkPort* link)
   // screw's positive side.
   motor_[0] = x_steps_ + config.backlash_steps;
   motor_[1] = y_steps_ + config.backlash_steps;
+  if (config.machine.flatness_um != 0) flatness_peak_ = flatness_map_peak(config.machine.map_seed);
+}
+
+double SimBoard::height_under_probe_mm() const {
+  const MachineErrors& e = config_.machine;
+  if (!e.any()) return config_.part.height_mm(table_x_mm(), table_y_mm());
+  double x_mm = 0, y_mm = 0;
+  actual_table_xy(e, table_x_mm(), table_y_mm(), &x_mm, &y_mm);
+  return config_.part.height_mm(x_mm, y_mm) + travel_z_error_mm(e, flatness_peak_, table_x_mm(), table_y_mm()) +
+         drift_mm(e, now_ns_);
 }
 
 void SimBoard::step_axis(int axis) {

@@ -10,6 +10,7 @@
 #include "firmware/hal/link_port.h"
 #include "hw/sim/caliper_gauge.h"
 #include "hw/sim/digimatic_gauge.h"
+#include "hw/sim/machine_errors.h"
 #include "hw/sim/parts.h"
 
 namespace dg::sim {
@@ -51,6 +52,8 @@ struct SimConfig {
   int32_t touch_y_steps = INT32_MAX;
   // Lead-screw play, motor steps per axis: after a reversal the table stays put this long.
   int32_t backlash_steps = 0;
+  // The machine's own errors (squareness, scale, the travel's flatness, drift); none by default.
+  MachineErrors machine{};
   // The e-stop input is asserted from this virtual time for this long (0: never).
   uint64_t estop_at_ns = 0;
   uint64_t estop_for_ns = 0;
@@ -84,7 +87,9 @@ class SimBoard final : public hal::Board {
   int64_t table_y_steps() const { return y_steps_; }
   double table_x_mm() const { return static_cast<double>(x_steps_) * (config_.nm_per_step * 1e-6); }
   double table_y_mm() const { return static_cast<double>(y_steps_) * (config_.nm_per_step * 1e-6); }
-  double height_under_probe_mm() const { return config_.part.height_mm(table_x_mm(), table_y_mm()); }
+  // What the gauge reads: the part where the table really is, plus the travel's height error
+  // where the carriage is commanded, plus the stand's drift.
+  double height_under_probe_mm() const;
   const DigimaticGauge& gauge() const { return gauge_; }
   uint64_t step_count() const { return steps_; }
   // Tests: the virtual time of every x step is appended here (null: not kept).
@@ -111,6 +116,7 @@ class SimBoard final : public hal::Board {
   bool glitch() const;
 
   SimConfig config_;
+  double flatness_peak_ = 1;  // of config_.machine's map (flatness_map_peak)
   LinkPort* link_;
   DigimaticGauge gauge_;
   CaliperGauge caliper_;

@@ -17,7 +17,10 @@ const char kSimOptionsHelp[] =
     "  switch_bounce_us=T (contact chatter at a switch's edge)  glitch_ms=T (a 2 us spike on the\n"
     "  limit and e-stop inputs every T ms)  x_wire_cut_ms=T (the x switch's wire cut at T)\n"
     "  require_homing=0|1  gauge=digimatic|caliper  backlash_um=X  compensate_um=X\n"
-    "  touch_x_mm=X touch_y_mm=Y (faces the touch probe meets)\n";
+    "  touch_x_mm=X touch_y_mm=Y (faces the touch probe meets)\n"
+    "  the machine's errors (each 0 by default): squareness_urad=X scale_x_ppm=X scale_y_ppm=X\n"
+    "  flatness_um=X (the travel's height error at its largest) drift_um_per_h=X machine_seed=N\n"
+    "  machine=typical (500 urad, 200 and -150 ppm, 30 um, no drift)\n";
 namespace {
 
 bool parse_double(const std::string& text, double* out) {
@@ -116,6 +119,24 @@ std::string apply_sim_option(const std::string& pair, SimOptions* options) {
     if (!parse_double(value, &d) || d < 0 || d > 1e7) return key + " must be 0..1e7, got '" + value + "'";
     const uint64_t ns = static_cast<uint64_t>(std::llround(d * (key == "switch_bounce_us" ? 1e3 : 1e6)));
     (key == "switch_bounce_us" ? c.switch_bounce_ns : key == "glitch_ms" ? c.glitch_period_ns : c.x_wire_cut_at_ns) = ns;
+  } else if (key == "squareness_urad" || key == "scale_x_ppm" || key == "scale_y_ppm") {
+    if (!parse_double(value, &d) || std::fabs(d) > 20000) return key + " must be -20000..20000, got '" + value + "'";
+    (key == "squareness_urad" ? c.machine.squareness_urad : key == "scale_x_ppm" ? c.machine.scale_x_ppm : c.machine.scale_y_ppm) = d;
+  } else if (key == "flatness_um" || key == "drift_um_per_h") {
+    if (!parse_double(value, &d) || std::fabs(d) > 1000) return key + " must be -1000..1000, got '" + value + "'";
+    (key == "flatness_um" ? c.machine.flatness_um : c.machine.drift_um_per_h) = d;
+  } else if (key == "machine_seed") {
+    if (!parse_u64(value, &u)) return "machine_seed must be a whole number, got '" + value + "'";
+    c.machine.map_seed = u;
+  } else if (key == "machine") {
+    if (value != "typical" && value != "ideal") return "machine is typical or ideal, got '" + value + "'";
+    const uint64_t map_seed = c.machine.map_seed;
+    c.machine = MachineErrors{};
+    c.machine.map_seed = map_seed;
+    if (value == "typical") {
+      c.machine.squareness_urad = 500, c.machine.scale_x_ppm = 200, c.machine.scale_y_ppm = -150;
+      c.machine.flatness_um = 30;
+    }
   } else if (key == "require_homing") {
     if (value != "0" && value != "1") return "require_homing is 0 or 1, got '" + value + "'";
     options->require_homing = value == "1";

@@ -28,7 +28,9 @@ struct SimOptions {
 // start_y_mm (where the table starts), estop_at_ms, estop_ms (the e-stop pressed then, that long),
 // switches (nc, open, stuck; 1 and 0 for nc and open), switch_bounce_us, glitch_ms, x_wire_cut_ms,
 // require_homing, gauge (digimatic, caliper), backlash_um (the
-// screws' play), compensate_um (the firmware's compensation; default the play). Returns an error
+// screws' play), compensate_um (the firmware's compensation; default the play), and the machine's
+// errors: squareness_urad, scale_x_ppm, scale_y_ppm, flatness_um, drift_um_per_h, machine_seed,
+// machine=typical|ideal. Returns an error
 // message, or empty on success.
 std::string apply_sim_option(const std::string& pair, SimOptions* options);
 

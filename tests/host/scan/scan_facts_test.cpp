@@ -1,6 +1,7 @@
 // A scan's record in words: the reading settings, the repeatability, and a plain statement that no
 // calibration was applied.
 #include "host/scan/scan_facts.h"
+#include "host/scan/table_calibration.h"
 
 #include <CppUTest/TestHarness.h>
 
@@ -50,4 +51,23 @@ TEST(ScanFacts, SayWhenRepeatabilityWasNotMeasured) {
   const std::vector<std::string> facts = scan_facts(ScanData{});
   CHECK(any_contains(facts, "repeatability: not measured"));
   CHECK(any_contains(facts, "calibration: none"));
+}
+
+TEST(ScanFacts, NameTheCalibrationThatCorrectsThePointsAndWhatItLeavesOut) {
+  ScanData data;
+  TableCalibration c;
+  c.created_utc = "2026-11-26T05:00:00Z";
+  c.device_id = "SIM-0001";
+  c.artefact_flatness_mm = 0.001;
+  c.x0_mm = 0, c.y0_mm = 0, c.step_x_mm = 50, c.step_y_mm = 50, c.nx = 3, c.ny = 3;
+  c.z_error_mm.assign(9, 0.0);
+  c.u_mm.assign(9, 1e-4);
+  data.calibration_json = calibration_to_json(c);
+  std::vector<std::string> facts = scan_facts(data);
+  CHECK(any_contains(facts, "calibration: the table's travel height error, measured on a flat (flatness 0.0010 mm) on "
+                            "2026-11-26T05:00:00Z with SIM-0001, over x 0.000..100.000, y 0.000..100.000 mm; squareness "
+                            "and scale not compensated"));
+  data.calibration_json = "{}";
+  facts = scan_facts(data);
+  CHECK(any_contains(facts, "calibration: a record that cannot be used"));
 }

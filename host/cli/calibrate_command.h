@@ -1,0 +1,33 @@
+// `digitizer calibrate`: the table's travel error measured on a flat, and `digitizer recorrect`:
+// a stored scan corrected by another calibration.
+#pragma once
+#include <CLI/CLI.hpp>
+#include <string>
+
+namespace dg::host {
+
+struct CalibrateArgs {
+  std::string artefact = "flat";
+  std::string device;      // --device; chosen_device() when empty
+  std::string x = "0:100", y = "0:100";
+  double step_mm = 5.0;
+  unsigned samples = 1;
+  double flatness_um = 0;  // the flat's certified flatness, peak to valley
+  std::string from;        // an existing scan of the flat instead of scanning
+  std::string scan_output; // where the flat's scan is kept (default OUTPUT.flat.scan)
+  std::string output;      // the calibration file
+  bool force = false;
+  bool quiet = false;
+};
+
+struct RecorrectArgs {
+  std::string scan;
+  std::string calibration;
+};
+
+CLI::App* add_calibrate_command(CLI::App& app, CalibrateArgs& args);
+CLI::App* add_recorrect_command(CLI::App& app, RecorrectArgs& args);
+int run_calibrate(const CalibrateArgs& args);
+int run_recorrect(const RecorrectArgs& args);
+
+}  // namespace dg::host

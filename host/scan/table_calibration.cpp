@@ -1,0 +1,178 @@
+// The calibration file and the bilinear correction of points by its map.
+#include "host/scan/table_calibration.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <cmath>
+
+#include "host/io/whole_file.h"
+
+namespace dg::host {
+
+namespace {
+
+// Cell and weights of (x, y) for bilinear interpolation; requires covers().
+struct Cell {
+  size_t i, j;
+  double fx, fy;
+};
+
+Cell cell_of(const TableCalibration& c, double x_mm, double y_mm) {
+  const double u = (x_mm - c.x0_mm) / c.step_x_mm, v = (y_mm - c.y0_mm) / c.step_y_mm;
+  // Clamped as doubles before the cast: a file's extreme grid can make u infinite or NaN.
+  const double last_i = static_cast<double>(c.nx - 2), last_j = static_cast<double>(c.ny - 2);
+  const size_t i = static_cast<size_t>(u >= 0 ? std::min(std::floor(u), last_i) : 0.0);
+  const size_t j = static_cast<size_t>(v >= 0 ? std::min(std::floor(v), last_j) : 0.0);
+  const double fx = u - static_cast<double>(i), fy = v - static_cast<double>(j);
+  return {i, j, fx >= 0 ? std::min(fx, 1.0) : 0.0, fy >= 0 ? std::min(fy, 1.0) : 0.0};
+}
+
+double bilinear(const TableCalibration& c, const std::vector<double>& node, double x_mm, double y_mm) {
+  const Cell k = cell_of(c, x_mm, y_mm);
+  const size_t a = k.j * c.nx + k.i;
+  return (1 - k.fy) * ((1 - k.fx) * node[a] + k.fx * node[a + 1]) + k.fy * ((1 - k.fx) * node[a + c.nx] + k.fx * node[a + c.nx + 1]);
+}
+
+}  // namespace
+
+bool TableCalibration::covers(double x_mm, double y_mm) const {
+  // A micrometre of slack: scan positions are whole steps of the motors, the map's nodes too.
+  const double slack = 1e-3;
+  return nx >= 2 && ny >= 2 && x_mm >= x0_mm - slack && x_mm <= x1_mm() + slack && y_mm >= y0_mm - slack &&
+         y_mm <= y1_mm() + slack;
+}
+
+double TableCalibration::z_error_at(double x_mm, double y_mm) const { return bilinear(*this, z_error_mm, x_mm, y_mm); }
+
+double TableCalibration::u_at(double x_mm, double y_mm) const {
+  // The nodes' uncertainties are not independent of their neighbours' (each is a local fit); the
+  // interpolated u is bounded by the larger of the nodes', which is what is given.
+  const Cell k = cell_of(*this, x_mm, y_mm);
+  const size_t a = k.j * nx + k.i;
+  return std::max(std::max(u_mm[a], u_mm[a + 1]), std::max(u_mm[a + nx], u_mm[a + nx + 1]));
+}
+
+std::string calibration_to_json(const TableCalibration& c) {
+  nlohmann::ordered_json j;
+  j["format"] = "digitizer table calibration";
+  j["version"] = TableCalibration::kVersion;
+  j["created_utc"] = c.created_utc;
+  j["device_id"] = c.device_id;
+  j["artefact"] = {{"kind", c.artefact}, {"flatness_mm", c.artefact_flatness_mm}};
+  j["grid"] = {{"x0_mm", c.x0_mm}, {"y0_mm", c.y0_mm}, {"step_x_mm", c.step_x_mm}, {"step_y_mm", c.step_y_mm},
+               {"nx", c.nx}, {"ny", c.ny}};
+  j["z_error_mm"] = c.z_error_mm;
+  j["u_mm"] = c.u_mm;
+  j["fit"] = {{"points", c.points},
+              {"noise_mm", c.noise_mm},
+              {"plane_removed_mm", {c.plane_mm[0], c.plane_mm[1], c.plane_mm[2]}},
+              {"residual_rms_mm", c.residual_rms_mm}};
+  return j.dump(1) + "\n";
+}
+
+TableCalibration calibration_from_json(const std::string& text, const std::string& name) {
+  const nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
+  if (j.is_discarded() || !j.is_object()) throw CalibrationError(name + ": not a JSON object (is this a calibration file?)");
+  auto need = [&](const nlohmann::json& object, const char* key, const std::string& where) -> const nlohmann::json& {
+    if (!object.is_object() || !object.contains(key)) throw CalibrationError(name + ": " + where + key + " is missing");
+    return object.at(key);
+  };
+  auto number = [&](const nlohmann::json& object, const char* key, const std::string& where) {
+    const nlohmann::json& v = need(object, key, where);
+    if (!v.is_number() || !std::isfinite(v.get<double>())) throw CalibrationError(name + ": " + where + key + " is not a finite number");
+    return v.get<double>();
+  };
+  if (!j.contains("format") || j["format"] != "digitizer table calibration") {
+    throw CalibrationError(name + ": not a digitizer table calibration (\"format\" is missing or different)");
+  }
+  const double version = number(j, "version", "");
+  if (version != TableCalibration::kVersion) {
+    throw CalibrationError(name + ": calibration version " + std::to_string(static_cast<long long>(version)) +
+                           "; this digitizer reads version " + std::to_string(TableCalibration::kVersion));
+  }
+  TableCalibration c;
+  if (j.contains("created_utc") && j["created_utc"].is_string()) c.created_utc = j["created_utc"].get<std::string>();
+  if (j.contains("device_id") && j["device_id"].is_string()) c.device_id = j["device_id"].get<std::string>();
+  const nlohmann::json& artefact = need(j, "artefact", "");
+  if (artefact.contains("kind") && artefact["kind"].is_string()) c.artefact = artefact["kind"].get<std::string>();
+  c.artefact_flatness_mm = number(artefact, "flatness_mm", "artefact.");
+  const nlohmann::json& grid = need(j, "grid", "");
+  c.x0_mm = number(grid, "x0_mm", "grid."), c.y0_mm = number(grid, "y0_mm", "grid.");
+  c.step_x_mm = number(grid, "step_x_mm", "grid."), c.step_y_mm = number(grid, "step_y_mm", "grid.");
+  const double nx = number(grid, "nx", "grid."), ny = number(grid, "ny", "grid.");
+  if (!(c.step_x_mm > 0 && c.step_y_mm > 0)) throw CalibrationError(name + ": grid steps must be positive");
+  if (nx < 2 || ny < 2 || nx > 10000 || ny > 10000 || nx != std::floor(nx) || ny != std::floor(ny)) {
+    throw CalibrationError(name + ": the grid needs 2 to 10000 whole nodes each way");
+  }
+  c.nx = static_cast<size_t>(nx), c.ny = static_cast<size_t>(ny);
+  for (const bool is_u : {false, true}) {
+    const char* key = is_u ? "u_mm" : "z_error_mm";
+    const nlohmann::json& values = need(j, key, "");
+    if (!values.is_array() || values.size() != c.nx * c.ny) {
+      throw CalibrationError(name + ": " + key + " must hold nx * ny = " + std::to_string(c.nx * c.ny) + " numbers");
+    }
+    std::vector<double>& out = is_u ? c.u_mm : c.z_error_mm;
+    for (size_t k = 0; k < values.size(); ++k) {
+      if (!values[k].is_number() || !std::isfinite(values[k].get<double>()) || (is_u && values[k].get<double>() < 0)) {
+        throw CalibrationError(name + ": " + key + "[" + std::to_string(k) + "] is not a finite number" + (is_u ? " >= 0" : ""));
+      }
+      out.push_back(values[k].get<double>());
+    }
+  }
+  if (j.contains("fit") && j["fit"].is_object()) {
+    const nlohmann::json& fit = j["fit"];
+    if (fit.contains("noise_mm") && fit["noise_mm"].is_number()) c.noise_mm = fit["noise_mm"].get<double>();
+    if (fit.contains("residual_rms_mm") && fit["residual_rms_mm"].is_number()) c.residual_rms_mm = fit["residual_rms_mm"].get<double>();
+    if (fit.contains("points") && fit["points"].is_number_unsigned()) c.points = fit["points"].get<size_t>();
+    if (fit.contains("plane_removed_mm") && fit["plane_removed_mm"].is_array() && fit["plane_removed_mm"].size() == 3) {
+      for (size_t k = 0; k < 3; ++k) {
+        if (fit["plane_removed_mm"][k].is_number()) c.plane_mm[k] = fit["plane_removed_mm"][k].get<double>();
+      }
+    }
+  }
+  return c;
+}
+
+TableCalibration read_calibration_file(const std::string& path) {
+  std::string text;
+  if (!read_whole_file(path, &text)) throw CalibrationError(path + ": cannot open: " + std::strerror(errno));
+  return calibration_from_json(text, path);
+}
+
+void apply_calibration(const TableCalibration& c, PointCloud& cloud, const std::string& name) {
+  for (size_t k = 0; k < cloud.points.size(); ++k) {
+    const Point3& p = cloud.points[k];
+    if (!c.covers(p.x, p.y)) {
+      char where[160];
+      std::snprintf(where, sizeof where, "point %zu at (%.3f, %.3f) mm lies outside the calibrated travel x %.3f..%.3f, y %.3f..%.3f mm",
+                    k + 1, p.x, p.y, c.x0_mm, c.x1_mm(), c.y0_mm, c.y1_mm());
+      throw CalibrationError(name + ": " + where + "; calibrate over the whole scanned area");
+    }
+  }
+  for (size_t k = 0; k < cloud.points.size(); ++k) {
+    Point3& p = cloud.points[k];
+    if (cloud.sigma) {
+      const double u = c.u_at(p.x, p.y);
+      (*cloud.sigma)[k] = std::hypot((*cloud.sigma)[k], u);
+    }
+    p.z -= c.z_error_at(p.x, p.y);
+  }
+}
+
+std::optional<TableCalibration> correct_by_record(ScanData& scan, std::vector<double>* sigma_mm, const std::string& name) {
+  if (!scan.calibration_json) return std::nullopt;
+  const TableCalibration c = calibration_from_json(*scan.calibration_json, name + " (its calibration record)");
+  PointCloud cloud;
+  for (const PointSample& p : scan.points) cloud.points.push_back({p.x_nm * 1e-6, p.y_nm * 1e-6, p.z_nm * 1e-6});
+  if (sigma_mm != nullptr && sigma_mm->size() == scan.points.size()) cloud.sigma = *sigma_mm;
+  apply_calibration(c, cloud, name);
+  for (size_t k = 0; k < scan.points.size(); ++k) scan.points[k].z_nm = static_cast<int32_t>(std::lround(cloud.points[k].z * 1e6));
+  if (cloud.sigma) *sigma_mm = *cloud.sigma;
+  return c;
+}
+
+}  // namespace dg::host

@@ -1,0 +1,60 @@
+// A table's calibration: the height error of its XY travel on a grid, measured on a flat, its
+// file (JSON), and the correction of scan points by it.
+#pragma once
+#include <cstddef>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "host/scan/point_reader.h"
+#include "host/scan/scan_sink.h"
+
+namespace dg::host {
+
+// A calibration file that cannot be read or used; the message names the file and what is wrong.
+class CalibrationError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct TableCalibration {
+  static constexpr int kVersion = 1;
+  std::string created_utc;  // ISO 8601, when it was measured
+  std::string device_id;    // the device it was measured on ("" when the scan did not say)
+  std::string artefact = "flat";
+  double artefact_flatness_mm = 0;  // the flat's certified flatness (peak to valley)
+  // The map's nodes: x0 + i step_x, y0 + j step_y, i < nx, j < ny, row by row (j nx + i).
+  double x0_mm = 0, y0_mm = 0, step_x_mm = 1, step_y_mm = 1;
+  size_t nx = 0, ny = 0;
+  std::vector<double> z_error_mm;  // what the travel adds to a reading at each node
+  std::vector<double> u_mm;        // each node's standard uncertainty (k = 1)
+  double noise_mm = 0;             // the gauge noise seen on the flat
+  double plane_mm[3] = {};         // a + b x + c y taken out: the flat's own setup, not the machine
+  double residual_rms_mm = 0;      // RMS of the flat's readings after the plane and the map
+  size_t points = 0;               // readings the map was made of
+
+  double x1_mm() const { return x0_mm + step_x_mm * static_cast<double>(nx - 1); }
+  double y1_mm() const { return y0_mm + step_y_mm * static_cast<double>(ny - 1); }
+  bool covers(double x_mm, double y_mm) const;
+  // Bilinear between the nodes; only where covers().
+  double z_error_at(double x_mm, double y_mm) const;
+  double u_at(double x_mm, double y_mm) const;
+};
+
+std::string calibration_to_json(const TableCalibration& c);
+// Checks everything a correction relies on: version, a grid of at least 2 x 2 nodes with positive
+// steps, one finite value and uncertainty per node. `name` is used in messages.
+TableCalibration calibration_from_json(const std::string& text, const std::string& name);
+TableCalibration read_calibration_file(const std::string& path);
+
+// Subtracts the travel's error from every point's z and adds the map's uncertainty to each point's
+// sigma, where the cloud has one. A point outside the calibrated travel is an error that names it:
+// its correction is unknown, and an uncorrected point among corrected ones would be a false number.
+void apply_calibration(const TableCalibration& c, PointCloud& cloud, const std::string& name);
+
+// A stored scan corrected by its own calibration record, if it has one: every point's z (to the
+// nanometre) and, where given (one per point), its sigma. Returns the calibration applied.
+std::optional<TableCalibration> correct_by_record(ScanData& scan, std::vector<double>* sigma_mm, const std::string& name);
+
+}  // namespace dg::host

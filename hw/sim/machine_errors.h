@@ -1,0 +1,33 @@
+// The simulated machine's own errors: what a hobby XY table and its gauge stand do to every reading.
+#pragma once
+#include <cstdint>
+
+namespace dg::sim {
+
+// Each is off (zero) by default. Deterministic from the seed, so a calibration measured on one scan
+// applies to a scan taken later with another seed for the gauge noise.
+struct MachineErrors {
+  double squareness_urad = 0;  // the y axis leans towards +x by this angle: x moves y * angle
+  double scale_x_ppm = 0;      // the x screw's lead error: the table travels (1 + ppm 1e-6) of the command
+  double scale_y_ppm = 0;
+  // The table's travel is not flat: a smooth height error of the carriage over its XY travel
+  // (low-order modes over 100 x 100 mm with a bowl), this many micrometres at its largest.
+  double flatness_um = 0;
+  double drift_um_per_h = 0;   // the gauge's stand warms: Z grows this much per hour of virtual time
+  uint64_t map_seed = 1;       // picks the flatness map's modes (the machine's, not the scan's)
+
+  bool any() const {
+    return squareness_urad != 0 || scale_x_ppm != 0 || scale_y_ppm != 0 || flatness_um != 0 || drift_um_per_h != 0;
+  }
+};
+
+// Where the table really is for a commanded position (mm).
+void actual_table_xy(const MachineErrors& e, double x_mm, double y_mm, double* actual_x_mm, double* actual_y_mm);
+// The flatness map's largest |value| before scaling, for travel_z_error_mm (a few ms: once per machine).
+double flatness_map_peak(uint64_t map_seed);
+// The travel's height error at a commanded position (mm), without drift.
+double travel_z_error_mm(const MachineErrors& e, double map_peak, double x_mm, double y_mm);
+// The drift after `t_ns` of virtual time (mm).
+double drift_mm(const MachineErrors& e, uint64_t t_ns);
+
+}  // namespace dg::sim

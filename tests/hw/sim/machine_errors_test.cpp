@@ -1,0 +1,76 @@
+// The simulated machine's errors: off by default, each as large as asked, and seen by the gauge.
+#include <CppUTest/TestHarness.h>
+
+#include <cmath>
+
+#include "hw/sim/machine_errors.h"
+#include "hw/sim/sim_board.h"
+#include "hw/sim/sim_options.h"
+
+using namespace dg::sim;
+
+TEST_GROUP(MachineErrors){};
+
+TEST(MachineErrors, AnIdealMachineMovesWhereItIsToldAndAddsNoHeight) {
+  const MachineErrors ideal;
+  CHECK_FALSE(ideal.any());
+  double x = 0, y = 0;
+  actual_table_xy(ideal, 37.5, 81.25, &x, &y);
+  DOUBLES_EQUAL(37.5, x, 0);
+  DOUBLES_EQUAL(81.25, y, 0);
+  DOUBLES_EQUAL(0, travel_z_error_mm(ideal, 1, 50, 50), 0);
+}
+
+TEST(MachineErrors, TheTravelsFlatnessPeaksAtTheAmountAskedAndIsTheSameForEveryScanSeed) {
+  MachineErrors e;
+  e.flatness_um = 30;
+  const double peak = flatness_map_peak(e.map_seed);
+  double largest = 0;
+  for (int i = 0; i <= 100; ++i)
+    for (int j = 0; j <= 100; ++j) largest = std::fmax(largest, std::fabs(travel_z_error_mm(e, peak, i, j)));
+  DOUBLES_EQUAL(0.030, largest, 0.0005);
+  // Smooth: a millimetre apart, heights differ by a small part of the peak.
+  DOUBLES_EQUAL(travel_z_error_mm(e, peak, 40, 60), travel_z_error_mm(e, peak, 41, 60), 0.002);
+  MachineErrors other = e;
+  other.map_seed = 2;
+  CHECK(std::fabs(travel_z_error_mm(e, peak, 20, 70) - travel_z_error_mm(other, flatness_map_peak(2), 20, 70)) > 1e-4);
+}
+
+TEST(MachineErrors, SquarenessAndScaleMoveTheTableAwayFromTheCommandedPoint) {
+  MachineErrors e;
+  e.squareness_urad = 500;
+  e.scale_x_ppm = 200;
+  e.scale_y_ppm = -150;
+  double x = 0, y = 0;
+  actual_table_xy(e, 100, 100, &x, &y);
+  DOUBLES_EQUAL(100 + 0.020 + 0.050, x, 1e-6);  // 200 ppm of 100 mm, and 0.5 mrad of the 100 mm in y
+  DOUBLES_EQUAL(100 * (1 - 150e-6) * std::cos(500e-6), y, 1e-9);  // and the leaning axis is a cosine shorter
+}
+
+TEST(MachineErrors, TheGaugeReadsThePartWhereTheTableReallyIsPlusTheTravelsErrorAndDrift) {
+  SimOptions o;
+  for (const char* pair : {"part=saddle", "squareness_urad=1000", "scale_x_ppm=500", "flatness_um=20", "drift_um_per_h=360"}) {
+    STRCMP_EQUAL("", apply_sim_option(pair, &o).c_str());
+  }
+  o.config.start_x_steps = 30 * 400;  // 30 mm at 2.5 um a step
+  o.config.start_y_steps = 20 * 400;
+  SimBoard board(o.config, nullptr);
+  const MachineErrors& e = o.config.machine;
+  double x = 0, y = 0;
+  actual_table_xy(e, 30, 20, &x, &y);
+  const double expected = o.config.part.height_mm(x, y) + travel_z_error_mm(e, flatness_map_peak(e.map_seed), 30, 20);
+  DOUBLES_EQUAL(expected, board.height_under_probe_mm(), 1e-12);
+  DOUBLES_EQUAL(0.180, drift_mm(e, 1800000000000ull), 1e-12);  // 360 um an hour, for half an hour
+  // The saddle's slope turns the table's 35 um offset in x into a height error of its own.
+  CHECK(std::fabs(o.config.part.height_mm(x, y) - o.config.part.height_mm(30, 20)) > 0.004);
+}
+
+TEST(MachineErrors, BadValuesAreRefusedWithTheirName) {
+  SimOptions o;
+  STRCMP_CONTAINS("flatness_um", apply_sim_option("flatness_um=abc", &o).c_str());
+  STRCMP_CONTAINS("squareness_urad", apply_sim_option("squareness_urad=1e9", &o).c_str());
+  STRCMP_CONTAINS("machine is typical or ideal", apply_sim_option("machine=wobbly", &o).c_str());
+  STRCMP_EQUAL("", apply_sim_option("machine=typical", &o).c_str());
+  CHECK(o.config.machine.any());
+  DOUBLES_EQUAL(30, o.config.machine.flatness_um, 0);
+}
