@@ -91,8 +91,9 @@ TableCalibration calibration_from_json(const std::string& text, const std::strin
   }
   const double version = number(j, "version", "");
   if (version != TableCalibration::kVersion) {
-    throw CalibrationError(name + ": calibration version " + std::to_string(static_cast<long long>(version)) +
-                           "; this digitizer reads version " + std::to_string(TableCalibration::kVersion));
+    char text[96];  // %g: the file's number may be anything finite
+    std::snprintf(text, sizeof text, ": calibration version %g; this digitizer reads version %d", version, TableCalibration::kVersion);
+    throw CalibrationError(name + text);
   }
   TableCalibration c;
   if (j.contains("created_utc") && j["created_utc"].is_string()) c.created_utc = j["created_utc"].get<std::string>();

@@ -90,6 +90,8 @@ TEST(TableCalibration, AFileWithAnythingWrongIsRefusedWithWhat) {
     return text.replace(at, from.size(), to);
   };
   STRCMP_CONTAINS("version 2", refusal(edited("\"version\": 1", "\"version\": 2")).c_str());
+  // Found by the fuzzer: a version no integer holds.
+  STRCMP_CONTAINS("version 1e+300", refusal(edited("\"version\": 1", "\"version\": 1e300")).c_str());
   STRCMP_CONTAINS("z_error_mm must hold nx * ny = 8", refusal(edited("\"nx\": 3", "\"nx\": 4")).c_str());
   STRCMP_CONTAINS("grid steps must be positive", refusal(edited("\"step_x_mm\": 5.0", "\"step_x_mm\": 0")).c_str());
   STRCMP_CONTAINS("u_mm[4] is not a finite number >= 0", refusal(edited("0.0003", "-0.0003")).c_str());
