@@ -31,6 +31,10 @@ int run_info(const InfoArgs& a) {
     std::printf("%s\n", reading_settings(r).c_str());
   }
   print_summary(data, "");
+  // Which calibration corrects the points (the extent above is of the raw readings).
+  for (const std::string& fact : scan_facts(data)) {
+    if (fact.rfind("calibration:", 0) == 0) std::printf("%s\n", fact.c_str());
+  }
   if (!data.done) std::printf("the scan did not finish (no ScanDone record)\n");
   return 0;
 }
