@@ -1,6 +1,7 @@
 // Calibrating the table on a flat (guided, then scanned) and re-correcting stored scans.
 #include "host/cli/calibrate_command.h"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -9,10 +10,12 @@
 #include <cstring>
 #include <ctime>
 #include <iostream>
+#include <stdexcept>
 
 #include "host/cli/scan_command.h"
 #include "host/io/atomic_file.h"
 #include "host/io/whole_file.h"
+#include "host/scan/ball_plate_calibration.h"
 #include "host/scan/flat_calibration.h"
 #include "host/scan/scan_file.h"
 #include "host/scan/table_calibration.h"
@@ -34,8 +37,13 @@ std::string utc_now() {
 
 CLI::App* add_calibrate_command(CLI::App& app, CalibrateArgs& a) {
   CLI::App* cmd = app.add_subcommand("calibrate", "measure the table's travel error on a reference flat and write a calibration file");
-  cmd->add_option("--artefact", a.artefact, "the reference artefact: flat (an optical flat or a surface plate)")
-      ->capture_default_str()->check(CLI::IsMember({"flat"}));
+  cmd->add_option("--artefact", a.artefact,
+                  "flat (an optical flat or a surface plate: the travel's height error), or ballplate (balls at certified "
+                  "centres: the axes' scale and squareness, added to the flat's calibration in -o)")
+      ->capture_default_str()->check(CLI::IsMember({"flat", "ballplate"}));
+  cmd->add_option("--certificate", a.certificate, "ballplate: the certified ball centres, CSV x_mm,y_mm")->check(CLI::ExistingFile);
+  cmd->add_option("--ball-step", a.ball_step_mm, "ballplate: grid step of the plate's scan, mm")
+      ->capture_default_str()->check(CLI::Range(0.05, 2.0));
   cmd->add_option("--device", a.device, "device URI (else DIGITIZER_DEVICE or the config file)");
   cmd->add_option("--x", a.x, "the travel to calibrate, x range MIN:MAX in mm (cover every scan's area)")->capture_default_str();
   cmd->add_option("--y", a.y, "y range MIN:MAX in mm")->capture_default_str();
@@ -59,44 +67,56 @@ CLI::App* add_recorrect_command(CLI::App& app, RecorrectArgs& a) {
   return cmd;
 }
 
-int run_calibrate(const CalibrateArgs& a) {
+namespace {
+
+// Scans the artefact raw into `path` after telling the user what to place; 0 when it finished.
+int scan_artefact(const CalibrateArgs& a, const std::string& what, const std::string& x, const std::string& y, double step_mm,
+                  const std::string& path) {
+  if (!a.quiet) {
+    std::printf("Calibrating on %s over x %s, y %s mm.\n", what.c_str(), x.c_str(), y.c_str());
+    // A person at a terminal confirms; a script (no terminal) goes on.
+    if (isatty(STDIN_FILENO) != 0) {
+      std::printf("  Press Enter when it is in place (Ctrl-C to stop) ");
+      std::fflush(stdout);
+      std::string line;
+      std::getline(std::cin, line);
+    }
+  }
+  ScanArgs scan;
+  scan.device = a.device;
+  scan.x = x, scan.y = y;
+  scan.step_mm = step_mm;
+  scan.samples = a.samples;
+  scan.output = path;
+  scan.force = a.force;
+  scan.quiet = a.quiet;
+  scan.calibration = "none";  // the artefact is measured raw: it is what the calibration is made of
+  const int scanned = run_scan(scan);
+  if (scanned != 0) {
+    std::fprintf(stderr, "digitizer: the artefact's scan did not finish; no calibration written (the points are in %s)\n", path.c_str());
+  }
+  return scanned;
+}
+
+PointCloud raw_points(const std::string& path) {
+  if (read_scan_file(path).calibration_json) {
+    throw CalibrationError(path + ": this scan is corrected by a calibration already; calibrate from a raw scan of the artefact");
+  }
+  return read_points(path);
+}
+
+int calibrate_flat(const CalibrateArgs& a) {
   std::string flat_scan = a.from;
   if (flat_scan.empty()) {
     flat_scan = a.scan_output.empty() ? a.output + ".flat.scan" : a.scan_output;
-    if (!a.quiet) {
-      std::printf("Calibrating the table's travel over x %s, y %s mm on a flat.\n"
-                  "  Clamp the flat (an optical flat or a ground surface plate, larger than that area) on the table,\n"
-                  "  clean, roughly level; set the gauge on it near mid-travel, with room to move both ways.\n",
-                  a.x.c_str(), a.y.c_str());
-      // A person at a terminal confirms; a script (no terminal) goes on.
-      if (isatty(STDIN_FILENO) != 0) {
-        std::printf("  Press Enter when the flat is in place (Ctrl-C to stop) ");
-        std::fflush(stdout);
-        std::string line;
-        std::getline(std::cin, line);
-      }
-    }
-    ScanArgs scan;
-    scan.device = a.device;
-    scan.x = a.x, scan.y = a.y;
-    scan.step_mm = a.step_mm;
-    scan.samples = a.samples;
-    scan.output = flat_scan;
-    scan.force = a.force;
-    scan.quiet = a.quiet;
-    scan.calibration = "none";  // the flat is measured raw: it is what the map is made of
-    const int scanned = run_scan(scan);
-    if (scanned != 0) {
-      std::fprintf(stderr, "digitizer: the flat's scan did not finish; no calibration written (the points are in %s)\n", flat_scan.c_str());
-      return scanned;
-    }
+    const int scanned = scan_artefact(a,
+                                      "a flat (an optical flat or a ground surface plate, larger than that area), clamped "
+                                      "clean and roughly level, the gauge on it near mid-travel",
+                                      a.x, a.y, a.step_mm, flat_scan);
+    if (scanned != 0) return scanned;
   }
   const ScanData raw = read_scan_file(flat_scan);
-  if (raw.calibration_json) {
-    throw CalibrationError(flat_scan + ": this scan is corrected by a calibration already; calibrate from a raw scan of the flat");
-  }
-  const PointCloud points = read_points(flat_scan);
-  TableCalibration c = calibrate_from_flat(points, a.flatness_um * 1e-3, flat_scan);
+  TableCalibration c = calibrate_from_flat(raw_points(flat_scan), a.flatness_um * 1e-3, flat_scan);
   c.created_utc = utc_now();
   if (raw.device) c.device_id = raw.device->device_id;
   double largest = 0, u_max = 0;
@@ -117,6 +137,63 @@ int run_calibrate(const CalibrateArgs& a) {
   }
   return 0;
 }
+
+int calibrate_ball_plate(const CalibrateArgs& a) {
+  if (a.certificate.empty()) throw std::invalid_argument("--artefact ballplate needs --certificate, the balls' certified centres");
+  // The axes are added to the travel's map: the flat comes first, and its file is -o.
+  struct stat existing {};
+  if (::stat(a.output.c_str(), &existing) != 0) {
+    throw CalibrationError(a.output + ": no calibration there; calibrate on a flat first (-o the same file): the ball plate "
+                           "adds the axes' scale and squareness to the travel's map");
+  }
+  TableCalibration c = read_calibration_file(a.output);
+  const std::vector<Point2> certified = read_ball_certificate(a.certificate);
+  std::string plate_scan = a.from;
+  if (plate_scan.empty()) {
+    double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+    for (const Point2& p : certified) x0 = std::fmin(x0, p.x), x1 = std::fmax(x1, p.x), y0 = std::fmin(y0, p.y), y1 = std::fmax(y1, p.y);
+    // Each ball's footprint and the plate's placement error around the outer centres.
+    const double margin = 9.0;
+    char x[64], y[64];
+    std::snprintf(x, sizeof x, "%.3f:%.3f", std::fmax(0.0, x0 - margin), x1 + margin);
+    std::snprintf(y, sizeof y, "%.3f:%.3f", std::fmax(0.0, y0 - margin), y1 + margin);
+    plate_scan = a.scan_output.empty() ? a.output + ".ballplate.scan" : a.scan_output;
+    const int scanned = scan_artefact(a,
+                                      "a ball plate, laid with its frame on the table's (its first ball within 2 mm of "
+                                      "its certified place, its rows along x), the gauge over it",
+                                      x, y, a.ball_step_mm, plate_scan);
+    if (scanned != 0) return scanned;
+  }
+  // The travel's height error tilts each ball's cap by the map's local slope and shifts its fitted
+  // centre by the ball's radius times that slope (3.6 um for 30 um over 50 mm): the map comes out
+  // first. An earlier ball plate's axes do not apply: they are what is measured again.
+  PointCloud plate = raw_points(plate_scan);
+  TableCalibration map_only = c;
+  map_only.has_axes = false;
+  apply_calibration(map_only, plate, plate_scan);
+  const AxisCalibration axes = calibrate_from_ball_plate(plate, certified, plate_scan);
+  c.has_axes = true;
+  c.scale_x_ppm = axes.scale_x_ppm, c.scale_y_ppm = axes.scale_y_ppm, c.squareness_urad = axes.squareness_urad;
+  c.u_scale_x_ppm = axes.u_scale_x_ppm, c.u_scale_y_ppm = axes.u_scale_y_ppm, c.u_squareness_urad = axes.u_squareness_urad;
+  c.balls = axes.centres.size();
+  c.ball_centre_rms_mm = axes.centre_rms_mm;
+  c.axes_created_utc = utc_now();
+  write_file_atomically(a.output, calibration_to_json(c));
+  if (!a.quiet) {
+    std::printf("%zu balls fitted; their centres match the certificate within %.4f mm RMS after the fit\n", c.balls,
+                c.ball_centre_rms_mm);
+    std::printf("scale x %+.1f ppm (u %.1f), scale y %+.1f ppm (u %.1f), squareness %+.1f urad (u %.1f); the plate lay "
+                "%.3f degrees off the x axis\n",
+                c.scale_x_ppm, c.u_scale_x_ppm, c.scale_y_ppm, c.u_scale_y_ppm, c.squareness_urad, c.u_squareness_urad,
+                axes.placement_deg);
+    std::printf("added to %s: scans corrected by it now have their x and y corrected too\n", a.output.c_str());
+  }
+  return 0;
+}
+
+}  // namespace
+
+int run_calibrate(const CalibrateArgs& a) { return a.artefact == "ballplate" ? calibrate_ball_plate(a) : calibrate_flat(a); }
 
 int run_recorrect(const RecorrectArgs& a) {
   std::string json;

@@ -13,8 +13,10 @@ struct CalibrateArgs {
   double step_mm = 5.0;
   unsigned samples = 1;
   double flatness_um = 0;  // the flat's certified flatness, peak to valley
-  std::string from;        // an existing scan of the flat instead of scanning
-  std::string scan_output; // where the flat's scan is kept (default OUTPUT.flat.scan)
+  std::string certificate; // ball plate: its certified ball centres (CSV x_mm,y_mm)
+  double ball_step_mm = 1.0;  // ball plate: grid step of its scan
+  std::string from;        // an existing scan of the artefact instead of scanning
+  std::string scan_output; // where the artefact's scan is kept (default OUTPUT.flat.scan, OUTPUT.ballplate.scan)
   std::string output;      // the calibration file
   bool force = false;
   bool quiet = false;

@@ -66,10 +66,20 @@ std::vector<std::string> scan_facts(const ScanData& data) {
       char text[400];
       std::snprintf(text, sizeof text,
                     "calibration: the table's travel height error, measured on a %s (flatness %.4f mm) on %s%s%s, over "
-                    "x %.3f..%.3f, y %.3f..%.3f mm; squareness and scale not compensated",
+                    "x %.3f..%.3f, y %.3f..%.3f mm",
                     c.artefact.c_str(), c.artefact_flatness_mm, c.created_utc.empty() ? "an unknown date" : c.created_utc.c_str(),
                     c.device_id.empty() ? "" : " with ", c.device_id.c_str(), c.x0_mm, c.x1_mm(), c.y0_mm, c.y1_mm());
-      facts.push_back(text);
+      std::string fact = text;
+      if (c.has_axes) {
+        std::snprintf(text, sizeof text,
+                      "; the axes from a ball plate (%zu balls): scale x %+.1f ppm (u %.1f), y %+.1f ppm (u %.1f), "
+                      "squareness %+.1f urad (u %.1f)",
+                      c.balls, c.scale_x_ppm, c.u_scale_x_ppm, c.scale_y_ppm, c.u_scale_y_ppm, c.squareness_urad, c.u_squareness_urad);
+        fact += text;
+      } else {
+        fact += "; squareness and scale not compensated";
+      }
+      facts.push_back(fact);
     } catch (const CalibrationError& error) {
       facts.push_back(std::string("calibration: a record that cannot be used: ") + error.what());
     }

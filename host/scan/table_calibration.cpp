@@ -67,6 +67,18 @@ std::string calibration_to_json(const TableCalibration& c) {
                {"nx", c.nx}, {"ny", c.ny}};
   j["z_error_mm"] = c.z_error_mm;
   j["u_mm"] = c.u_mm;
+  if (c.has_axes) {
+    j["axes"] = {{"artefact", "ball plate"},
+                 {"created_utc", c.axes_created_utc},
+                 {"scale_x_ppm", c.scale_x_ppm},
+                 {"scale_y_ppm", c.scale_y_ppm},
+                 {"squareness_urad", c.squareness_urad},
+                 {"u_scale_x_ppm", c.u_scale_x_ppm},
+                 {"u_scale_y_ppm", c.u_scale_y_ppm},
+                 {"u_squareness_urad", c.u_squareness_urad},
+                 {"balls", c.balls},
+                 {"centre_rms_mm", c.ball_centre_rms_mm}};
+  }
   j["fit"] = {{"points", c.points},
               {"noise_mm", c.noise_mm},
               {"plane_removed_mm", {c.plane_mm[0], c.plane_mm[1], c.plane_mm[2]}},
@@ -91,9 +103,9 @@ TableCalibration calibration_from_json(const std::string& text, const std::strin
   }
   const double version = number(j, "version", "");
   if (version != TableCalibration::kVersion) {
-    char text[96];  // %g: the file's number may be anything finite
-    std::snprintf(text, sizeof text, ": calibration version %g; this digitizer reads version %d", version, TableCalibration::kVersion);
-    throw CalibrationError(name + text);
+    char words[96];  // %g: the file's number may be anything finite
+    std::snprintf(words, sizeof words, ": calibration version %g; this digitizer reads version %d", version, TableCalibration::kVersion);
+    throw CalibrationError(name + words);
   }
   TableCalibration c;
   if (j.contains("created_utc") && j["created_utc"].is_string()) c.created_utc = j["created_utc"].get<std::string>();
@@ -123,6 +135,21 @@ TableCalibration calibration_from_json(const std::string& text, const std::strin
       }
       out.push_back(values[k].get<double>());
     }
+  }
+  if (j.contains("axes")) {
+    const nlohmann::json& axes = j["axes"];
+    c.has_axes = true;
+    c.scale_x_ppm = number(axes, "scale_x_ppm", "axes."), c.scale_y_ppm = number(axes, "scale_y_ppm", "axes.");
+    c.squareness_urad = number(axes, "squareness_urad", "axes.");
+    c.u_scale_x_ppm = number(axes, "u_scale_x_ppm", "axes."), c.u_scale_y_ppm = number(axes, "u_scale_y_ppm", "axes.");
+    c.u_squareness_urad = number(axes, "u_squareness_urad", "axes.");
+    // A table off by more than 2 % or 20 mrad is broken, not calibrated.
+    if (std::fabs(c.scale_x_ppm) > 20000 || std::fabs(c.scale_y_ppm) > 20000 || std::fabs(c.squareness_urad) > 20000) {
+      throw CalibrationError(name + ": axes: scale beyond 20000 ppm or squareness beyond 20000 urad");
+    }
+    if (axes.contains("created_utc") && axes["created_utc"].is_string()) c.axes_created_utc = axes["created_utc"].get<std::string>();
+    if (axes.contains("balls") && axes["balls"].is_number_unsigned()) c.balls = axes["balls"].get<size_t>();
+    if (axes.contains("centre_rms_mm") && axes["centre_rms_mm"].is_number()) c.ball_centre_rms_mm = axes["centre_rms_mm"].get<double>();
   }
   if (j.contains("fit") && j["fit"].is_object()) {
     const nlohmann::json& fit = j["fit"];
@@ -161,6 +188,12 @@ void apply_calibration(const TableCalibration& c, PointCloud& cloud, const std::
       (*cloud.sigma)[k] = std::hypot((*cloud.sigma)[k], u);
     }
     p.z -= c.z_error_at(p.x, p.y);
+    if (c.has_axes) {
+      const double q = c.squareness_urad * 1e-6;
+      const double x = p.x * (1 + c.scale_x_ppm * 1e-6) + p.y * std::sin(q);
+      p.y = p.y * (1 + c.scale_y_ppm * 1e-6) * std::cos(q);
+      p.x = x;
+    }
   }
 }
 
@@ -171,7 +204,11 @@ std::optional<TableCalibration> correct_by_record(ScanData& scan, std::vector<do
   for (const PointSample& p : scan.points) cloud.points.push_back({p.x_nm * 1e-6, p.y_nm * 1e-6, p.z_nm * 1e-6});
   if (sigma_mm != nullptr && sigma_mm->size() == scan.points.size()) cloud.sigma = *sigma_mm;
   apply_calibration(c, cloud, name);
-  for (size_t k = 0; k < scan.points.size(); ++k) scan.points[k].z_nm = static_cast<int32_t>(std::lround(cloud.points[k].z * 1e6));
+  for (size_t k = 0; k < scan.points.size(); ++k) {
+    scan.points[k].x_nm = static_cast<int32_t>(std::lround(cloud.points[k].x * 1e6));
+    scan.points[k].y_nm = static_cast<int32_t>(std::lround(cloud.points[k].y * 1e6));
+    scan.points[k].z_nm = static_cast<int32_t>(std::lround(cloud.points[k].z * 1e6));
+  }
   if (cloud.sigma) *sigma_mm = *cloud.sigma;
   return c;
 }

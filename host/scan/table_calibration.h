@@ -33,6 +33,15 @@ struct TableCalibration {
   double plane_mm[3] = {};         // a + b x + c y taken out: the flat's own setup, not the machine
   double residual_rms_mm = 0;      // RMS of the flat's readings after the plane and the map
   size_t points = 0;               // readings the map was made of
+  // The axes' errors from a ball plate (ball_plate_calibration.h), when measured: a point's (x, y)
+  // is corrected to where the table really was, x' = x (1 + scale_x) + y sin(q), y' = y (1 +
+  // scale_y) cos(q); the map stays indexed by the commanded position.
+  bool has_axes = false;
+  double scale_x_ppm = 0, scale_y_ppm = 0, squareness_urad = 0;
+  double u_scale_x_ppm = 0, u_scale_y_ppm = 0, u_squareness_urad = 0;
+  size_t balls = 0;
+  double ball_centre_rms_mm = 0;
+  std::string axes_created_utc;
 
   double x1_mm() const { return x0_mm + step_x_mm * static_cast<double>(nx - 1); }
   double y1_mm() const { return y0_mm + step_y_mm * static_cast<double>(ny - 1); }
@@ -48,8 +57,8 @@ std::string calibration_to_json(const TableCalibration& c);
 TableCalibration calibration_from_json(const std::string& text, const std::string& name);
 TableCalibration read_calibration_file(const std::string& path);
 
-// Subtracts the travel's error from every point's z and adds the map's uncertainty to each point's
-// sigma, where the cloud has one. A point outside the calibrated travel is an error that names it:
+// Subtracts the travel's error from every point's z, moves its (x, y) by the axes' errors where
+// they were measured, and adds the map's uncertainty to each point's sigma, where the cloud has one. A point outside the calibrated travel is an error that names it:
 // its correction is unknown, and an uncorrected point among corrected ones would be a false number.
 void apply_calibration(const TableCalibration& c, PointCloud& cloud, const std::string& name);
 

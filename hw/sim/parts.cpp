@@ -35,8 +35,25 @@ double shape_height_mm(PartKind kind, double x_mm, double y_mm) {
     }
     case PartKind::kFlat:
       return 5.0;
+    case PartKind::kBallPlate: {
+      // Centres 2 mm below the plate's top, so each ball stands 4 mm proud with a 5.66 mm footprint.
+      const double plate = 2.0, centre_z = plate + 4.0 - kBallRadiusMm;
+      double z = plate;
+      for (int ball = 0; ball < kBallPlateBalls; ++ball) {
+        double cx = 0, cy = 0;
+        ball_plate_centre(ball, &cx, &cy);
+        const double d2 = (x_mm - cx) * (x_mm - cx) + (y_mm - cy) * (y_mm - cy);
+        if (d2 < kBallRadiusMm * kBallRadiusMm) z = std::fmax(z, centre_z + std::sqrt(kBallRadiusMm * kBallRadiusMm - d2));
+      }
+      return z;
+    }
   }
   return 0.0;
+}
+
+void ball_plate_centre(int ball, double* x_mm, double* y_mm) {
+  *x_mm = 15.0 + 35.0 * (ball % 3);
+  *y_mm = 15.0 + 35.0 * (ball / 3);
 }
 
 bool parse_part(const char* name, PartKind* kind) {
@@ -46,7 +63,8 @@ bool parse_part(const char* name, PartKind* kind) {
   } kParts[] = {{"dome", PartKind::kDome},
                 {"saddle", PartKind::kSaddle},
                 {"canister", PartKind::kCanister},
-                {"flat", PartKind::kFlat}};
+                {"flat", PartKind::kFlat},
+                {"ballplate", PartKind::kBallPlate}};
   for (const auto& p : kParts) {
     if (std::strcmp(p.name, name) == 0) {
       *kind = p.kind;
@@ -62,6 +80,7 @@ const char* part_name(PartKind kind) {
     case PartKind::kSaddle: return "saddle";
     case PartKind::kCanister: return "canister";
     case PartKind::kFlat: return "flat";
+    case PartKind::kBallPlate: return "ballplate";
   }
   return "?";
 }

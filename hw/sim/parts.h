@@ -3,7 +3,7 @@
 
 namespace dg::sim {
 
-enum class PartKind { kDome, kSaddle, kCanister, kFlat };
+enum class PartKind { kDome, kSaddle, kCanister, kFlat, kBallPlate };
 
 struct Part {
   PartKind kind = PartKind::kDome;
@@ -18,6 +18,13 @@ double shape_height_mm(PartKind kind, double x_mm, double y_mm);
 // Parses "dome", "saddle", "canister", "flat"; false if unknown.
 bool parse_part(const char* name, PartKind* kind);
 const char* part_name(PartKind kind);
+
+// The ball plate, a reference artefact for the axes' scale and squareness: a 2 mm plate with
+// kBallPlateBalls balls of radius kBallRadiusMm standing 4 mm proud of it, their centres on a 3 x 3
+// grid 35 mm apart from (15, 15) mm (its certificate: docs/ball-plate-sim.csv).
+constexpr int kBallPlateBalls = 9;
+constexpr double kBallRadiusMm = 6.0;
+void ball_plate_centre(int ball, double* x_mm, double* y_mm);
 
 // The saddle's coefficients (z = a + b x + c y + d x y), exposed for tests.
 struct SaddleCoefficients {

@@ -9,7 +9,7 @@ namespace dg::sim {
 
 const char kSimOptionsHelp[] =
     "Simulated device settings (key=value):\n"
-    "  part=dome|saddle|canister|flat  seed=N  noise_um=X  outliers=RATE\n"
+    "  part=dome|saddle|canister|flat|ballplate  seed=N  noise_um=X  outliers=RATE\n"
     "  outlier_mm=X  inch=0|1  gauge_delay_us=N  mute=0|1  drop_edge=BIT  id=NAME\n"
     "  host_silence_s=N (virtual s, 0 never)  on_host_silence=pause|continue|abort\n"
     "  start_x_mm=X start_y_mm=Y (the table's start)  estop_at_ms=T estop_ms=D\n"
@@ -55,7 +55,7 @@ std::string apply_sim_option(const std::string& pair, SimOptions* options) {
   uint64_t u = 0;
   if (key == "part") {
     if (!parse_part(value.c_str(), &c.part.kind)) {
-      return "unknown part '" + value + "' (dome, saddle, canister, flat)";
+      return "unknown part '" + value + "' (dome, saddle, canister, flat, ballplate)";
     }
   } else if (key == "seed") {
     if (!parse_u64(value, &u)) return "seed must be a whole number, got '" + value + "'";

@@ -1,4 +1,5 @@
-// The table calibration on the simulator: a travel 30 um out of flat, calibrated on a flat, then
+// The table calibration on the simulator: a table with the typical errors (travel 30 um out of flat,
+// 500 urad out of square, 200 and -150 ppm of scale), calibrated on a flat and a ball plate, then
 // each part scanned later (another seed) and compared with its true shape, uncorrected and corrected.
 #include <unistd.h>
 
@@ -18,7 +19,7 @@ int main() {
   using Clock = std::chrono::steady_clock;
   const std::string dir = std::string(P_tmpdir) + "/dg_calibration_bench_" + std::to_string(getpid());
   const std::string cal = dir + ".cal.json";
-  const char* machine = "flatness_um=30,noise_um=1";
+  const char* machine = "machine=typical,noise_um=1";
   dg::host::CalibrateArgs a;
   a.device = std::string("sim:part=flat,seed=21,") + machine;
   a.output = cal;
@@ -26,12 +27,29 @@ int main() {
   a.quiet = true;
   const auto start = Clock::now();
   if (dg::host::run_calibrate(a) != 0) return 1;
+  dg::host::CalibrateArgs plate = a;
+  plate.artefact = "ballplate";
+  plate.device = std::string("sim:part=ballplate,seed=23,") + machine;
+  plate.certificate = dir + ".plate.csv";
+  {
+    FILE* f = std::fopen(plate.certificate.c_str(), "w");
+    for (int ball = 0; ball < dg::sim::kBallPlateBalls; ++ball) {
+      double x = 0, y = 0;
+      dg::sim::ball_plate_centre(ball, &x, &y);
+      std::fprintf(f, "%g,%g\n", x, y);
+    }
+    std::fclose(f);
+  }
+  if (dg::host::run_calibrate(plate) != 0) return 1;
   const double calibrate_s = std::chrono::duration<double>(Clock::now() - start).count();
   const dg::host::TableCalibration c = dg::host::read_calibration_file(cal);
   double u_max = 0, map_max = 0;
   for (size_t k = 0; k < c.u_mm.size(); ++k) u_max = std::fmax(u_max, c.u_mm[k]), map_max = std::fmax(map_max, std::fabs(c.z_error_mm[k]));
   std::printf("flat 100 x 100 mm at 5 mm (441 readings, 1 um noise): travel error up to %.1f um found, map u <= %.2f um, "
-              "noise %.2f um, %.2f s\n", map_max * 1e3, u_max * 1e3, c.noise_mm * 1e3, calibrate_s);
+              "noise %.2f um\n", map_max * 1e3, u_max * 1e3, c.noise_mm * 1e3);
+  std::printf("ball plate, 9 balls at 1 mm (7,921 readings): scale x %+.1f ppm (u %.1f, true +200), scale y %+.1f ppm (u %.1f, "
+              "true -150), squareness %+.1f urad (u %.1f, true +500); both artefacts %.2f s\n",
+              c.scale_x_ppm, c.u_scale_x_ppm, c.scale_y_ppm, c.u_scale_y_ppm, c.squareness_urad, c.u_squareness_urad, calibrate_s);
   std::printf("%-9s %22s %22s\n", "part", "uncorrected max/RMS um", "corrected max/RMS um");
   // What one flat cannot tell: the plane taken out of the map, less the flat's own 5 mm.
   auto plane = [&](double x, double y) { return c.plane_mm[0] - 5.0 + c.plane_mm[1] * x + c.plane_mm[2] * y; };
@@ -49,9 +67,12 @@ int main() {
     const dg::host::ScanData raw = dg::host::read_scan_file(scan);
     double worst[2] = {0, 0}, ss[2] = {0, 0};
     for (size_t k = 0; k < corrected.points.size(); ++k) {
+      // Each point against the true part where the scan says it is: the raw one at its commanded
+      // (x, y), the corrected one at the (x, y) the calibration moved it to.
       const dg::host::Point3& p = corrected.points[k];
-      const double truth = dg::sim::shape_height_mm(kind, p.x, p.y) + plane(p.x, p.y);
-      const double error[2] = {raw.points[k].z_nm * 1e-6 - truth, p.z - truth};
+      const double rx = raw.points[k].x_nm * 1e-6, ry = raw.points[k].y_nm * 1e-6;
+      const double error[2] = {raw.points[k].z_nm * 1e-6 - dg::sim::shape_height_mm(kind, rx, ry) - plane(rx, ry),
+                               p.z - dg::sim::shape_height_mm(kind, p.x, p.y) - plane(rx, ry)};
       for (int m = 0; m < 2; ++m) worst[m] = std::fmax(worst[m], std::fabs(error[m])), ss[m] += error[m] * error[m];
     }
     const double n = static_cast<double>(corrected.points.size());
@@ -62,5 +83,7 @@ int main() {
   std::printf("(1 um of noise read to 1 um is 1.04 um a reading; the target is 2 um + the noise)\n");
   std::remove(cal.c_str());
   std::remove((cal + ".flat.scan").c_str());
+  std::remove((cal + ".ballplate.scan").c_str());
+  std::remove((dir + ".plate.csv").c_str());
   return 0;
 }

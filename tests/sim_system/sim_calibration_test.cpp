@@ -24,6 +24,19 @@ std::string temp_path(const std::string& name) {
   return std::string(P_tmpdir) + "/dg_calibration_" + std::to_string(getpid()) + "_" + name;
 }
 
+// The simulated ball plate's certificate, as docs/ball-plate-sim.csv has it.
+std::string certificate(const std::string& path) {
+  FILE* f = std::fopen(path.c_str(), "w");
+  std::fprintf(f, "x_mm,y_mm\n");
+  for (int ball = 0; ball < dg::sim::kBallPlateBalls; ++ball) {
+    double x = 0, y = 0;
+    dg::sim::ball_plate_centre(ball, &x, &y);
+    std::fprintf(f, "%g,%g\n", x, y);
+  }
+  std::fclose(f);
+  return path;
+}
+
 constexpr const char* kMachine = "flatness_um=30,noise_um=0.5";
 
 // The calibrated travel, 0..60 x 0..40 mm at 5 mm.
@@ -80,6 +93,46 @@ TEST(SimCalibration, ADomeScannedLaterIsCorrectedToItsTrueShapeWithinTwoMicromet
   std::remove(part.c_str());
   std::remove(cal.c_str());
   std::remove((cal + ".flat.scan").c_str());
+}
+
+// A typical table: 30 um out of flat, 500 urad out of square, 200 and -150 ppm of scale. The flat
+// gives the map, the ball plate the axes; the dome then lies where the calibration moves its points.
+TEST(SimCalibration, OnATypicalTableAFlatAndABallPlateBringADomeWithinTwoMicrometresAndTheNoise) {
+  const char* machine = "machine=typical,noise_um=0.5";
+  const std::string cal = temp_path("typical.cal.json"), part = temp_path("typical-dome.scan");
+  CalibrateArgs flat;
+  flat.device = std::string("sim:part=flat,seed=31,") + machine;
+  flat.output = cal;
+  flat.force = true;
+  flat.quiet = true;
+  LONGS_EQUAL(0, run_calibrate(flat));
+  CalibrateArgs plate = flat;
+  plate.artefact = "ballplate";
+  plate.device = std::string("sim:part=ballplate,seed=32,") + machine;
+  plate.certificate = certificate(temp_path("plate.csv"));
+  LONGS_EQUAL(0, run_calibrate(plate));
+  const TableCalibration c = read_calibration_file(cal);
+  CHECK(c.has_axes);
+  DOUBLES_EQUAL(200, c.scale_x_ppm, 4 * c.u_scale_x_ppm);
+  DOUBLES_EQUAL(-150, c.scale_y_ppm, 4 * c.u_scale_y_ppm);
+  DOUBLES_EQUAL(500, c.squareness_urad, 4 * c.u_squareness_urad);
+  ScanArgs s = dome_scan(cal, part);
+  s.device = std::string("sim:part=dome,seed=33,") + machine;
+  LONGS_EQUAL(0, run_scan(s));
+  const PointCloud corrected = read_points(part);
+  const ScanData raw = read_scan_file(part);
+  double worst = 0, worst_raw = 0;
+  for (size_t k = 0; k < corrected.points.size(); ++k) {
+    const Point3& p = corrected.points[k];
+    const double rx = raw.points[k].x_nm * 1e-6, ry = raw.points[k].y_nm * 1e-6;
+    const double plane = c.plane_mm[0] - 5.0 + c.plane_mm[1] * rx + c.plane_mm[2] * ry;
+    worst = std::fmax(worst, std::fabs(p.z - dg::sim::shape_height_mm(dg::sim::PartKind::kDome, p.x, p.y) - plane));
+    worst_raw = std::fmax(worst_raw, std::fabs(raw.points[k].z_nm * 1e-6 - dg::sim::shape_height_mm(dg::sim::PartKind::kDome, rx, ry) - plane));
+  }
+  std::printf("\n  typical table, dome after calibration: worst %.2f um (uncorrected %.1f um)", worst * 1e3, worst_raw * 1e3);
+  CHECK(worst_raw > 0.008);
+  CHECK(worst <= 0.002 + 3.5 * 0.00058);
+  for (const std::string& f : {part, cal, cal + ".flat.scan", cal + ".ballplate.scan", plate.certificate}) std::remove(f.c_str());
 }
 
 TEST(SimCalibration, AScanBeyondTheCalibratedTravelIsRefusedBeforeTheTableMoves) {

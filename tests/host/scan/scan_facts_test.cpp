@@ -67,6 +67,13 @@ TEST(ScanFacts, NameTheCalibrationThatCorrectsThePointsAndWhatItLeavesOut) {
   CHECK(any_contains(facts, "calibration: the table's travel height error, measured on a flat (flatness 0.0010 mm) on "
                             "2026-11-26T05:00:00Z with SIM-0001, over x 0.000..100.000, y 0.000..100.000 mm; squareness "
                             "and scale not compensated"));
+  c.has_axes = true;
+  c.balls = 9;
+  c.scale_x_ppm = 198, c.u_scale_x_ppm = 4.3, c.scale_y_ppm = -146.6, c.u_scale_y_ppm = 4.3, c.squareness_urad = 493.3, c.u_squareness_urad = 4.3;
+  data.calibration_json = calibration_to_json(c);
+  facts = scan_facts(data);
+  CHECK(any_contains(facts, "the axes from a ball plate (9 balls): scale x +198.0 ppm (u 4.3), y -146.6 ppm (u 4.3), squareness "
+                            "+493.3 urad (u 4.3)"));
   data.calibration_json = "{}";
   facts = scan_facts(data);
   CHECK(any_contains(facts, "calibration: a record that cannot be used"));

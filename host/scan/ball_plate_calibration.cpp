@@ -1,0 +1,168 @@
+// Ball centres by sphere fits, and the axes' errors from their certified positions.
+#include "host/scan/ball_plate_calibration.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <sstream>
+
+#include "host/io/whole_file.h"
+#include "host/scan/table_calibration.h"
+
+namespace dg::host {
+
+namespace {
+
+constexpr double kSearchMm = 8.0;   // the plate's placement error it tolerates, plus a ball's footprint
+constexpr double kCapMm = 4.5;      // readings this far from a ball's top in XY belong to its cap
+constexpr double kCapDepthMm = 3.5; // and less than this below the top (the plate stays out)
+constexpr size_t kMinCapPoints = 12;
+
+// Solves the n x n system a x = b (n <= 4) by Gaussian elimination with partial pivoting; false
+// when it is singular.
+bool solve(int n, double a[4][4], double b[4], double x[4]) {
+  for (int col = 0; col < n; ++col) {
+    int pivot = col;
+    for (int r = col + 1; r < n; ++r) {
+      if (std::fabs(a[r][col]) > std::fabs(a[pivot][col])) pivot = r;
+    }
+    if (!(std::fabs(a[pivot][col]) > 1e-12)) return false;
+    std::swap(a[col], a[pivot]);
+    std::swap(b[col], b[pivot]);
+    for (int r = col + 1; r < n; ++r) {
+      const double f = a[r][col] / a[col][col];
+      for (int c = col; c < n; ++c) a[r][c] -= f * a[col][c];
+      b[r] -= f * b[col];
+    }
+  }
+  for (int r = n - 1; r >= 0; --r) {
+    double s = b[r];
+    for (int c = r + 1; c < n; ++c) s -= a[r][c] * x[c];
+    x[r] = s / a[r][r];
+  }
+  return true;
+}
+
+// x^2 + y^2 + z^2 = 2 a x + 2 b y + 2 c z + d, in coordinates relative to `origin` (conditioning);
+// the centre is (a, b, c) + origin.
+bool fit_sphere(const std::vector<Point3>& cap, const Point3& origin, Point3& centre) {
+  double n[4][4] = {}, rhs[4] = {};
+  for (const Point3& p : cap) {
+    const double x = p.x - origin.x, y = p.y - origin.y, z = p.z - origin.z;
+    const double row[4] = {2 * x, 2 * y, 2 * z, 1};
+    const double w = x * x + y * y + z * z;
+    for (int i = 0; i < 4; ++i) {
+      rhs[i] += row[i] * w;
+      for (int j = 0; j < 4; ++j) n[i][j] += row[i] * row[j];
+    }
+  }
+  double s[4];
+  if (!solve(4, n, rhs, s)) return false;
+  centre = {s[0] + origin.x, s[1] + origin.y, s[2] + origin.z};
+  return std::isfinite(centre.x) && std::isfinite(centre.y) && std::isfinite(centre.z);
+}
+
+}  // namespace
+
+AxisCalibration calibrate_from_ball_plate(const PointCloud& scan, const std::vector<Point2>& certified, const std::string& name) {
+  if (certified.size() < 4) throw CalibrationError("a ball plate needs at least 4 certified balls, got " + std::to_string(certified.size()));
+  AxisCalibration out;
+  std::vector<Point3> cap;
+  for (size_t k = 0; k < certified.size(); ++k) {
+    const Point2& c = certified[k];
+    const Point3* top = nullptr;
+    for (const Point3& p : scan.points) {
+      if (std::hypot(p.x - c.x, p.y - c.y) <= kSearchMm && (top == nullptr || p.z > top->z)) top = &p;
+    }
+    char where[128];
+    std::snprintf(where, sizeof where, "ball %zu (certified at %.3f, %.3f mm)", k + 1, c.x, c.y);
+    if (top == nullptr) throw CalibrationError(name + ": " + where + " has no readings within 8 mm; scan the whole plate");
+    cap.clear();
+    for (const Point3& p : scan.points) {
+      if (std::hypot(p.x - top->x, p.y - top->y) <= kCapMm && p.z > top->z - kCapDepthMm) cap.push_back(p);
+    }
+    Point3 centre;
+    if (cap.size() < kMinCapPoints || !fit_sphere(cap, *top, centre)) {
+      throw CalibrationError(name + ": " + where + ": " + std::to_string(cap.size()) +
+                             " readings on its cap do not determine a sphere; scan the plate at 1 mm or finer");
+    }
+    out.centres.push_back(centre);
+  }
+  // c = A m + t: two 3-parameter least-squares problems with the same design [m_x, m_y, 1].
+  double n[4][4] = {}, bx[4] = {}, by[4] = {};
+  for (size_t k = 0; k < certified.size(); ++k) {
+    const double row[3] = {out.centres[k].x, out.centres[k].y, 1};
+    for (int i = 0; i < 3; ++i) {
+      bx[i] += row[i] * certified[k].x, by[i] += row[i] * certified[k].y;
+      for (int j = 0; j < 3; ++j) n[i][j] += row[i] * row[j];
+    }
+  }
+  double ax[4] = {}, ay[4] = {}, inverse_diagonal[3] = {};
+  {
+    double n1[4][4], n2[4][4];
+    std::memcpy(n1, n, sizeof n), std::memcpy(n2, n, sizeof n);
+    if (!solve(3, n1, bx, ax) || !solve(3, n2, by, ay)) {
+      throw CalibrationError(name + ": the balls' centres lie on one line; the plate needs balls spread in x and y");
+    }
+    for (int i = 0; i < 3; ++i) {
+      double unit[4] = {0, 0, 0, 0}, column[4];
+      unit[i] = 1;
+      double n3[4][4];
+      std::memcpy(n3, n, sizeof n);
+      solve(3, n3, unit, column);
+      inverse_diagonal[i] = column[i];
+    }
+  }
+  double ss = 0;
+  for (size_t k = 0; k < certified.size(); ++k) {
+    const Point3& m = out.centres[k];
+    const double rx = certified[k].x - (ax[0] * m.x + ax[1] * m.y + ax[2]);
+    const double ry = certified[k].y - (ay[0] * m.x + ay[1] * m.y + ay[2]);
+    ss += rx * rx + ry * ry;
+  }
+  const size_t equations = 2 * certified.size();
+  out.centre_rms_mm = std::sqrt(ss / static_cast<double>(certified.size()));
+  const double sigma2 = equations > 6 ? ss / static_cast<double>(equations - 6) : 0;
+  // A = R(phi) U with U upper triangular: phi from A's first column, U = R(-phi) A.
+  const double phi = std::atan2(ay[0], ax[0]);
+  const double c = std::cos(phi), s = std::sin(phi);
+  const double u00 = c * ax[0] + s * ay[0], u01 = c * ax[1] + s * ay[1], u11 = -s * ax[1] + c * ay[1];
+  out.placement_deg = phi * 180 / 3.14159265358979323846;
+  const double squareness = std::asin(std::clamp(u01, -1.0, 1.0));
+  out.scale_x_ppm = (u00 - 1) * 1e6;
+  out.squareness_urad = squareness * 1e6;
+  out.scale_y_ppm = (u11 / std::cos(squareness) - 1) * 1e6;
+  // Each entry's variance is sigma^2 [(D^T D)^-1] on its own diagonal; the rotation by a plate laid
+  // within a few degrees mixes the entries little, which this neglects.
+  out.u_scale_x_ppm = std::sqrt(sigma2 * inverse_diagonal[0]) * 1e6;
+  out.u_squareness_urad = std::sqrt(sigma2 * inverse_diagonal[1]) * 1e6;
+  out.u_scale_y_ppm = std::sqrt(sigma2 * inverse_diagonal[1]) * 1e6;
+  return out;
+}
+
+std::vector<Point2> read_ball_certificate(const std::string& path) {
+  std::string text;
+  if (!read_whole_file(path, &text)) throw CalibrationError(path + ": cannot open: " + std::strerror(errno));
+  std::vector<Point2> out;
+  std::istringstream lines(text);
+  std::string line;
+  for (int number = 1; std::getline(lines, line); ++number) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty() || line[0] == '#') continue;
+    double x = 0, y = 0;
+    char comma = 0, extra = 0;
+    std::istringstream fields(line);
+    if (!(fields >> x >> comma >> y) || comma != ',' || (fields >> extra)) {
+      if (number == 1 && out.empty()) continue;  // a header
+      throw CalibrationError(path + ":" + std::to_string(number) + ": expected x_mm,y_mm, got '" + line + "'");
+    }
+    if (!std::isfinite(x) || !std::isfinite(y)) throw CalibrationError(path + ":" + std::to_string(number) + ": not a finite number");
+    out.push_back({x, y});
+  }
+  if (out.size() < 4) throw CalibrationError(path + ": a ball plate's certificate needs at least 4 balls, it has " + std::to_string(out.size()));
+  return out;
+}
+
+}  // namespace dg::host

@@ -1,0 +1,35 @@
+// The axes' scale and squareness measured on a ball plate: each ball's centre fitted from a scan
+// of the plate, and the certified centres matched by the table's axis errors and the plate's
+// placement.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "host/geometry/trimmed_face.h"
+#include "host/scan/point_reader.h"
+
+namespace dg::host {
+
+struct AxisCalibration {
+  // Where the table really is for a commanded (x, y): x' = x (1 + scale_x) + y sin(squareness),
+  // y' = y (1 + scale_y) cos(squareness); the x axis is the reference direction.
+  double scale_x_ppm = 0, scale_y_ppm = 0, squareness_urad = 0;
+  double u_scale_x_ppm = 0, u_scale_y_ppm = 0, u_squareness_urad = 0;  // standard uncertainties (k = 1)
+  double placement_deg = 0;        // the plate's rotation on the table (its setup, taken out)
+  double centre_rms_mm = 0;        // RMS of the centres' misfit after the fit
+  std::vector<Point3> centres;     // each ball's fitted centre, in commanded table coordinates
+};
+
+// `certified`: the balls' centres in the plate's own frame (x, y, mm; its certificate), with the
+// plate laid on the table so that frame matches the table's within 2 mm and a few degrees.
+// Each ball: the highest reading within 8 mm of its certified centre, then a sphere fitted (least
+// squares, algebraic) to the readings within 4.5 mm of that top and less than 3.5 mm below it.
+// The centres then fit c = R(phi) M m + t (M the axes' errors above, R and t the placement) by
+// least squares; M's entries come from the QR factors of the fitted affine map. Needs at least 4
+// balls not on one line; throws CalibrationError naming a ball that cannot be fitted.
+AxisCalibration calibrate_from_ball_plate(const PointCloud& scan, const std::vector<Point2>& certified, const std::string& name);
+
+// The certificate: a CSV of x_mm,y_mm per ball (a header line allowed). Throws CalibrationError.
+std::vector<Point2> read_ball_certificate(const std::string& path);
+
+}  // namespace dg::host
