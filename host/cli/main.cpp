@@ -131,7 +131,8 @@ int main(int argc, char** argv) {
       return run_scan(scan);
     }
     if (*calibrate_cmd) {
-      calibrate_args.device = chosen_device(calibrate_args.device);
+      // --from calibrates from a stored scan: no device.
+      if (calibrate_args.from.empty()) calibrate_args.device = chosen_device(calibrate_args.device);
       return run_calibrate(calibrate_args);
     }
     if (*recorrect_cmd) return run_recorrect(recorrect_args);

@@ -52,7 +52,12 @@ void write_device_fit(Session& session, const digitizer_Hello& device, const std
       throw std::runtime_error(scan_path + " holds " + (data.request ? "scan " + std::to_string(data.request->scan_id) : "no scan") +
                                ", the device's fit is of scan " + std::to_string(fit.scan_id));
     }
-    why_no_uncertainty = add_scan_to_device_fit(surface, read_points(scan_path), fit.points, fit.rejected);
+    // The device fitted the points as it measured them: its report is against those.
+    why_no_uncertainty = add_scan_to_device_fit(surface, read_points(scan_path, true), fit.points, fit.rejected);
+    if (data.calibration_json && !quiet) {
+      std::printf("note: the device fitted the points as measured; the table calibration corrects the scan's points, not "
+                  "its surface (fit the scan on the host for a corrected one)\n");
+    }
   }
   write_surface_json(path, surface);
   if (!quiet) {

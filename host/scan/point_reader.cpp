@@ -227,10 +227,11 @@ PointCloud parse_xyz_points(const std::string& text, const std::string& name) {
   return cloud;
 }
 
-PointCloud read_points(const std::string& path) {
+PointCloud read_points(const std::string& path, bool as_measured) {
   const FileFormat format = file_format(path);
   if (format == FileFormat::kScan) {
     ScanData data = read_scan_file(path);
+    if (as_measured) data.calibration_json.reset();
     ScanPointSigmas sigmas = scan_point_sigmas(data);
     // The scan's own calibration record corrects the raw points it keeps.
     const std::optional<TableCalibration> calibration = correct_by_record(data, &sigmas.sigma_mm, path);

@@ -30,7 +30,9 @@ struct PointCloud {
 // Picks the reader by extension: .csv, .xyz/.txt, .ply, .scan, and the height maps .probe (bCNC),
 // .map (Candle) and .cfg (a Klipper bed_mesh profile). Throws PointFileError for
 // NaN, infinity, short or long rows, unknown or repeated columns, repeated points.
-PointCloud read_points(const std::string& path);
+// A scan file's points come corrected by its calibration record, if it has one; `as_measured`
+// leaves them as the device measured them (for the device's own fit, which was made of those).
+PointCloud read_points(const std::string& path, bool as_measured = false);
 PointCloud parse_csv_points(const std::string& text, const std::string& name);
 PointCloud parse_xyz_points(const std::string& text, const std::string& name);
 // Throws for a point that repeats an earlier one; where_is(i) names point i ("in.csv:12").
