@@ -67,13 +67,9 @@ CLI::App* add_recorrect_command(CLI::App& app, RecorrectArgs& a) {
   return cmd;
 }
 
-namespace {
-
-// Scans the artefact raw into `path` after telling the user what to place; 0 when it finished.
-int scan_artefact(const CalibrateArgs& a, const std::string& what, const std::string& x, const std::string& y, double step_mm,
-                  const std::string& path) {
-  if (!a.quiet) {
-    std::printf("Calibrating on %s over x %s, y %s mm.\n", what.c_str(), x.c_str(), y.c_str());
+int scan_artefact(const ArtefactScan& s, const std::string& what) {
+  if (!s.quiet) {
+    std::printf("%s; scanning x %s, y %s mm.\n", what.c_str(), s.x.c_str(), s.y.c_str());
     // A person at a terminal confirms; a script (no terminal) goes on.
     if (isatty(STDIN_FILENO) != 0) {
       std::printf("  Press Enter when it is in place (Ctrl-C to stop) ");
@@ -83,19 +79,41 @@ int scan_artefact(const CalibrateArgs& a, const std::string& what, const std::st
     }
   }
   ScanArgs scan;
-  scan.device = a.device;
-  scan.x = x, scan.y = y;
-  scan.step_mm = step_mm;
-  scan.samples = a.samples;
-  scan.output = path;
-  scan.force = a.force;
-  scan.quiet = a.quiet;
-  scan.calibration = "none";  // the artefact is measured raw: it is what the calibration is made of
+  scan.device = s.device;
+  scan.x = s.x, scan.y = s.y;
+  scan.step_mm = s.step_mm;
+  scan.samples = s.samples;
+  scan.output = s.output;
+  scan.force = s.force;
+  scan.quiet = s.quiet;
+  scan.calibration = s.calibration;
   const int scanned = run_scan(scan);
   if (scanned != 0) {
-    std::fprintf(stderr, "digitizer: the artefact's scan did not finish; no calibration written (the points are in %s)\n", path.c_str());
+    std::fprintf(stderr, "digitizer: the artefact's scan did not finish; nothing measured from it (the points are in %s)\n",
+                 s.output.c_str());
   }
   return scanned;
+}
+
+void ranges_around(const std::vector<Point2>& points, double margin_mm, std::string* x, std::string* y) {
+  double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+  for (const Point2& p : points) x0 = std::fmin(x0, p.x), x1 = std::fmax(x1, p.x), y0 = std::fmin(y0, p.y), y1 = std::fmax(y1, p.y);
+  char text[64];
+  std::snprintf(text, sizeof text, "%.3f:%.3f", std::fmax(0.0, x0 - margin_mm), x1 + margin_mm);
+  *x = text;
+  std::snprintf(text, sizeof text, "%.3f:%.3f", std::fmax(0.0, y0 - margin_mm), y1 + margin_mm);
+  *y = text;
+}
+
+namespace {
+
+// The artefact's scan as `a` asks for it, raw (it is what the calibration is made of).
+ArtefactScan raw_scan_of(const CalibrateArgs& a, const std::string& x, const std::string& y, double step_mm,
+                         const std::string& path) {
+  ArtefactScan s;
+  s.device = a.device, s.x = x, s.y = y, s.step_mm = step_mm, s.samples = a.samples, s.output = path;
+  s.force = a.force, s.quiet = a.quiet;
+  return s;
 }
 
 PointCloud raw_points(const std::string& path) {
@@ -109,10 +127,9 @@ int calibrate_flat(const CalibrateArgs& a) {
   std::string flat_scan = a.from;
   if (flat_scan.empty()) {
     flat_scan = a.scan_output.empty() ? a.output + ".flat.scan" : a.scan_output;
-    const int scanned = scan_artefact(a,
-                                      "a flat (an optical flat or a ground surface plate, larger than that area), clamped "
-                                      "clean and roughly level, the gauge on it near mid-travel",
-                                      a.x, a.y, a.step_mm, flat_scan);
+    const int scanned = scan_artefact(raw_scan_of(a, a.x, a.y, a.step_mm, flat_scan),
+                                      "Calibrating on a flat (an optical flat or a ground surface plate, larger than the "
+                                      "area), clamped clean and roughly level, the gauge on it near mid-travel");
     if (scanned != 0) return scanned;
   }
   const ScanData raw = read_scan_file(flat_scan);
@@ -150,18 +167,12 @@ int calibrate_ball_plate(const CalibrateArgs& a) {
   const std::vector<Point2> certified = read_ball_certificate(a.certificate);
   std::string plate_scan = a.from;
   if (plate_scan.empty()) {
-    double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
-    for (const Point2& p : certified) x0 = std::fmin(x0, p.x), x1 = std::fmax(x1, p.x), y0 = std::fmin(y0, p.y), y1 = std::fmax(y1, p.y);
-    // Each ball's footprint and the plate's placement error around the outer centres.
-    const double margin = 9.0;
-    char x[64], y[64];
-    std::snprintf(x, sizeof x, "%.3f:%.3f", std::fmax(0.0, x0 - margin), x1 + margin);
-    std::snprintf(y, sizeof y, "%.3f:%.3f", std::fmax(0.0, y0 - margin), y1 + margin);
+    std::string x, y;
+    ranges_around(certified, 9.0, &x, &y);  // each ball's footprint and the plate's placement error
     plate_scan = a.scan_output.empty() ? a.output + ".ballplate.scan" : a.scan_output;
-    const int scanned = scan_artefact(a,
-                                      "a ball plate, laid with its frame on the table's (its first ball within 2 mm of "
-                                      "its certified place, its rows along x), the gauge over it",
-                                      x, y, a.ball_step_mm, plate_scan);
+    const int scanned = scan_artefact(raw_scan_of(a, x, y, a.ball_step_mm, plate_scan),
+                                      "Calibrating on a ball plate, laid with its frame on the table's (its first ball "
+                                      "within 2 mm of its certified place, its rows along x), the gauge over it");
     if (scanned != 0) return scanned;
   }
   // The travel's height error tilts each ball's cap by the map's local slope and shifts its fitted

@@ -3,6 +3,9 @@
 #pragma once
 #include <CLI/CLI.hpp>
 #include <string>
+#include <vector>
+
+#include "host/geometry/trimmed_face.h"
 
 namespace dg::host {
 
@@ -26,6 +29,21 @@ struct RecorrectArgs {
   std::string scan;
   std::string calibration;
 };
+
+// What an artefact's scan is: where, how finely, by which device, corrected by which calibration.
+struct ArtefactScan {
+  std::string device, x, y;  // x and y as MIN:MAX
+  double step_mm = 1;
+  unsigned samples = 1;
+  std::string calibration = "none";
+  std::string output;
+  bool force = false, quiet = false;
+};
+
+// Says what to place (`what`), waits for Enter at a terminal, then scans; run_scan's exit code.
+int scan_artefact(const ArtefactScan& s, const std::string& what);
+// The x and y ranges (MIN:MAX, mm) that hold every point with `margin_mm` around, from 0 up.
+void ranges_around(const std::vector<Point2>& points, double margin_mm, std::string* x, std::string* y);
 
 CLI::App* add_calibrate_command(CLI::App& app, CalibrateArgs& args);
 CLI::App* add_recorrect_command(CLI::App& app, RecorrectArgs& args);

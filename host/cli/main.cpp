@@ -19,6 +19,7 @@
 #include "host/cli/inspect_command.h"
 #include "host/cli/scan_command.h"
 #include "host/cli/calibrate_command.h"
+#include "host/cli/verify_command.h"
 #include "host/cli/segment_command.h"
 #include "host/cli/self_description.h"
 #include "host/cli/superquadric_command.h"
@@ -60,6 +61,8 @@ int main(int argc, char** argv) {
   CLI::App* calibrate_cmd = add_calibrate_command(app, calibrate_args);
   RecorrectArgs recorrect_args;
   CLI::App* recorrect_cmd = add_recorrect_command(app, recorrect_args);
+  VerifyArgs verify_args;
+  CLI::App* verify_cmd = add_verify_command(app, verify_args);
   InfoArgs info_args;
   CLI::App* info_cmd = add_info_command(app, info_args);
   FilterArgs filter;
@@ -136,6 +139,10 @@ int main(int argc, char** argv) {
       return run_calibrate(calibrate_args);
     }
     if (*recorrect_cmd) return run_recorrect(recorrect_args);
+    if (*verify_cmd) {
+      if (verify_args.from.empty()) verify_args.device = chosen_device(verify_args.device);
+      return run_verify(verify_args);
+    }
     if (*export_cmd) return run_export(export_args);
     if (*pull_cmd) {
       pull.device = chosen_device(pull.device);

@@ -19,6 +19,7 @@ constexpr double kSearchMm = 8.0;   // the plate's placement error it tolerates,
 constexpr double kCapMm = 4.5;      // readings this far from a ball's top in XY belong to its cap
 constexpr double kCapDepthMm = 3.5; // and less than this below the top (the plate stays out)
 constexpr size_t kMinCapPoints = 12;
+constexpr double kMinBallRiseMm = 1.0;
 
 // Solves the n x n system a x = b (n <= 4) by Gaussian elimination with partial pivoting; false
 // when it is singular.
@@ -47,7 +48,7 @@ bool solve(int n, double a[4][4], double b[4], double x[4]) {
 
 // x^2 + y^2 + z^2 = 2 a x + 2 b y + 2 c z + d, in coordinates relative to `origin` (conditioning);
 // the centre is (a, b, c) + origin.
-bool fit_sphere(const std::vector<Point3>& cap, const Point3& origin, Point3& centre) {
+bool fit_sphere(const std::vector<Point3>& cap, const Point3& origin, Point3& centre, double& radius) {
   double n[4][4] = {}, rhs[4] = {};
   for (const Point3& p : cap) {
     const double x = p.x - origin.x, y = p.y - origin.y, z = p.z - origin.z;
@@ -61,35 +62,51 @@ bool fit_sphere(const std::vector<Point3>& cap, const Point3& origin, Point3& ce
   double s[4];
   if (!solve(4, n, rhs, s)) return false;
   centre = {s[0] + origin.x, s[1] + origin.y, s[2] + origin.z};
-  return std::isfinite(centre.x) && std::isfinite(centre.y) && std::isfinite(centre.z);
+  radius = std::sqrt(std::fmax(0.0, s[3] + s[0] * s[0] + s[1] * s[1] + s[2] * s[2]));
+  return std::isfinite(centre.x) && std::isfinite(centre.y) && std::isfinite(centre.z) && std::isfinite(radius);
 }
 
 }  // namespace
 
-AxisCalibration calibrate_from_ball_plate(const PointCloud& scan, const std::vector<Point2>& certified, const std::string& name) {
-  if (certified.size() < 4) throw CalibrationError("a ball plate needs at least 4 certified balls, got " + std::to_string(certified.size()));
-  AxisCalibration out;
+std::vector<Point3> fit_ball_centres(const PointCloud& scan, const std::vector<Point2>& expected, const std::string& name) {
+  std::vector<Point3> centres;
   std::vector<Point3> cap;
-  for (size_t k = 0; k < certified.size(); ++k) {
-    const Point2& c = certified[k];
+  for (size_t k = 0; k < expected.size(); ++k) {
+    const Point2& c = expected[k];
     const Point3* top = nullptr;
     for (const Point3& p : scan.points) {
       if (std::hypot(p.x - c.x, p.y - c.y) <= kSearchMm && (top == nullptr || p.z > top->z)) top = &p;
     }
     char where[128];
-    std::snprintf(where, sizeof where, "ball %zu (certified at %.3f, %.3f mm)", k + 1, c.x, c.y);
+    std::snprintf(where, sizeof where, "ball %zu (expected at %.3f, %.3f mm)", k + 1, c.x, c.y);
     if (top == nullptr) throw CalibrationError(name + ": " + where + " has no readings within 8 mm; scan the whole plate");
     cap.clear();
     for (const Point3& p : scan.points) {
       if (std::hypot(p.x - top->x, p.y - top->y) <= kCapMm && p.z > top->z - kCapDepthMm) cap.push_back(p);
     }
+    // A ball stands proud of its plate: readings that stay within a millimetre of the highest one
+    // are the plate (or another flat face), and a sphere through them is no ball's centre.
+    double lowest = top->z;
+    for (const Point3& p : cap) lowest = std::fmin(lowest, p.z);
+    if (top->z - lowest < kMinBallRiseMm) {
+      throw CalibrationError(name + ": " + where + ": no ball there (the readings within 4.5 mm of the highest rise " +
+                             std::to_string(top->z - lowest) + " mm); is the plate where it is said to be?");
+    }
     Point3 centre;
-    if (cap.size() < kMinCapPoints || !fit_sphere(cap, *top, centre)) {
+    double radius = 0;
+    if (cap.size() < kMinCapPoints || !fit_sphere(cap, *top, centre, radius) || radius < 0.5 || radius > 100) {
       throw CalibrationError(name + ": " + where + ": " + std::to_string(cap.size()) +
                              " readings on its cap do not determine a sphere; scan the plate at 1 mm or finer");
     }
-    out.centres.push_back(centre);
+    centres.push_back(centre);
   }
+  return centres;
+}
+
+AxisCalibration calibrate_from_ball_plate(const PointCloud& scan, const std::vector<Point2>& certified, const std::string& name) {
+  if (certified.size() < 4) throw CalibrationError("a ball plate needs at least 4 certified balls, got " + std::to_string(certified.size()));
+  AxisCalibration out;
+  out.centres = fit_ball_centres(scan, certified, name);
   // c = A m + t: two 3-parameter least-squares problems with the same design [m_x, m_y, 1].
   double n[4][4] = {}, bx[4] = {}, by[4] = {};
   for (size_t k = 0; k < certified.size(); ++k) {

@@ -20,11 +20,15 @@ struct AxisCalibration {
   std::vector<Point3> centres;     // each ball's fitted centre, in commanded table coordinates
 };
 
+// Each ball's centre, in the scan's coordinates, for balls expected near `expected` (within 8 mm):
+// the highest reading there, then a sphere fitted (least squares, algebraic) to the readings within
+// 4.5 mm of that top and less than 3.5 mm below it. Throws CalibrationError naming a ball that
+// cannot be fitted.
+std::vector<Point3> fit_ball_centres(const PointCloud& scan, const std::vector<Point2>& expected, const std::string& name);
+
 // `certified`: the balls' centres in the plate's own frame (x, y, mm; its certificate), with the
 // plate laid on the table so that frame matches the table's within 2 mm and a few degrees.
-// Each ball: the highest reading within 8 mm of its certified centre, then a sphere fitted (least
-// squares, algebraic) to the readings within 4.5 mm of that top and less than 3.5 mm below it.
-// The centres then fit c = R(phi) M m + t (M the axes' errors above, R and t the placement) by
+// Each ball's centre as fit_ball_centres finds it; the centres then fit c = R(phi) M m + t (M the axes' errors above, R and t the placement) by
 // least squares; M's entries come from the QR factors of the fitted affine map. Needs at least 4
 // balls not on one line; throws CalibrationError naming a ball that cannot be fitted.
 AxisCalibration calibrate_from_ball_plate(const PointCloud& scan, const std::vector<Point2>& certified, const std::string& name);

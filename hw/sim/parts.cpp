@@ -8,7 +8,10 @@
 namespace dg::sim {
 
 double Part::height_mm(double x_mm, double y_mm) const {
-  return offset_mm + shape_height_mm(kind, x_mm, y_mm);
+  if (x0_mm == 0.0 && y0_mm == 0.0 && angle_deg == 0.0) return offset_mm + shape_height_mm(kind, x_mm, y_mm);
+  const double a = angle_deg * 3.14159265358979323846 / 180.0, c = std::cos(a), s = std::sin(a);
+  const double dx = x_mm - x0_mm, dy = y_mm - y0_mm;
+  return offset_mm + shape_height_mm(kind, c * dx + s * dy, -s * dx + c * dy);
 }
 
 double shape_height_mm(PartKind kind, double x_mm, double y_mm) {

@@ -8,6 +8,9 @@ enum class PartKind { kDome, kSaddle, kCanister, kFlat, kBallPlate };
 struct Part {
   PartKind kind = PartKind::kDome;
   double offset_mm = 0.0;  // raises or lowers the whole part (gauge zero elsewhere)
+  // Where the part lies on the table: its own frame's origin, and its x axis this far
+  // anticlockwise from the table's (a reference artefact laid in several positions).
+  double x0_mm = 0.0, y0_mm = 0.0, angle_deg = 0.0;
   // Height of the part's top surface above the table at table position (x, y), mm.
   double height_mm(double x_mm, double y_mm) const;
 };

@@ -20,7 +20,8 @@ const char kSimOptionsHelp[] =
     "  touch_x_mm=X touch_y_mm=Y (faces the touch probe meets)\n"
     "  the machine's errors (each 0 by default): squareness_urad=X scale_x_ppm=X scale_y_ppm=X\n"
     "  flatness_um=X (the travel's height error at its largest) drift_um_per_h=X machine_seed=N\n"
-    "  machine=typical (500 urad, 200 and -150 ppm, 30 um, no drift)\n";
+    "  machine=typical (500 urad, 200 and -150 ppm, 30 um, no drift)\n"
+    "  part_x_mm=X part_y_mm=Y part_angle_deg=A (where the part's own frame lies on the table)\n";
 namespace {
 
 bool parse_double(const std::string& text, double* out) {
@@ -125,6 +126,9 @@ std::string apply_sim_option(const std::string& pair, SimOptions* options) {
   } else if (key == "flatness_um" || key == "drift_um_per_h") {
     if (!parse_double(value, &d) || std::fabs(d) > 1000) return key + " must be -1000..1000, got '" + value + "'";
     (key == "flatness_um" ? c.machine.flatness_um : c.machine.drift_um_per_h) = d;
+  } else if (key == "part_x_mm" || key == "part_y_mm" || key == "part_angle_deg") {
+    if (!parse_double(value, &d) || std::fabs(d) > 360) return key + " must be -360..360, got '" + value + "'";
+    (key == "part_x_mm" ? c.part.x0_mm : key == "part_y_mm" ? c.part.y0_mm : c.part.angle_deg) = d;
   } else if (key == "machine_seed") {
     if (!parse_u64(value, &u)) return "machine_seed must be a whole number, got '" + value + "'";
     c.machine.map_seed = u;

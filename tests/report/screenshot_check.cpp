@@ -44,12 +44,40 @@ bool read_png(const char* path, Screenshot& out) {
   return png_image_finish_read(&image, nullptr, out.rgb.data(), 0, nullptr) != 0;
 }
 
+// `verify --svg`'s picture of E against L (verify_command.cpp's colours): a length within E_MPE is
+// a blue dot, one beyond it a red dot, and E_MPE's two dashed lines are red. A 640 x 400 rendering
+// of the simulated plate's 36 lengths; a missing picture or text fails.
+int check_verify_picture(const Screenshot& shot, bool pass) {
+  const long blue = shot.count({0x24, 0x71, 0xa3}, 6), red = shot.count({0xc0, 0x39, 0x2b}, 6);
+  const long text = shot.count({0, 0, 0}, 70);
+  struct Expectation {
+    const char* what;
+    bool ok;
+    long pixels;
+  };
+  const Expectation expectations[] = {
+      {pass ? "lengths within E_MPE: blue dots (at least 600)" : "lengths beyond E_MPE: red dots and lines (at least 1200)",
+       pass ? blue >= 600 : red >= 1200, pass ? blue : red},
+      {pass ? "E_MPE's dashed lines and no red dot (150 to 900 red)" : "E_MPE's dashed lines (at least 150 red)",
+       pass ? red >= 150 && red <= 900 : red >= 150, red},
+      {"text drawn (at least 400 near-black pixels)", text >= 400, text},
+  };
+  int failed = 0;
+  std::printf("screenshot %d x %d\n", shot.width, shot.height);
+  for (const Expectation& e : expectations) {
+    std::printf("  %-64s %8ld %s\n", e.what, e.pixels, e.ok ? "ok" : "MISSING");
+    failed += !e.ok;
+  }
+  return failed ? 1 : 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   const bool usage = argc == 3 || (argc == 4 && std::strcmp(argv[3], "first-page") == 0);
-  if (!usage || (std::strcmp(argv[2], "pass") != 0 && std::strcmp(argv[2], "fail") != 0)) {
-    std::fprintf(stderr, "usage: screenshot_check SHOT.png pass|fail [first-page]\n");
+  const bool verify = argc == 3 && (std::strcmp(argv[2], "verify-pass") == 0 || std::strcmp(argv[2], "verify-fail") == 0);
+  if (!usage || (!verify && std::strcmp(argv[2], "pass") != 0 && std::strcmp(argv[2], "fail") != 0)) {
+    std::fprintf(stderr, "usage: screenshot_check SHOT.png pass|fail [first-page] | verify-pass|verify-fail\n");
     return 2;
   }
   // The PDF's first page (rendered by pdftoppm at 100 dpi) holds the verdict, the histogram and text only.
@@ -60,6 +88,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   const bool pass = std::strcmp(argv[2], "pass") == 0;
+  if (verify) return check_verify_picture(shot, std::strcmp(argv[2], "verify-pass") == 0);
   // The colours come from the report's own style (html_report.cpp, histogram.cpp, deviation_map.cpp);
   // the thresholds are a fraction of what a 1000 x 4400 px rendering shows, so a missing element fails
   // whatever the fonts' exact metrics.

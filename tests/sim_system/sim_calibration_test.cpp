@@ -11,10 +11,12 @@
 
 #include "host/cli/calibrate_command.h"
 #include "host/cli/scan_command.h"
+#include "host/cli/verify_command.h"
 #include "host/scan/point_reader.h"
 #include "host/scan/scan_file.h"
 #include "host/scan/table_calibration.h"
 #include "hw/sim/parts.h"
+#include "tests/support/ball_plate.h"
 
 using namespace dg::host;
 
@@ -24,17 +26,24 @@ std::string temp_path(const std::string& name) {
   return std::string(P_tmpdir) + "/dg_calibration_" + std::to_string(getpid()) + "_" + name;
 }
 
-// The simulated ball plate's certificate, as docs/ball-plate-sim.csv has it.
-std::string certificate(const std::string& path) {
-  FILE* f = std::fopen(path.c_str(), "w");
-  std::fprintf(f, "x_mm,y_mm\n");
-  for (int ball = 0; ball < dg::sim::kBallPlateBalls; ++ball) {
-    double x = 0, y = 0;
-    dg::sim::ball_plate_centre(ball, &x, &y);
-    std::fprintf(f, "%g,%g\n", x, y);
-  }
-  std::fclose(f);
-  return path;
+std::string certificate(const std::string& path) { return dg::test::write_ball_plate_certificate(path); }
+
+// A typical table calibrated over x, y (MIN:MAX) on the simulated flat and ball plate into `cal`.
+TableCalibration calibrate_typical(const char* machine, const std::string& cal, const char* x, const char* y, int seed,
+                                   const std::string& plate_csv) {
+  CalibrateArgs flat;
+  flat.device = std::string("sim:part=flat,seed=") + std::to_string(seed) + "," + machine;
+  flat.x = x, flat.y = y;
+  flat.output = cal;
+  flat.force = true;
+  flat.quiet = true;
+  LONGS_EQUAL(0, run_calibrate(flat));
+  CalibrateArgs plate = flat;
+  plate.artefact = "ballplate";
+  plate.device = std::string("sim:part=ballplate,seed=") + std::to_string(seed + 1) + "," + machine;
+  plate.certificate = certificate(plate_csv);
+  LONGS_EQUAL(0, run_calibrate(plate));
+  return read_calibration_file(cal);
 }
 
 constexpr const char* kMachine = "flatness_um=30,noise_um=0.5";
@@ -99,19 +108,8 @@ TEST(SimCalibration, ADomeScannedLaterIsCorrectedToItsTrueShapeWithinTwoMicromet
 // gives the map, the ball plate the axes; the dome then lies where the calibration moves its points.
 TEST(SimCalibration, OnATypicalTableAFlatAndABallPlateBringADomeWithinTwoMicrometresAndTheNoise) {
   const char* machine = "machine=typical,noise_um=0.5";
-  const std::string cal = temp_path("typical.cal.json"), part = temp_path("typical-dome.scan");
-  CalibrateArgs flat;
-  flat.device = std::string("sim:part=flat,seed=31,") + machine;
-  flat.output = cal;
-  flat.force = true;
-  flat.quiet = true;
-  LONGS_EQUAL(0, run_calibrate(flat));
-  CalibrateArgs plate = flat;
-  plate.artefact = "ballplate";
-  plate.device = std::string("sim:part=ballplate,seed=32,") + machine;
-  plate.certificate = certificate(temp_path("plate.csv"));
-  LONGS_EQUAL(0, run_calibrate(plate));
-  const TableCalibration c = read_calibration_file(cal);
+  const std::string cal = temp_path("typical.cal.json"), part = temp_path("typical-dome.scan"), plate_csv = temp_path("plate.csv");
+  const TableCalibration c = calibrate_typical(machine, cal, "0:100", "0:100", 31, plate_csv);
   CHECK(c.has_axes);
   DOUBLES_EQUAL(200, c.scale_x_ppm, 4 * c.u_scale_x_ppm);
   DOUBLES_EQUAL(-150, c.scale_y_ppm, 4 * c.u_scale_y_ppm);
@@ -132,7 +130,40 @@ TEST(SimCalibration, OnATypicalTableAFlatAndABallPlateBringADomeWithinTwoMicrome
   std::printf("\n  typical table, dome after calibration: worst %.2f um (uncorrected %.1f um)", worst * 1e3, worst_raw * 1e3);
   CHECK(worst_raw > 0.008);
   CHECK(worst <= 0.002 + 3.5 * 0.00058);
-  for (const std::string& f : {part, cal, cal + ".flat.scan", cal + ".ballplate.scan", plate.certificate}) std::remove(f.c_str());
+  for (const std::string& f : {part, cal, cal + ".flat.scan", cal + ".ballplate.scan", plate_csv}) std::remove(f.c_str());
+}
+
+// ISO 10360-2 asks for lengths in several positions and orientations: the plate is laid square,
+// turned 30 degrees and turned -60 degrees on the typical table, calibrated over 150 x 150 mm. Calibrated, every ball-to-ball
+// length is within E_MPE = 3 + L/250 um; the same table uncalibrated fails (its 200 ppm of scale
+// alone is 20 um over 100 mm).
+TEST(SimCalibration, AVerifiedTypicalTablePassesInThreePlacementsAndFailsUncalibrated) {
+  const char* machine = "machine=typical,noise_um=0.5";
+  const std::string cal = temp_path("verified.cal.json"), plate_csv = temp_path("verify-plate.csv");
+  calibrate_typical(machine, cal, "0:150", "0:150", 41, plate_csv);  // the turned placements reach beyond 100 mm
+  const struct {
+    const char* at;
+    const char* placement;
+  } placements[] = {{"0,0,0", ""}, {"40,0,30", ",part_x_mm=40,part_y_mm=0,part_angle_deg=30"},
+                    {"20,105,-60", ",part_x_mm=20,part_y_mm=105,part_angle_deg=-60"}};
+  for (const auto& p : placements) {
+    for (const char* calibration : {"calibrated", "none"}) {
+      VerifyArgs v;
+      v.device = std::string("sim:part=ballplate,seed=43,") + machine + p.placement;
+      v.certificate = plate_csv;
+      v.at = p.at;
+      v.calibration = std::string(calibration) == "none" ? "none" : cal;
+      v.output = temp_path("lengths.csv");
+      v.force = true;
+      v.quiet = true;
+      const int result = run_verify(v);
+      std::printf("\n  plate at %s, %s: %s", p.at, calibration, result == 0 ? "pass" : "fail");
+      LONGS_EQUAL(std::string(calibration) == "none" ? kExitVerifyFailed : 0, result);
+      std::remove(v.output.c_str());
+      std::remove((v.output + ".scan").c_str());
+    }
+  }
+  for (const std::string& f : {cal, cal + ".flat.scan", cal + ".ballplate.scan", plate_csv}) std::remove(f.c_str());
 }
 
 TEST(SimCalibration, AScanBeyondTheCalibratedTravelIsRefusedBeforeTheTableMoves) {

@@ -11,20 +11,13 @@
 #include "host/scan/table_calibration.h"
 #include "hw/sim/machine_errors.h"
 #include "hw/sim/parts.h"
+#include "tests/support/ball_plate.h"
 
 using namespace dg::host;
 
 namespace {
 
-std::vector<Point2> certificate() {
-  std::vector<Point2> out;
-  for (int ball = 0; ball < dg::sim::kBallPlateBalls; ++ball) {
-    Point2 p;
-    dg::sim::ball_plate_centre(ball, &p.x, &p.y);
-    out.push_back(p);
-  }
-  return out;
-}
+std::vector<Point2> certificate() { return dg::test::ball_plate_certificate(); }
 
 // The plate read at commanded positions on a 1 mm grid by a table with the errors `e`, the plate
 // laid `angle_deg` off the table's x axis and moved by (dx, dy) mm: at each commanded point the
@@ -80,7 +73,7 @@ TEST(BallPlateCalibration, ABallTheScanMissesIsNamed) {
     calibrate_from_ball_plate(plate_scan(dg::sim::MachineErrors{}, 0, 0, 0, 5), certified, "plate.scan");
     FAIL("a ball outside the scan was accepted");
   } catch (const CalibrationError& error) {
-    STRCMP_CONTAINS("ball 10 (certified at 150.000, 150.000 mm) has no readings within 8 mm", error.what());
+    STRCMP_CONTAINS("ball 10 (expected at 150.000, 150.000 mm) has no readings within 8 mm", error.what());
   }
 }
 
