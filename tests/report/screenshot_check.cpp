@@ -56,8 +56,8 @@ int check_verify_picture(const Screenshot& shot, bool pass) {
     long pixels;
   };
   const Expectation expectations[] = {
-      {pass ? "lengths within E_MPE: blue dots (at least 600)" : "lengths beyond E_MPE: red dots and lines (at least 1200)",
-       pass ? blue >= 600 : red >= 1200, pass ? blue : red},
+      {pass ? "lengths within E_MPE: blue dots (at least 400)" : "lengths beyond E_MPE: red dots and lines (at least 1200)",
+       pass ? blue >= 400 : red >= 1200, pass ? blue : red},
       {pass ? "E_MPE's dashed lines and no red dot (150 to 900 red)" : "E_MPE's dashed lines (at least 150 red)",
        pass ? red >= 150 && red <= 900 : red >= 150, red},
       {"text drawn (at least 400 near-black pixels)", text >= 400, text},
