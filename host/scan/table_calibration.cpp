@@ -15,6 +15,9 @@ namespace dg::host {
 
 namespace {
 
+constexpr double kLimitMm = 10000;        // the grid's origin and steps
+constexpr double kLargestErrorMm = 10;    // a node's error or uncertainty
+
 // Cell and weights of (x, y) for bilinear interpolation; requires covers().
 struct Cell {
   size_t i, j;
@@ -118,6 +121,11 @@ TableCalibration calibration_from_json(const std::string& text, const std::strin
   c.step_x_mm = number(grid, "step_x_mm", "grid."), c.step_y_mm = number(grid, "step_y_mm", "grid.");
   const double nx = number(grid, "nx", "grid."), ny = number(grid, "ny", "grid.");
   if (!(c.step_x_mm > 0 && c.step_y_mm > 0)) throw CalibrationError(name + ": grid steps must be positive");
+  // A table is not ten metres long, nor out by ten millimetres: beyond that the file is not a
+  // calibration, and its numbers would overflow a scan's nanometres.
+  if (std::fabs(c.x0_mm) > kLimitMm || std::fabs(c.y0_mm) > kLimitMm || c.step_x_mm > kLimitMm || c.step_y_mm > kLimitMm) {
+    throw CalibrationError(name + ": the grid lies beyond 10 m");
+  }
   if (nx < 2 || ny < 2 || nx > 10000 || ny > 10000 || nx != std::floor(nx) || ny != std::floor(ny)) {
     throw CalibrationError(name + ": the grid needs 2 to 10000 whole nodes each way");
   }
@@ -130,8 +138,10 @@ TableCalibration calibration_from_json(const std::string& text, const std::strin
     }
     std::vector<double>& out = is_u ? c.u_mm : c.z_error_mm;
     for (size_t k = 0; k < values.size(); ++k) {
-      if (!values[k].is_number() || !std::isfinite(values[k].get<double>()) || (is_u && values[k].get<double>() < 0)) {
-        throw CalibrationError(name + ": " + key + "[" + std::to_string(k) + "] is not a finite number" + (is_u ? " >= 0" : ""));
+      if (!values[k].is_number() || !std::isfinite(values[k].get<double>()) || (is_u && values[k].get<double>() < 0) ||
+          std::fabs(values[k].get<double>()) > kLargestErrorMm) {
+        throw CalibrationError(name + ": " + key + "[" + std::to_string(k) + "] is not a finite number" + (is_u ? " >= 0" : "") +
+                               " within 10 mm");
       }
       out.push_back(values[k].get<double>());
     }

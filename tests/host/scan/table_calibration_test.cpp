@@ -95,6 +95,8 @@ TEST(TableCalibration, AFileWithAnythingWrongIsRefusedWithWhat) {
   STRCMP_CONTAINS("z_error_mm must hold nx * ny = 8", refusal(edited("\"nx\": 3", "\"nx\": 4")).c_str());
   STRCMP_CONTAINS("grid steps must be positive", refusal(edited("\"step_x_mm\": 5.0", "\"step_x_mm\": 0")).c_str());
   STRCMP_CONTAINS("u_mm[4] is not a finite number >= 0", refusal(edited("0.0003", "-0.0003")).c_str());
+  STRCMP_CONTAINS("z_error_mm[0] is not a finite number within 10 mm", refusal(edited("0.001,", "1e6,")).c_str());
+  STRCMP_CONTAINS("the grid lies beyond 10 m", refusal(edited("\"x0_mm\": 0.0", "\"x0_mm\": 1e9")).c_str());
   STRCMP_CONTAINS("grid.x0_mm is missing", refusal(edited("\"x0_mm\"", "\"x_zero\"")).c_str());
 }
 
