@@ -4,17 +4,14 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <ctime>
 #include <iostream>
 #include <stdexcept>
 
 #include "host/cli/scan_command.h"
 #include "host/io/atomic_file.h"
-#include "host/io/whole_file.h"
 #include "host/scan/ball_plate_calibration.h"
 #include "host/scan/flat_calibration.h"
 #include "host/scan/scan_file.h"
@@ -208,12 +205,11 @@ int run_calibrate(const CalibrateArgs& a) { return a.artefact == "ballplate" ? c
 
 int run_recorrect(const RecorrectArgs& a) {
   std::string json;
-  if (!read_whole_file(a.calibration, &json)) throw CalibrationError(a.calibration + ": cannot open: " + std::strerror(errno));
-  const TableCalibration c = calibration_from_json(json, a.calibration);
+  const TableCalibration c = read_calibration_file(a.calibration, &json);
   const ScanData scan = read_scan_file(a.scan);
-  PointCloud check;
-  for (const PointSample& p : scan.points) check.points.push_back({p.x_nm * 1e-6, p.y_nm * 1e-6, p.z_nm * 1e-6});
-  apply_calibration(c, check, a.scan);  // throws, naming the point, if the map does not cover the scan
+  ScanData check = scan;
+  check.calibration_json = json;
+  correct_by_record(check, nullptr, a.scan);  // throws, naming the point, if the map does not cover the scan
   ScanFileWriter file = ScanFileWriter::continue_file(a.scan, scan.complete_bytes);
   file.append_calibration(json);
   file.sync();

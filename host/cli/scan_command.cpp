@@ -10,7 +10,6 @@
 #include <cinttypes>
 #include <csignal>
 #include <cstdio>
-#include <cstring>
 #include <optional>
 #include <random>
 
@@ -21,7 +20,6 @@
 #include "host/device/repeatability.h"
 #include "host/fit/device_fit_surface.h"
 #include "host/fit/propagated_uncertainty.h"
-#include "host/io/whole_file.h"
 #include "host/scan/point_reader.h"
 #include "host/scan/table_calibration.h"
 #include "host/cad/surface_json.h"
@@ -234,10 +232,7 @@ int run_scan(const ScanArgs& a) {
   // The calibration is checked before the table moves: a scan it does not cover could not be corrected.
   std::string calibration_json;
   if (!a.resume && !a.calibration.empty() && a.calibration != "none") {
-    if (!read_whole_file(a.calibration, &calibration_json)) {
-      throw CalibrationError(a.calibration + ": cannot open: " + std::strerror(errno));
-    }
-    const TableCalibration c = calibration_from_json(calibration_json, a.calibration);
+    const TableCalibration c = read_calibration_file(a.calibration, &calibration_json);
     const double x0 = request.x.min_nm * 1e-6, x1 = request.x.max_nm * 1e-6, y0 = request.y.min_nm * 1e-6, y1 = request.y.max_nm * 1e-6;
     if (!c.covers(x0, y0) || !c.covers(x1, y1)) {
       char text[200];

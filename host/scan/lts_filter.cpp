@@ -819,31 +819,32 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
     const int window = verdict(tests[i], sigma, options.outlier_sigmas, &prior, smooth_around);
     return window >= 0 && std::fabs(tests[i].residual[window]) > limit ? window : -1;
   };
-  // A suspect a line clears may clear the next one along it (a sliver one point wide along the
-  // scan's edge), so the lines are asked again until no suspect changes.
-  auto clear_by_lines = [&]() {
-    if (!result.gridded) return;
-    for (bool changed = true; changed;) {
+  // A marked point a line clears may clear the next one along it (a sliver one point wide along
+  // the scan's edge), so the lines, which skip the marked points, are asked again until no mark
+  // changes. `cleared_by(i)`: whether point i's verdict, with its lines now in its test, clears it.
+  auto clear_by_lines = [&](std::vector<char>& marked, const std::function<bool(size_t)>& cleared_by) {
+    for (bool changed = result.gridded; changed;) {
       std::vector<size_t> cleared;
       for (size_t i = 0; i < points.size(); ++i) {
         // Only where some window does not describe one surface (a crease crosses it): on a smooth
         // curved part a quadratic along five points has shape error enough to vouch for an outlier
         // that the windows see plainly (seen at the canister's dish: 0.027 mm off over 7 mm).
-        if (!suspect[i] || !near_crease(tests[i], sigma)) continue;
-        add_line_models(points, sides[i], i, suspect, sigma, tests[i]);
-        if (outlier_window(i) < 0) cleared.push_back(i);
+        if (!marked[i] || !near_crease(tests[i], sigma)) continue;
+        add_line_models(points, sides[i], i, marked, sigma, tests[i]);
+        if (cleared_by(i)) cleared.push_back(i);
       }
-      for (size_t i : cleared) suspect[i] = 0;
+      for (size_t i : cleared) marked[i] = 0;
       changed = !cleared.empty();
     }
   };
+  const std::function<bool(size_t)> no_window_condemns = [&](size_t i) { return outlier_window(i) < 0; };
   auto classify = [&]() {
     prior = suspect;
     for (size_t i = 0; i < points.size(); ++i) {
       for (int d = 0; d < kLines; ++d) tests[i].model[kWindows + d] = LooModel{};
       suspect[i] = outlier_window(i) >= 0;
     }
-    clear_by_lines();
+    clear_by_lines(suspect, no_window_condemns);
   };
   classify();
   // Two or three outliers in one window, or a cluster at a crease, can leave no window that
@@ -929,22 +930,13 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
   // part's other surface); a line along the sliver that read it as one of its points could not
   // vouch for the sliver point beside it, which the half-planes, all of the other surface, then
   // condemned. The lines are asked again without every condemned point, and a point one of them
-  // vouches for is judged again, until none is cleared. Only clearing: the envelope still judges
-  // alone where it describes its window.
-  auto clear_by_lines_again = [&]() {
-    for (bool changed = result.gridded; changed;) {
-      std::vector<size_t> cleared;
-      for (size_t i = 0; i < points.size(); ++i) {
-        if (!condemned[i] || !near_crease(tests[i], sigma)) continue;
-        add_line_models(points, sides[i], i, condemned, sigma, tests[i]);
-        double unused;
-        if (a_line_vouches(tests[i], sigma, options.outlier_sigmas) && !judge(i, unused)) cleared.push_back(i);
-      }
-      for (size_t i : cleared) condemned[i] = 0;
-      changed = !cleared.empty();
-    }
+  // vouches for is judged again. Only clearing: the envelope still judges alone where it
+  // describes its window.
+  const std::function<bool(size_t)> a_line_clears = [&](size_t i) {
+    double unused;
+    return a_line_vouches(tests[i], sigma, options.outlier_sigmas) && !judge(i, unused);
   };
-  clear_by_lines_again();
+  clear_by_lines(condemned, a_line_clears);
   // The crease's judges read windows that still held the outliers only the envelope condemned: an
   // outlier on the rim with such a one beside it was cleared by a cut's side bent towards it. The
   // points they passed near a crease are judged again with every condemned point left out, only
@@ -958,7 +950,7 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
       }
     });
     for (size_t i = 0; i < points.size(); ++i) condemned[i] = condemned[i] || newly[i];
-    clear_by_lines_again();
+    clear_by_lines(condemned, a_line_clears);
   }
   for (size_t i = 0; i < points.size(); ++i) {
     const bool outlier = condemned[i];

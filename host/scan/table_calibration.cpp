@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstring>
 #include <cmath>
+#include <utility>
 
 #include "host/io/whole_file.h"
 
@@ -175,10 +176,12 @@ TableCalibration calibration_from_json(const std::string& text, const std::strin
   return c;
 }
 
-TableCalibration read_calibration_file(const std::string& path) {
-  std::string text;
-  if (!read_whole_file(path, &text)) throw CalibrationError(path + ": cannot open: " + std::strerror(errno));
-  return calibration_from_json(text, path);
+TableCalibration read_calibration_file(const std::string& path, std::string* text) {
+  std::string bytes;
+  if (!read_whole_file(path, &bytes)) throw CalibrationError(path + ": cannot open: " + std::strerror(errno));
+  TableCalibration c = calibration_from_json(bytes, path);
+  if (text != nullptr) *text = std::move(bytes);
+  return c;
 }
 
 void apply_calibration(const TableCalibration& c, PointCloud& cloud, const std::string& name) {

@@ -55,7 +55,8 @@ std::string calibration_to_json(const TableCalibration& c);
 // Checks everything a correction relies on: version, a grid of at least 2 x 2 nodes with positive
 // steps, one finite value and uncertainty per node. `name` is used in messages.
 TableCalibration calibration_from_json(const std::string& text, const std::string& name);
-TableCalibration read_calibration_file(const std::string& path);
+// `text`, when given, gets the file's text as read (for a scan file's calibration record).
+TableCalibration read_calibration_file(const std::string& path, std::string* text = nullptr);
 
 // Subtracts the travel's error from every point's z, moves its (x, y) by the axes' errors where
 // they were measured, and adds the map's uncertainty to each point's sigma, where the cloud has one. A point outside the calibrated travel is an error that names it:
