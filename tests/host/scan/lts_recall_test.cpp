@@ -9,6 +9,7 @@
 #include <random>
 #include <set>
 #include <tuple>
+#include <utility>
 
 #include "host/scan/lts_filter.h"
 #include "tests/support/planted_outliers.h"
@@ -56,13 +57,14 @@ TEST(LtsRecall, FindsEveryOutlierOfTwentySigmaOnSmoothPartsWithFewFalseAlarms) {
 // The dome's rim is a crease that grazes the scan's edges and corners: there a point on a sliver
 // of base plate one grid step wide has no window on its own side; the lines along the scan's rows,
 // columns and diagonals, a window cut in two along the rim, and the envelope of the cap's and the
-// plate's models vouch for it or condemn it. Measured: recall 0.989 and precision 0.979 at worst
-// (before the sliver's lines were asked again 0.989 and 0.959; before the envelope 0.968 and
-// 0.958; before the cut 0.957 and 0.957). What is left is on slivers
-// one point wide along the scan's edges, where no side of any window holds enough plate to model.
-TEST(LtsRecall, CatchesNearlyEveryOutlierAcrossTheDomesRim) {
+// plate's models vouch for it or condemn it. Measured at 2 and 5 um: recall and precision 1.000
+// (before windows condemned only beyond the noise their gain amplifies 0.989 and 0.979; before the
+// sliver's lines were asked again 0.989 and 0.959; before the envelope 0.968 and 0.958; before the
+// cut 0.957 and 0.957). At 0.5 and 10 um (the benchmark) a few are still missed on slivers one point
+// wide along the scan's edges, where no side of any window holds enough plate to model.
+TEST(LtsRecall, CatchesEveryOutlierAcrossTheDomesRimAtTwoAndFiveMicrometres) {
   const Score s = score(dg::sim::PartKind::kDome);
-  CHECK(s.worst_recall >= 0.98);
+  CHECK(s.worst_recall >= 1.0);
   CHECK(s.worst_precision >= 0.95);
 }
 
@@ -204,6 +206,71 @@ TEST(LtsRecall, AnOutlierOnTheRimIsJudgedAgainWithTheOutliersTheEnvelopeFoundLef
     size_t found = 0;
     for (const LtsOutlier& o : r.outliers) found += o.index == planted;
     LONGS_EQUAL(1, found);
+  }
+}
+
+namespace {
+
+// The planted point at (x, y) of `part` at `sigma_um`, seed `seed`, and whether the filter reports
+// it as an outlier.
+struct Verdict {
+  bool planted = false;
+  bool reported = false;
+};
+Verdict verdict_at(dg::sim::PartKind part, double sigma_um, unsigned seed, double x, double y) {
+  const dg::test::Planted p = dg::test::plant_outliers(part, sigma_um, seed);
+  size_t at = p.points.size();
+  for (size_t i = 0; i < p.points.size(); ++i) {
+    if (p.points[i].x == x && p.points[i].y == y) at = i;
+  }
+  CHECK(at < p.points.size());
+  Verdict v;
+  v.planted = p.outliers.count(at) == 1;
+  for (const LtsOutlier& o : lts_filter(p.points, LtsOptions{}).outliers) v.reported = v.reported || o.index == at;
+  return v;
+}
+
+}  // namespace
+
+// Seed 6 plants a 2 x 2 block of outliers on the dome's base plate near a corner ((3, 2) to (4, 3),
+// 54 to 185 sigma at 0.5 um). The filtered reference had taken the block in, so the trimmed fits
+// started from subsets that held it and settled there (a whole window's scale 90 sigma); and the
+// rounds that test the points beside suspects without them alternated, each outlier clearing
+// another in turn. Two of the four were missed. A second start from the heights nearest the
+// window's median, and suspects that stay left out once their whole window condemned them, catch
+// the block.
+TEST(LtsRecall, ABlockOfFourOutliersNearACornerIsCaughtWhole) {
+  for (const auto& [x, y] : {std::pair<double, double>{3, 2}, {4, 2}, {3, 3}, {4, 3}}) {
+    const Verdict v = verdict_at(dg::sim::PartKind::kDome, 0.5, 6, x, y);
+    CHECK(v.planted);
+    CHECK(v.reported);
+  }
+}
+
+// A window's prediction at a corner of the scan is an extrapolation: a whole window's cubic there
+// has a gain of 9 to 11, a diagonal half-plane's quadratic up to 39, and clean corner points were
+// condemned 5.7 to 10 sigma off (the saddle's (0, 0) of seed 4 and (40, 30) of seed 5 at 1 um, the
+// canister's (0, 0) of seed 4 at 0.5 um). A window now condemns a point only beyond the noise its
+// own gain amplifies.
+TEST(LtsRecall, CleanCornerPointsAreNotCondemnedByAnExtrapolatingWindow) {
+  const Verdict saddle_first = verdict_at(dg::sim::PartKind::kSaddle, 1.0, 4, 0, 0);
+  const Verdict saddle_last = verdict_at(dg::sim::PartKind::kSaddle, 1.0, 5, 40, 30);
+  const Verdict canister = verdict_at(dg::sim::PartKind::kCanister, 0.5, 4, 0, 0);
+  for (const Verdict& v : {saddle_first, saddle_last, canister}) {
+    CHECK(!v.planted);
+    CHECK(!v.reported);
+  }
+}
+
+// With that bound a whole window at the scan's edge, its suspects left out, could no longer resolve
+// an outlier of 21 sigma (gain 11: a bound of 17.5 sigma against a residual of 16), where
+// half-planes with gains below 1 saw it 21 sigma off. Where the judging window's own bound holds,
+// the other windows decide as where no window judges alone: the saddle's (0, 28) of seed 1 at 1 um,
+// and the dome's (0, 9) of seed 2 at 5 um, which was missed before either change.
+TEST(LtsRecall, AnEdgeOutlierTheWholeWindowCannotResolveIsCaughtByAPreciseHalfPlane) {
+  for (const Verdict& v : {verdict_at(dg::sim::PartKind::kSaddle, 1.0, 1, 0, 28), verdict_at(dg::sim::PartKind::kDome, 5.0, 2, 0, 9)}) {
+    CHECK(v.planted);
+    CHECK(v.reported);
   }
 }
 
