@@ -18,6 +18,8 @@ bool scan_grid(const digitizer_ScanRequest& request, ScanGrid* grid) {
   }
   grid->points_per_line = nodes(request.x, request.step_x_nm);
   grid->lines = nodes(request.y, request.step_y_nm);
+  const uint64_t every = request.reference_every_lines;
+  grid->references = every > 0 ? (grid->lines + every - 1) / every : 0;
   return true;
 }
 

@@ -10,7 +10,12 @@ namespace dg {
 struct ScanGrid {
   uint64_t points_per_line = 0;  // along x
   uint64_t lines = 0;            // along y
+  // Reference readings (ScanRequest.reference_every_lines): one after every that many lines and
+  // one after the last.
+  uint64_t references = 0;
   uint64_t points() const { return points_per_line * lines; }
+  // Everything the scan reads: the grid's points and the reference readings.
+  uint64_t readings() const { return points() + references; }
 };
 
 // False when the request has no extent, max < min, or a zero step.

@@ -39,7 +39,7 @@ digitizer_FaultCode ScanEngine::start(const digitizer_ScanRequest& request, uint
   }
   ScanGrid grid;
   scan_grid(request, &grid);  // extent and steps were checked above
-  if (grid.points() > limits_.max_points) {
+  if (grid.readings() > limits_.max_points) {
     *reason = "more points than the device accepts in one scan";
     return digitizer_FaultCode_FAULT_BAD_REQUEST;
   }
@@ -53,13 +53,14 @@ digitizer_FaultCode ScanEngine::start(const digitizer_ScanRequest& request, uint
   request_ = request;
   count_x_ = static_cast<uint32_t>(grid.points_per_line);
   count_y_ = static_cast<uint32_t>(grid.lines);
+  references_total_ = static_cast<uint32_t>(grid.references);
   const uint32_t feed = request.feed_um_s != 0 ? request.feed_um_s : default_feed_um_s;
   rate_steps_s_ = static_cast<uint32_t>(static_cast<uint64_t>(feed) * 1000 / resolution);
   if (rate_steps_s_ == 0) rate_steps_s_ = 1;
   ix_ = iy_ = 0;
   next_seq_ = first_seq_ = first_seq;
   points_done_ = lines_done_ = 0;
-  paused_ = abort_requested_ = holding_ = false;
+  paused_ = abort_requested_ = holding_ = reference_due_ = in_reference_ = false;
   end_ = digitizer_ScanEnd_SCAN_COMPLETED;
   fault_ = digitizer_FaultCode_FAULT_NONE;
   started_us_ = board_.now_us();
@@ -127,6 +128,10 @@ int64_t ScanEngine::point_value() const {
 }
 
 void ScanEngine::begin_point() {
+  if (reference_due_) {
+    begin_reference();
+    return;
+  }
   // Serpentine lines run backwards on odd rows to save the return move.
   const bool reverse = request_.pattern == digitizer_ScanPattern_PATTERN_SERPENTINE && (iy_ & 1u);
   const uint32_t column = reverse ? count_x_ - 1 - ix_ : ix_;
@@ -134,6 +139,18 @@ void ScanEngine::begin_point() {
                        static_cast<int64_t>(column) * request_.step_x_nm;
   const int64_t y_nm = static_cast<int64_t>(request_.y.min_nm) +
                        static_cast<int64_t>(iy_) * request_.step_y_nm;
+  begin_move(x_nm, y_nm);
+}
+
+void ScanEngine::begin_reference() {
+  // The scan's first point, reached the way every point is (the approach included), so its
+  // readings differ from the first one's only by what changed since: the gauge stand's drift.
+  reference_due_ = false;
+  in_reference_ = true;
+  begin_move(request_.x.min_nm, request_.y.min_nm);
+}
+
+void ScanEngine::begin_move(int64_t x_nm, int64_t y_nm) {
   target_x_ = to_steps(x_nm);
   target_y_ = to_steps(y_nm);
   // Single-direction approach: an axis about to arrive moving towards min overshoots first.
@@ -167,11 +184,24 @@ void ScanEngine::finish(digitizer_ScanEnd why, digitizer_FaultCode fault) {
 void ScanEngine::count_emitted() {
   ++next_seq_;
   ++points_done_;
-  if (++ix_ == count_x_) {
-    ix_ = 0;
-    ++lines_done_;
-    ++iy_;
+  if (in_reference_) {
+    in_reference_ = false;
+    end_line();
+    return;
   }
+  if (++ix_ == count_x_) {
+    if (reference_after(iy_)) {
+      reference_due_ = true;  // the line ends with its reference reading
+    } else {
+      end_line();
+    }
+  }
+}
+
+void ScanEngine::end_line() {
+  ix_ = 0;
+  ++lines_done_;
+  ++iy_;
 }
 
 void ScanEngine::abort() {
@@ -253,8 +283,12 @@ void ScanEngine::poll(PointSink& sink) {
         pending_.z_nm = static_cast<int32_t>(point_value());
         pending_.t_us = board_.now_us();
         pending_.flags = point_flags_;
-        if (ix_ == 0) pending_.flags |= digitizer_PointFlag_POINT_LINE_START;
-        if (ix_ + 1 == count_x_) pending_.flags |= digitizer_PointFlag_POINT_LINE_END;
+        if (in_reference_) {
+          pending_.flags |= digitizer_PointFlag_POINT_REFERENCE | digitizer_PointFlag_POINT_LINE_END;
+        } else {
+          if (ix_ == 0) pending_.flags |= digitizer_PointFlag_POINT_LINE_START;
+          if (ix_ + 1 == count_x_ && !reference_after(iy_)) pending_.flags |= digitizer_PointFlag_POINT_LINE_END;
+        }
         last_z_nm_ = pending_.z_nm;
         phase_ = Phase::kEmitting;
         break;

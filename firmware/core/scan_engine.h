@@ -59,15 +59,31 @@ class ScanEngine {
   digitizer_FaultCode fault() const { return fault_; }
   uint32_t scan_id() const { return request_.scan_id; }
   uint32_t points_done() const { return points_done_; }
-  uint32_t points_total() const { return count_x_ * count_y_; }
+  // The grid's points and the reference readings (ScanRequest.reference_every_lines).
+  uint32_t points_total() const { return count_x_ * count_y_ + references_total(); }
   uint32_t lines_done() const { return lines_done_; }
-  // Sequence number of the first point of grid line `line` (every line has the same length).
-  uint32_t line_first_seq(uint32_t line) const { return first_seq_ + line * count_x_; }
+  // Sequence number of the first point of grid line `line`: every line has the same length, and a
+  // reference reading ends every reference_every_lines-th line.
+  uint32_t line_first_seq(uint32_t line) const {
+    const uint32_t every = request_.reference_every_lines;
+    return first_seq_ + line * count_x_ + (every > 0 ? line / every : 0);
+  }
   uint64_t duration_us() const { return finished_us_ - started_us_; }
   int32_t last_z_nm() const { return last_z_nm_; }
 
  private:
   void begin_point();
+  // Moves to the scan's first point to read it again (a reference reading).
+  void begin_reference();
+  // Moves to (x_nm, y_nm), by way of the single-direction approach, and starts the point's reading.
+  void begin_move(int64_t x_nm, int64_t y_nm);
+  // A reference reading follows grid line `line`: after every reference_every_lines-th and the last.
+  bool reference_after(uint32_t line) const {
+    const uint32_t every = request_.reference_every_lines;
+    return every > 0 && ((line + 1) % every == 0 || line + 1 == count_y_);
+  }
+  uint32_t references_total() const { return references_total_; }
+  void end_line();
   // A good reading arrived: settle, sample, or finish the point; true when the point is done.
   bool take_reading(int64_t value_nm);
   int64_t point_value() const;
@@ -85,7 +101,10 @@ class ScanEngine {
   bool paused_ = false;
   bool abort_requested_ = false;
   bool holding_ = false;  // finished with pending_ not yet in the ring
+  bool reference_due_ = false;  // a line is done and its reference reading comes next
+  bool in_reference_ = false;   // the point being measured is a reference reading
   uint32_t count_x_ = 0, count_y_ = 0;
+  uint32_t references_total_ = 0;  // ScanGrid::references
   uint32_t ix_ = 0, iy_ = 0;  // grid index of the current point (ix along the line)
   uint32_t rate_steps_s_ = 0;
   uint32_t next_seq_ = 0;

@@ -48,6 +48,7 @@ const std::vector<ConfigSetting>& config_settings() {
       {"settle_um", "scan", "--settle-um", "", "then read until two readings agree within this, um"},
       {"spread_um", "scan", "--spread-um", "", "a point's samples must agree within this, um"},
       {"approach", "scan", "--approach", "", "overshoot so every point is reached moving towards +x/+y, mm"},
+      {"reference_every", "scan", "--reference-every", "", "read the first point again after every N lines, to remove drift"},
       {"repeatability", "scan", "--repeatability", "", "readings of the first point before a scan, for each point's uncertainty"},
       {"calibration", "scan", "--calibration", "", "the table calibration every scan is corrected by (digitizer calibrate); none: no correction"},
       {"tolerance", "inspect", "--tolerance", "--upper --lower", "the part's profile tolerance +-MM that inspect decides"},

@@ -21,6 +21,7 @@
 #include "host/scan/point_export.h"
 #include "host/scan/scan_uncertainty.h"
 #include "host/scan/table_calibration.h"
+#include "host/scan/drift_removal.h"
 #include "host/scan/scan_file.h"
 
 namespace dg::host {
@@ -218,8 +219,10 @@ int run_export(const ExportArgs& a) {
   if (a.edges) throw std::invalid_argument("--edges exports a surface's edges: give a SURF.json");
   ScanData data = read_scan_file(input);
   for (const auto& w : data.warnings) std::fprintf(stderr, "digitizer: warning: %s\n", w.c_str());
-  // The points as the scan's calibration corrects them (the raw ones stay in the scan file).
+  // The points as the scan's reference readings and calibration correct them (the raw ones stay
+  // in the scan file); the readings themselves are no points.
   ScanPointSigmas sigmas = scan_point_sigmas(data);
+  remove_drift(data, &sigmas.sigma_mm, input);
   correct_by_record(data, &sigmas.sigma_mm, input);
   // --format names the format whatever the output's extension (a Klipper profile saved as .txt, say).
   static const std::map<std::string, FileFormat> kNamed = {{"csv", FileFormat::kCsv},          {"xyz", FileFormat::kXyz},

@@ -20,6 +20,7 @@
 #include "host/device/repeatability.h"
 #include "host/fit/device_fit_surface.h"
 #include "host/fit/propagated_uncertainty.h"
+#include "host/scan/drift_removal.h"
 #include "host/scan/point_reader.h"
 #include "host/scan/table_calibration.h"
 #include "host/cad/surface_json.h"
@@ -103,6 +104,7 @@ digitizer_ScanRequest request_from(const ScanArgs& a) {
   request.spread_tolerance_nm = static_cast<uint32_t>(a.spread_um * 1000.0 + 0.5);
   request.median = a.median;
   request.approach_nm = static_cast<uint32_t>(a.approach_mm * 1e6 + 0.5);
+  request.reference_every_lines = a.reference_every;
   return request;
 }
 
@@ -130,7 +132,22 @@ std::string resume_hint(const ScanArgs& a) {
 
 }  // namespace
 
-void print_summary(const ScanData& data, const char* prefix) {
+void print_summary(const ScanData& scan, const char* prefix) {
+  // The points without the reference readings, which say how far the gauge drifted.
+  ScanData data = scan;
+  std::optional<DriftRemoval> drift;
+  try {
+    drift = remove_drift(data, nullptr, "the scan", false);
+    ScanData measured = scan;
+    drift = remove_drift(measured, nullptr, "the scan");
+  } catch (const std::invalid_argument& error) {
+    std::printf("%swarning: %s\n", prefix, error.what());
+  }
+  if (drift) {
+    std::printf("%sdrift: the first point read again %zu times: up to %.4f mm, removed when the points are read "
+                "(interpolation error bound %.4f mm)\n",
+                prefix, drift->readings, drift->largest_mm, drift->interpolation_mm);
+  }
   if (data.points.empty()) {
     std::printf("%s0 points\n", prefix);
     return;
@@ -170,6 +187,10 @@ CLI::App* add_scan_command(CLI::App& app, ScanArgs& scan) {
   cmd->add_flag("--median", scan.median, "the median of a point's samples instead of their mean");
   cmd->add_option("--approach", scan.approach_mm, "reach every point moving towards +x/+y: overshoot by this, mm (backlash)")
       ->check(CLI::Range(0.0, 10.0));
+  cmd->add_option("--reference-every", scan.reference_every,
+                  "read the scan's first point again after every N lines and after the last, and remove the gauge's "
+                  "drift between those readings from every point (0: off)")
+      ->check(CLI::Range(0, 100000));
   cmd->add_option("--repeatability", scan.repeatability,
                   "first read the scan's first point N times (2..64), moving 1 mm away and back each time, and store the "
                   "spread in the scan file: every point then carries a standard uncertainty (0: none)")

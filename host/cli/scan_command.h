@@ -20,6 +20,7 @@ struct ScanArgs {
   double spread_um = 0;    // samples of a point must agree within this
   bool median = false;     // the median of the samples instead of their mean
   double approach_mm = 0;  // single-direction approach: overshoot this far, come back towards +
+  uint32_t reference_every = 0;  // read the first point again after every this many lines (drift)
   unsigned repeatability = 0;  // readings of the first point before the scan, for each point's uncertainty; 0: none
   std::string calibration;  // --calibration: the table calibration recorded with the scan ("" or "none": none)
   std::string output;

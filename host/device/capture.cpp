@@ -25,7 +25,7 @@ class Capture {
   Capture(Session& session, ScanSink& file, const CaptureOptions& options, const digitizer_ScanRequest& request)
       : session_(session), file_(file), options_(options), scan_id_(request.scan_id) {
     ScanGrid grid;
-    if (scan_grid(request, &grid)) progress_.points_total = static_cast<uint32_t>(grid.points());
+    if (scan_grid(request, &grid)) progress_.points_total = static_cast<uint32_t>(grid.readings());
   }
 
   // Continues after what the file holds: asks the device for the points after its last one.

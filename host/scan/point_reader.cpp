@@ -8,6 +8,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <cstdio>
 #include <cstring>
 #include <functional>
 #include <map>
@@ -17,6 +18,7 @@
 #include "host/io/file_name.h"
 #include "host/io/text_field.h"
 #include "host/scan/ply_reader.h"
+#include "host/scan/drift_removal.h"
 #include "host/scan/scan_file.h"
 #include "host/scan/scan_uncertainty.h"
 #include "host/scan/table_calibration.h"
@@ -233,6 +235,9 @@ PointCloud read_points(const std::string& path, bool as_measured) {
     ScanData data = read_scan_file(path);
     if (as_measured) data.calibration_json.reset();
     ScanPointSigmas sigmas = scan_point_sigmas(data);
+    // The reference readings leave the points, and correct them for the gauge's drift first (the
+    // drift is in time; the calibration after it is in place).
+    const std::optional<DriftRemoval> drift = remove_drift(data, &sigmas.sigma_mm, path, !as_measured);
     // The scan's own calibration record corrects the raw points it keeps.
     const std::optional<TableCalibration> calibration = correct_by_record(data, &sigmas.sigma_mm, path);
     PointCloud cloud;
@@ -244,9 +249,15 @@ PointCloud read_points(const std::string& path, bool as_measured) {
     }
     if (!sigmas.sigma_mm.empty()) {
       cloud.sigma = std::move(sigmas.sigma_mm);
-      cloud.sigma_from = sigmas.from + (calibration ? " and the table calibration's map" : "");
+      cloud.sigma_from = sigmas.from + (drift ? ", the drift removal" : "") + (calibration ? " and the table calibration's map" : "");
     }
     if (calibration) cloud.calibration = "the table calibration of " + (calibration->created_utc.empty() ? std::string("unknown date") : calibration->created_utc);
+    if (drift) {
+      char text[160];
+      std::snprintf(text, sizeof text, "drift removed by %zu reference readings (up to %.4f mm; adds u <= %.4f mm)",
+                    drift->readings, drift->largest_mm, drift->u_max_mm);
+      cloud.drift = text;
+    }
     return cloud;
   }
   std::string bytes;

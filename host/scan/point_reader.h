@@ -25,13 +25,15 @@ struct PointCloud {
   std::string sigma_from = "the points' sigma column";  // where `sigma` came from, for reports
   std::optional<double> resolution_mm;        // the gauge's reading step, when the file says it
   std::string calibration;                    // the table calibration that corrected z ("" none)
+  std::string drift;                          // how the gauge's drift was removed ("" not)
 };
 
 // Picks the reader by extension: .csv, .xyz/.txt, .ply, .scan, and the height maps .probe (bCNC),
 // .map (Candle) and .cfg (a Klipper bed_mesh profile). Throws PointFileError for
 // NaN, infinity, short or long rows, unknown or repeated columns, repeated points.
-// A scan file's points come corrected by its calibration record, if it has one; `as_measured`
-// leaves them as the device measured them (for the device's own fit, which was made of those).
+// A scan file's points come corrected for the gauge's drift (by its reference readings, which are
+// not points) and by its calibration record, if it has them; `as_measured` leaves them as the
+// device measured them (for the device's own fit, which was made of those).
 PointCloud read_points(const std::string& path, bool as_measured = false);
 PointCloud parse_csv_points(const std::string& text, const std::string& name);
 PointCloud parse_xyz_points(const std::string& text, const std::string& name);

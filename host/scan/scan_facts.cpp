@@ -2,7 +2,9 @@
 #include "host/scan/scan_facts.h"
 
 #include <cstdio>
+#include <stdexcept>
 
+#include "host/scan/drift_removal.h"
 #include "host/scan/table_calibration.h"
 
 namespace dg::host {
@@ -29,6 +31,11 @@ std::string reading_settings(const digitizer_ScanRequest& r) {
   }
   if (r.approach_nm) {
     std::snprintf(part, sizeof part, ", approach %.3f mm", r.approach_nm * 1e-6);
+    out += part;
+  }
+  if (r.reference_every_lines) {
+    std::snprintf(part, sizeof part, ", the first point read again after every %u line%s", static_cast<unsigned>(r.reference_every_lines),
+                  r.reference_every_lines > 1 ? "s" : "");
     out += part;
   }
   return out;
@@ -87,7 +94,23 @@ std::vector<std::string> scan_facts(const ScanData& data) {
     facts.push_back("calibration: none; the points are the table's nominal positions and the gauge's readings, with no "
                     "machine errors (travel flatness, squareness, scale) compensated");
   }
-  std::snprintf(line, sizeof line, "%zu points in %zu lines", data.points.size(), data.lines.size());
+  // The drift the reference readings measured, and the points without them.
+  ScanData points_only = data;
+  try {
+    const std::optional<DriftRemoval> drift = remove_drift(points_only, nullptr, "the scan");
+    if (drift) {
+      std::snprintf(line, sizeof line,
+                    "drift: the first point read again %zu times: up to %.4f mm, removed by interpolation in time "
+                    "(its error bound %.4f mm)",
+                    drift->readings, drift->largest_mm, drift->interpolation_mm);
+    } else {
+      std::snprintf(line, sizeof line, "drift: not measured (scan --reference-every N reads the first point again)");
+    }
+    facts.push_back(line);
+  } catch (const std::invalid_argument& error) {
+    facts.push_back(std::string("drift: reference readings that cannot be used: ") + error.what());
+  }
+  std::snprintf(line, sizeof line, "%zu points in %zu lines", points_only.points.size(), data.lines.size());
   facts.push_back(line);
   if (data.done) {
     std::snprintf(line, sizeof line, "scan %s in %.1f s of device time",

@@ -51,7 +51,9 @@ double travel_z_error_mm(const MachineErrors& e, double map_peak, double x_mm, d
 }
 
 double drift_mm(const MachineErrors& e, uint64_t t_ns) {
-  return e.drift_um_per_h * 1e-3 * (static_cast<double>(t_ns) * 1e-9 / 3600.0);
+  const double t_s = static_cast<double>(t_ns) * 1e-9;
+  const double warmup = e.warmup_um == 0 ? 0 : e.warmup_um * (1 - std::exp(-t_s / (60 * e.warmup_min)));
+  return 1e-3 * (e.drift_um_per_h * t_s / 3600.0 + warmup);
 }
 
 }  // namespace dg::sim

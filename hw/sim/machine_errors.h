@@ -14,10 +14,15 @@ struct MachineErrors {
   // (low-order modes over 100 x 100 mm with a bowl), this many micrometres at its largest.
   double flatness_um = 0;
   double drift_um_per_h = 0;   // the gauge's stand warms: Z grows this much per hour of virtual time
+  // And settles: a first-order warm-up that adds warmup_um * (1 - exp(-t / warmup_min)), the shape
+  // a stand's temperature takes after the room or the motors change it, which no straight line follows.
+  double warmup_um = 0;
+  double warmup_min = 20;
   uint64_t map_seed = 1;       // picks the flatness map's modes (the machine's, not the scan's)
 
   bool any() const {
-    return squareness_urad != 0 || scale_x_ppm != 0 || scale_y_ppm != 0 || flatness_um != 0 || drift_um_per_h != 0;
+    return squareness_urad != 0 || scale_x_ppm != 0 || scale_y_ppm != 0 || flatness_um != 0 || drift_um_per_h != 0 ||
+           warmup_um != 0;
   }
 };
 

@@ -20,6 +20,7 @@ const char kSimOptionsHelp[] =
     "  touch_x_mm=X touch_y_mm=Y (faces the touch probe meets)\n"
     "  the machine's errors (each 0 by default): squareness_urad=X scale_x_ppm=X scale_y_ppm=X\n"
     "  flatness_um=X (the travel's height error at its largest) drift_um_per_h=X machine_seed=N\n"
+    "  warmup_um=X warmup_min=T (the stand settles: Z grows by X (1 - exp(-t / T)))\n"
     "  machine=typical (500 urad, 200 and -150 ppm, 30 um, no drift)\n"
     "  part_x_mm=X part_y_mm=Y part_angle_deg=A (where the part's own frame lies on the table)\n";
 namespace {
@@ -123,9 +124,12 @@ std::string apply_sim_option(const std::string& pair, SimOptions* options) {
   } else if (key == "squareness_urad" || key == "scale_x_ppm" || key == "scale_y_ppm") {
     if (!parse_double(value, &d) || std::fabs(d) > 20000) return key + " must be -20000..20000, got '" + value + "'";
     (key == "squareness_urad" ? c.machine.squareness_urad : key == "scale_x_ppm" ? c.machine.scale_x_ppm : c.machine.scale_y_ppm) = d;
-  } else if (key == "flatness_um" || key == "drift_um_per_h") {
+  } else if (key == "flatness_um" || key == "drift_um_per_h" || key == "warmup_um") {
     if (!parse_double(value, &d) || std::fabs(d) > 1000) return key + " must be -1000..1000, got '" + value + "'";
-    (key == "flatness_um" ? c.machine.flatness_um : c.machine.drift_um_per_h) = d;
+    (key == "flatness_um" ? c.machine.flatness_um : key == "warmup_um" ? c.machine.warmup_um : c.machine.drift_um_per_h) = d;
+  } else if (key == "warmup_min") {
+    if (!parse_double(value, &d) || !(d >= 0.1 && d <= 10000)) return key + " must be 0.1..10000, got '" + value + "'";
+    c.machine.warmup_min = d;
   } else if (key == "part_x_mm" || key == "part_y_mm" || key == "part_angle_deg") {
     if (!parse_double(value, &d) || std::fabs(d) > 360) return key + " must be -360..360, got '" + value + "'";
     (key == "part_x_mm" ? c.part.x0_mm : key == "part_y_mm" ? c.part.y0_mm : c.part.angle_deg) = d;

@@ -259,6 +259,46 @@ TEST(DeviceResume, PausesWhenTheHostFallsSilentAndResumesFromTheLastStoredPoint)
   LONGS_EQUAL(41 * 11, bench.host.done.points);
 }
 
+// Reference readings (the first point read again after every third line and after the last) are
+// numbered among the points, so a resume must count them where each line starts: a scan resumed
+// after a pulled cable still stores every point and every reading once, each reading ending its line.
+TEST(DeviceResume, AScanWithReferenceReadingsResumesWithEveryReadingOnce) {
+  Bench bench;
+  bench.request.reference_every_lines = 3;
+  bench.hello(1);
+  bench.start_scan();
+  // The cable goes once the first reading (after line 2) is stored, and the scan is not done.
+  for (int s = 0; s < 120 && bench.host.stored.size() <= 41 * 3 + 1; ++s) bench.run_for(1000000);
+  CHECK(bench.host.stored.size() > 41 * 3 + 1);
+  CHECK(bench.host.stored.size() < 41 * 8);
+  bench.wire.connected = false;
+  bench.run_for(30000000);
+  LONGS_EQUAL(digitizer_DeviceState_STATE_PAUSED, bench.device.state());
+  bench.new_host();
+  bench.hello(2);
+  bench.resume(77, bench.host.stored.back().seq + 1);
+  bench.run_until_done(600000000);
+  // 11 lines: readings after lines 2, 5, 8 and 10.
+  check_every_point_once(bench.host.stored, 41 * 11 + 4);
+  LONGS_EQUAL(41 * 11 + 4, bench.host.done.points);
+  size_t readings = 0;
+  for (const dg::PointSample& p : bench.host.stored) {
+    if ((p.flags & digitizer_PointFlag_POINT_REFERENCE) == 0) continue;
+    ++readings;
+    LONGS_EQUAL(bench.request.x.min_nm, p.x_nm);
+    LONGS_EQUAL(bench.request.y.min_nm, p.y_nm);
+    CHECK((p.flags & digitizer_PointFlag_POINT_LINE_END) != 0);
+    CHECK(p.line == 2 || p.line == 5 || p.line == 8 || p.line == 10);
+  }
+  LONGS_EQUAL(4, readings);
+  // Each line's LineDone counts its reading, before the cable was pulled and after the resume.
+  for (const digitizer_Envelope& m : bench.host.received) {
+    if (m.which_body != digitizer_Envelope_line_done_tag) continue;
+    const uint32_t line = m.body.line_done.line;
+    LONGS_EQUAL(line == 2 || line == 5 || line == 8 || line == 10 ? 42 : 41, m.body.line_done.points);
+  }
+}
+
 TEST(DeviceResume, AFullRingStopsTheScanWhileNoPointIsAcknowledged) {
   Bench bench(dg::HostSilence::kContinue);
   bench.scan_then_lose_host(1000, 120000000);

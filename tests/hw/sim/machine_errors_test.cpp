@@ -65,6 +65,19 @@ TEST(MachineErrors, TheGaugeReadsThePartWhereTheTableReallyIsPlusTheTravelsError
   CHECK(std::fabs(o.config.part.height_mm(x, y) - o.config.part.height_mm(30, 20)) > 0.004);
 }
 
+// The stand's warm-up settles as a first-order lag: 63 % of it after one time constant, and on
+// top of the steady creep.
+TEST(MachineErrors, TheStandsWarmUpSettlesWithItsTimeConstantOnTopOfItsCreep) {
+  SimOptions o;
+  for (const char* pair : {"warmup_um=30", "warmup_min=5", "drift_um_per_h=60"}) STRCMP_EQUAL("", apply_sim_option(pair, &o).c_str());
+  const MachineErrors& e = o.config.machine;
+  CHECK(e.any());
+  const uint64_t five_minutes_ns = 300000000000ull;
+  DOUBLES_EQUAL(0.030 * (1 - std::exp(-1.0)) + 0.005, drift_mm(e, five_minutes_ns), 1e-12);
+  DOUBLES_EQUAL(0.030 + 0.060, drift_mm(e, 3600 * 1000000000ull), 1e-6);  // settled after an hour
+  STRCMP_CONTAINS("warmup_min", apply_sim_option("warmup_min=0", &o).c_str());
+}
+
 TEST(MachineErrors, BadValuesAreRefusedWithTheirName) {
   SimOptions o;
   STRCMP_CONTAINS("flatness_um", apply_sim_option("flatness_um=abc", &o).c_str());
