@@ -83,7 +83,10 @@ bool ScanEngine::take_reading(int64_t value_nm) {
   samples_nm_[samples_taken_] = value_nm;
   z_sum_nm_ += value_nm;
   ++samples_taken_;
-  const uint32_t wanted = request_.samples_per_point > 1 ? request_.samples_per_point : 1;
+  uint32_t wanted = request_.samples_per_point > 1 ? request_.samples_per_point : 1;
+  // A reference reading corrects every point near it in time, so its noise goes into all of them:
+  // it averages at least kReferenceSamples readings.
+  if (in_reference_ && wanted < kReferenceSamples) wanted = kReferenceSamples;
   if (samples_taken_ < wanted) return false;
   if (request_.spread_tolerance_nm > 0) {
     int64_t lo = samples_nm_[0], hi = samples_nm_[0];

@@ -20,6 +20,9 @@ class PointSink {
   ~PointSink() = default;
 };
 
+// The readings a reference reading (ScanRequest.reference_every_lines) averages at least.
+constexpr uint32_t kReferenceSamples = 4;
+
 struct ScanLimits {
   uint32_t max_points = 4000000;
   uint32_t max_samples_per_point = 16;
