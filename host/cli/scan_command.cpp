@@ -135,11 +135,11 @@ std::string resume_hint(const ScanArgs& a) {
 void print_summary(const ScanData& scan, const char* prefix) {
   // The points without the reference readings, which say how far the gauge drifted.
   ScanData data = scan;
+  remove_drift(data, nullptr, "the scan", false);  // as measured: the extent below is of the raw readings
   std::optional<DriftRemoval> drift;
   try {
-    drift = remove_drift(data, nullptr, "the scan", false);
-    ScanData measured = scan;
-    drift = remove_drift(measured, nullptr, "the scan");
+    ScanData corrected = scan;
+    drift = remove_drift(corrected, nullptr, "the scan");
   } catch (const std::invalid_argument& error) {
     std::printf("%swarning: %s\n", prefix, error.what());
   }

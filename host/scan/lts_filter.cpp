@@ -908,7 +908,9 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
   // describes its neighbours, or bend the one that does: the points beside suspects are tested
   // again without them, until the suspects settle.
   // Only suspects that their whole neighbourhood condemns are left out: one a half-plane condemns
-  // may be a point on a sliver at a crease whose neighbours on the sliver need it.
+  // may be a point on a sliver at a crease whose neighbours on the sliver need it. Once left out,
+  // a point stays out of its neighbours' tests: in a block of outliers each one, tested without
+  // the others, cleared another in turn, and the rounds alternated until they ran out.
   std::vector<char> tested_without(points.size(), 0);  // a point's test left some suspect out
   std::vector<char> left_out(points.size(), 0);
   for (int round = 0; round < kSuspectRounds; ++round) {
