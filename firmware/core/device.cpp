@@ -459,6 +459,10 @@ bool Device::send_reply(const Reply& reply) {
       s.alarm = alarm_code_;
       if (alarm_) set_string(s.alarm_detail, alarm_detail_);
       s.homed = homed_;
+      if (config_.stack_used_bytes != nullptr) {
+        s.stack_used_bytes = config_.stack_used_bytes();
+        s.stack_size_bytes = config_.stack_size_bytes;
+      }
       break;
     }
     case Reply::kAccepted:

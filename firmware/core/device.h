@@ -71,6 +71,10 @@ struct DeviceConfig {
   // Touch-trigger probing: the stylus's allowed travel after it triggers, steps (the probing feed
   // must brake within it).
   uint32_t touch_overtravel_steps = 400;
+  // The stack's size and its high-water mark since reset (stack painting), for `status`; a board
+  // that cannot measure it leaves these empty.
+  uint32_t (*stack_used_bytes)() = nullptr;
+  uint32_t stack_size_bytes = 0;
 };
 
 // A controller on real hardware: the reference table's motion (the MotionConfig defaults), the

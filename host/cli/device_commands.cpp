@@ -54,6 +54,8 @@ int run_status(const DeviceArgs& a) {
                         {"scan_id", s.scan_id},          {"points_done", s.points_done},
                         {"points_total", s.points_total}, {"ring_used", s.ring_used},
                         {"alarm", fault_name(s.alarm)},   {"alarm_detail", s.alarm_detail}};
+    // The stack's high-water mark, where the board measures it (stack painting on a Cortex-M).
+    if (s.stack_size_bytes > 0) j["stack"] = {{"used_bytes", s.stack_used_bytes}, {"size_bytes", s.stack_size_bytes}};
     std::printf("%s\n", j.dump(1).c_str());
     return 0;
   }
@@ -63,6 +65,10 @@ int run_status(const DeviceArgs& a) {
   if (s.points_total > 0) std::printf("scan %u: %u of %u points, %u waiting in the ring\n", s.scan_id, s.points_done, s.points_total, s.ring_used);
   if (s.state == digitizer_DeviceState_STATE_ALARM) {
     std::printf("alarm: %s%s%s (digitizer unlock clears it)\n", fault_name(s.alarm), s.alarm_detail[0] ? ": " : "", s.alarm_detail);
+  }
+  if (s.stack_size_bytes > 0) {
+    std::printf("stack: at most %u of %u bytes used since reset%s\n", s.stack_used_bytes, s.stack_size_bytes,
+                s.stack_used_bytes >= s.stack_size_bytes ? " (all of it: it may have overflowed)" : "");
   }
   return 0;
 }

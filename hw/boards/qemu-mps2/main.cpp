@@ -4,6 +4,7 @@
 #include <new>
 
 #include "firmware/core/device.h"
+#include "hw/boards/cortex-m/runtime.h"
 #include "hw/boards/qemu-mps2/uart_link.h"
 #include "hw/sim/sim_device.h"
 
@@ -24,6 +25,8 @@ int main() {
   dg::DeviceConfig config = dg::sim::simulated_device(sim);
   config.device_id = "QEMU-0001";
   config.board = "qemu-mps2";
+  config.stack_used_bytes = dg::cortex_m::stack_used_bytes;
+  config.stack_size_bytes = dg::cortex_m::stack_size_bytes();
   auto* device = new (device_storage) dg::Device(*board, config);
   device->run();
   return 0;

@@ -9,6 +9,7 @@ extern "C" {
 int main();
 
 [[noreturn]] void reset_handler() {
+  dg::cortex_m::paint_stack();
   dg::cortex_m::init_memory_and_fpu();
   dg::cortex_m::run_constructors();
   dg::bench::semihost_exit(main());

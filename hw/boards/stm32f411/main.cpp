@@ -3,6 +3,7 @@
 #include <new>
 
 #include "firmware/core/device.h"
+#include "hw/boards/cortex-m/runtime.h"
 #include "hw/boards/stm32f411/board.h"
 #include "hw/boards/stm32f411/clock.h"
 #include "hw/boards/stm32f411/interrupts.h"
@@ -57,6 +58,8 @@ int main() {
   dg::DeviceConfig config = dg::hardware_device_config(DIGITIZER_STM32_CALIPER != 0);
   config.device_id = serial;
   config.board = crystal_ok ? "stm32f411-blackpill" : "stm32f411-blackpill (no crystal: HSI clock)";
+  config.stack_used_bytes = dg::cortex_m::stack_used_bytes;
+  config.stack_size_bytes = dg::cortex_m::stack_size_bytes();
   auto* device = new (device_storage) dg::Device(*board, config);
   usb->start();
   device->run();
