@@ -19,6 +19,22 @@ Device::Device(hal::Board& board, const DeviceConfig& config)
                                                                               : static_cast<Probe&>(gauge_)),
       link_(config.retransmit_us) {}
 
+namespace {
+
+digitizer_ResetCause reset_cause_name(hal::ResetCause cause) {
+  switch (cause) {
+    case hal::ResetCause::kPowerOn: return digitizer_ResetCause_RESET_POWER_ON;
+    case hal::ResetCause::kPin: return digitizer_ResetCause_RESET_PIN;
+    case hal::ResetCause::kWatchdog: return digitizer_ResetCause_RESET_WATCHDOG;
+    case hal::ResetCause::kSoftware: return digitizer_ResetCause_RESET_SOFTWARE;
+    case hal::ResetCause::kBrownOut: return digitizer_ResetCause_RESET_BROWN_OUT;
+    case hal::ResetCause::kUnknown: break;
+  }
+  return digitizer_ResetCause_RESET_UNKNOWN;
+}
+
+}  // namespace
+
 void Device::begin() {
   if (config_.probe == digitizer_ProbeType_PROBE_CALIPER_24BIT) {
     caliper_.attach();
@@ -26,6 +42,7 @@ void Device::begin() {
     gauge_.attach();
   }
   board_.write_pin(hal::Pin::kGaugeReq, false);
+  if (config_.watchdog_ms > 0) board_.watchdog_start(config_.watchdog_ms);
 }
 
 void Device::run() {
@@ -68,7 +85,13 @@ uint64_t Device::next_deadline_us() const {
     deadline = estop_seen_us_ + kEstopConfirmUs;
   }
   const uint64_t silence = host_silence_deadline_us();
-  return silence < deadline ? silence : deadline;
+  if (silence < deadline) deadline = silence;
+  // The watchdog counts while the board sleeps: wake in time to kick it.
+  if (config_.watchdog_ms > 0) {
+    const uint64_t kick = board_.now_us() + static_cast<uint64_t>(config_.watchdog_ms) * 1000 / 4;
+    if (kick < deadline) deadline = kick;
+  }
+  return deadline;
 }
 
 uint64_t Device::host_silence_deadline_us() const {
@@ -99,6 +122,9 @@ bool Device::accept(const PointSample& point) {
 }
 
 void Device::poll() {
+  // A main loop that stops coming here (stuck in a wait, a fault that loops) stops kicking, and
+  // the watchdog resets the board: the drivers go off with everything else.
+  if (config_.watchdog_ms > 0) board_.watchdog_kick();
   receive();
   watch_motion();
   watch_host();
@@ -459,6 +485,7 @@ bool Device::send_reply(const Reply& reply) {
       s.alarm = alarm_code_;
       if (alarm_) set_string(s.alarm_detail, alarm_detail_);
       s.homed = homed_;
+      s.reset_cause = reset_cause_name(board_.reset_cause());
       if (config_.stack_used_bytes != nullptr) {
         s.stack_used_bytes = config_.stack_used_bytes();
         s.stack_size_bytes = config_.stack_size_bytes;
@@ -606,6 +633,8 @@ DeviceConfig hardware_device_config(bool caliper) {
                         digitizer_Capability_CAP_DEVICE_FIT | digitizer_Capability_CAP_RESUME |
                         digitizer_Capability_CAP_HOMING | digitizer_Capability_CAP_TOUCH_PROBE;
   config.require_homing = true;
+  // A hung main loop resets the board (drivers off with it), and status says so after.
+  config.watchdog_ms = 1000;
   return config;
 }
 

@@ -75,6 +75,9 @@ struct DeviceConfig {
   // that cannot measure it leaves these empty.
   uint32_t (*stack_used_bytes)() = nullptr;
   uint32_t stack_size_bytes = 0;
+  // The board's watchdog, started at begin() and kicked by every pass of the main loop, which then
+  // never sleeps longer than a quarter of it (0: not started).
+  uint32_t watchdog_ms = 0;
 };
 
 // A controller on real hardware: the reference table's motion (the MotionConfig defaults), the

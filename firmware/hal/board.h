@@ -23,6 +23,9 @@ enum class Pin : uint8_t {
   kCount,
 };
 
+// Why a board last started, from its reset flags.
+enum class ResetCause : uint8_t { kUnknown, kPowerOn, kPin, kWatchdog, kSoftware, kBrownOut };
+
 using EdgeHandler = void (*)(void* context);
 // Returns the delay to the next call in nanoseconds, or 0 to stop the timer.
 using TimerHandler = uint32_t (*)(void* context);
@@ -56,6 +59,12 @@ class Board {
   // Sleeps until an interrupt fires, a byte arrives or `deadline_us` passes
   // (UINT64_MAX: no deadline). Returns false when the board must shut down.
   virtual bool wait(uint64_t deadline_us) = 0;
+
+  // The independent watchdog: once started it resets the board unless kicked again within
+  // `timeout_ms`, asleep or not, and nothing but a reset stops it. A board without one ignores both.
+  virtual void watchdog_start(uint32_t timeout_ms) { (void)timeout_ms; }
+  virtual void watchdog_kick() {}
+  virtual ResetCause reset_cause() { return ResetCause::kUnknown; }
 };
 
 }  // namespace dg::hal

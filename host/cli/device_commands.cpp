@@ -27,6 +27,19 @@ const char* state_name(digitizer_DeviceState s) {
   return "unknown";
 }
 
+// Why the device last started, in words.
+const char* reset_name(digitizer_ResetCause cause) {
+  switch (cause) {
+    case digitizer_ResetCause_RESET_POWER_ON: return "power-on";
+    case digitizer_ResetCause_RESET_PIN: return "the reset pin (button or debugger)";
+    case digitizer_ResetCause_RESET_WATCHDOG: return "the watchdog: the firmware hung, and the scan it ran is gone";
+    case digitizer_ResetCause_RESET_SOFTWARE: return "the firmware itself, after a fault";
+    case digitizer_ResetCause_RESET_BROWN_OUT: return "a brown-out: the supply sagged";
+    case digitizer_ResetCause_RESET_UNKNOWN: break;
+  }
+  return "";
+}
+
 digitizer_Envelope command(Session& session, digitizer_CommandKind kind, const DeviceArgs& a) {
   digitizer_Envelope message = digitizer_Envelope_init_zero;
   message.which_body = digitizer_Envelope_command_tag;
@@ -56,6 +69,8 @@ int run_status(const DeviceArgs& a) {
                         {"alarm", fault_name(s.alarm)},   {"alarm_detail", s.alarm_detail}};
     // The stack's high-water mark, where the board measures it (stack painting on a Cortex-M).
     if (s.stack_size_bytes > 0) j["stack"] = {{"used_bytes", s.stack_used_bytes}, {"size_bytes", s.stack_size_bytes}};
+    static const char* const kResetKeys[] = {"unknown", "power-on", "pin", "watchdog", "software", "brown-out"};
+    if (s.reset_cause >= 0 && s.reset_cause <= digitizer_ResetCause_RESET_BROWN_OUT) j["last_reset"] = kResetKeys[s.reset_cause];
     std::printf("%s\n", j.dump(1).c_str());
     return 0;
   }
@@ -66,6 +81,7 @@ int run_status(const DeviceArgs& a) {
   if (s.state == digitizer_DeviceState_STATE_ALARM) {
     std::printf("alarm: %s%s%s (digitizer unlock clears it)\n", fault_name(s.alarm), s.alarm_detail[0] ? ": " : "", s.alarm_detail);
   }
+  if (reset_name(s.reset_cause)[0] != '\0') std::printf("last reset: %s\n", reset_name(s.reset_cause));
   if (s.stack_size_bytes > 0) {
     std::printf("stack: at most %u of %u bytes used since reset%s\n", s.stack_used_bytes, s.stack_size_bytes,
                 s.stack_used_bytes >= s.stack_size_bytes ? " (all of it: it may have overflowed)" : "");

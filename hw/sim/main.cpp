@@ -8,6 +8,7 @@
 #include <chrono>
 #include <csignal>
 #include <memory>
+#include <new>
 
 #include "firmware/core/device.h"
 #include "hw/sim/fd_link.h"
@@ -74,7 +75,15 @@ int main(int argc, char** argv) {
   board.set_real_clock(real_ms);
   dg::DeviceConfig device = dg::sim::simulated_device(options);
   device.board = "sim";
-  static dg::Device firmware(board, device);
-  firmware.run();
+  // The firmware as the MCU runs it: a watchdog reset starts it again from scratch, on the same
+  // table, part and link.
+  alignas(dg::Device) static unsigned char firmware_storage[sizeof(dg::Device)];
+  for (;;) {
+    auto* firmware = new (firmware_storage) dg::Device(board, device);
+    firmware->run();
+    firmware->~Device();
+    if (!board.take_reset()) break;
+    std::fprintf(stderr, "digitizer-sim: the watchdog reset the device\n");
+  }
   return 0;
 }

@@ -145,7 +145,37 @@ namespace {
 constexpr long kStallRealMs = 250;
 }  // namespace
 
+void SimBoard::watchdog_start(uint32_t timeout_ms) {
+  watchdog_timeout_ns_ = static_cast<uint64_t>(timeout_ms) * 1000000;
+  watchdog_kicked_ns_ = now_ns_;
+}
+
+void SimBoard::watchdog_kick() { watchdog_kicked_ns_ = now_ns_; }
+
+bool SimBoard::take_reset() {
+  const bool pending = reset_pending_;
+  reset_pending_ = false;
+  return pending;
+}
+
 bool SimBoard::wait(uint64_t deadline_us) {
+  // A missed kick resets the board: the firmware's loop ends, the motors stop with it.
+  auto watchdog_reset = [this] {
+    now_ns_ = watchdog_kicked_ns_ + watchdog_timeout_ns_;
+    timer_next_ns_ = kNever;
+    watchdog_timeout_ns_ = kNever;  // a reset stops it until the firmware starts it again
+    reset_cause_ = hal::ResetCause::kWatchdog;
+    reset_pending_ = true;
+    return false;
+  };
+  if (config_.hang_at_ns > 0 && !hung_ && now_ns_ >= config_.hang_at_ns) {
+    // The loop hangs here: nothing comes back to kick the watchdog, which then resets the board;
+    // without one the device is dead for good.
+    hung_ = true;
+    if (watchdog_timeout_ns_ == kNever) return false;
+    return watchdog_reset();
+  }
+  if (watchdog_timeout_ns_ != kNever && now_ns_ > watchdog_kicked_ns_ + watchdog_timeout_ns_) return watchdog_reset();
   const uint64_t deadline_ns = deadline_us == kNever ? kNever : deadline_us * 1000;
   for (;;) {
     if (link_ != nullptr && link_->closed()) return false;

@@ -57,6 +57,9 @@ struct SimConfig {
   // The e-stop input is asserted from this virtual time for this long (0: never).
   uint64_t estop_at_ns = 0;
   uint64_t estop_for_ns = 0;
+  // The firmware's main loop hangs at this virtual time (0: never): it stops coming back, as a
+  // loop stuck on a dead peripheral would, until the watchdog (if started) resets the board.
+  uint64_t hang_at_ns = 0;
 };
 
 class SimBoard final : public hal::Board {
@@ -80,6 +83,14 @@ class SimBoard final : public hal::Board {
   size_t link_write(const uint8_t* data, size_t size) override;
   size_t link_read(uint8_t* data, size_t capacity) override;
   bool wait(uint64_t deadline_us) override;
+  // The MCU's independent watchdog: it runs in virtual time, asleep or not; missed, it resets the
+  // board (wait() returns false and reset_pending() says so).
+  void watchdog_start(uint32_t timeout_ms) override;
+  void watchdog_kick() override;
+  hal::ResetCause reset_cause() override { return reset_cause_; }
+  // The watchdog reset the board: the firmware starts again from scratch (its RAM is gone), while
+  // the table, the part and the gauge stay as they are. Clears the flag.
+  bool take_reset();
 
   // Inspection for tests and the simulator's report.
   uint64_t now_ns() const { return now_ns_; }
@@ -138,6 +149,12 @@ class SimBoard final : public hal::Board {
   uint64_t last_step_ns_[2] = {kNever, kNever};
   uint64_t switch_edge_ns_[2] = {kNever, kNever};  // when the table last crossed each switch's edge
   uint64_t min_step_interval_ns_ = kNever;
+  // The watchdog (kNever: not started) and the reset it caused.
+  uint64_t watchdog_timeout_ns_ = kNever;
+  uint64_t watchdog_kicked_ns_ = 0;
+  bool hung_ = false;  // the main loop hung (once, at config_.hang_at_ns)
+  bool reset_pending_ = false;
+  hal::ResetCause reset_cause_ = hal::ResetCause::kPowerOn;
   uint64_t steps_ = 0;
   uint64_t last_link_poll_ns_ = 0;
   bool link_hint_ = true;

@@ -33,6 +33,7 @@ DeviceConfig simulated_device(const SimOptions& options) {
   device.host_silence_us = options.host_silence_s * 1000000u;
   device.on_host_silence = options.on_host_silence;
   device.require_homing = options.require_homing;
+  device.watchdog_ms = options.watchdog_ms;
   if (options.compensate_steps >= 0) {
     device.motion.backlash_x_steps = device.motion.backlash_y_steps = static_cast<uint32_t>(options.compensate_steps);
   }

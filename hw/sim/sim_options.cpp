@@ -13,6 +13,7 @@ const char kSimOptionsHelp[] =
     "  outlier_mm=X  inch=0|1  gauge_delay_us=N  mute=0|1  drop_edge=BIT  id=NAME\n"
     "  host_silence_s=N (virtual s, 0 never)  on_host_silence=pause|continue|abort\n"
     "  start_x_mm=X start_y_mm=Y (the table's start)  estop_at_ms=T estop_ms=D\n"
+    "  watchdog_ms=T (the firmware's watchdog)  hang_at_ms=T (the firmware's main loop hangs then)\n"
     "  switches=nc|open|stuck (normally-closed min switches; open: unwired or cut, stuck: never open)\n"
     "  switch_bounce_us=T (contact chatter at a switch's edge)  glitch_ms=T (a 2 us spike on the\n"
     "  limit and e-stop inputs every T ms)  x_wire_cut_ms=T (the x switch's wire cut at T)\n"
@@ -100,6 +101,12 @@ std::string apply_sim_option(const std::string& pair, SimOptions* options) {
   } else if (key == "estop_at_ms" || key == "estop_ms") {
     if (!parse_u64(value, &u) || u > 100000000) return key + " must be 0..100000000";
     (key == "estop_at_ms" ? c.estop_at_ns : c.estop_for_ns) = u * 1000000;
+  } else if (key == "hang_at_ms") {
+    if (!parse_u64(value, &u) || u > 100000000) return key + " must be 0..100000000";
+    c.hang_at_ns = u * 1000000;
+  } else if (key == "watchdog_ms") {
+    if (!parse_u64(value, &u) || (u != 0 && (u < 10 || u > 30000))) return key + " must be 0 or 10..30000";
+    options->watchdog_ms = static_cast<uint32_t>(u);
   } else if (key == "backlash_um" || key == "compensate_um") {
     if (!parse_double(value, &d) || d < 0 || d > 1000) return key + " must be 0..1000, got '" + value + "'";
     const int32_t steps = static_cast<int32_t>(std::llround(d * 1e3 / c.nm_per_step));

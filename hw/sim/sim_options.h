@@ -20,12 +20,14 @@ struct SimOptions {
   dg::HostSilence on_host_silence = dg::HostSilence::kPause;
   bool require_homing = false;
   int32_t compensate_steps = -1;  // the firmware's backlash compensation; -1: the table's play
+  uint32_t watchdog_ms = 0;       // the firmware starts the board's watchdog with this timeout (0: not)
 };
 
 // Applies one "key=value" pair: part, seed, noise_um, outliers, outlier_mm, inch,
 // gauge_delay_us, mute (gauge never answers), drop_edge (a CK pulse missing from
 // every frame), id, host_silence_s, on_host_silence (pause, continue, abort), start_x_mm,
 // start_y_mm (where the table starts), estop_at_ms, estop_ms (the e-stop pressed then, that long),
+// watchdog_ms (the firmware's watchdog timeout; 0: none), hang_at_ms (the main loop hangs then),
 // switches (nc, open, stuck; 1 and 0 for nc and open), switch_bounce_us, glitch_ms, x_wire_cut_ms,
 // require_homing, gauge (digimatic, caliper), backlash_um (the
 // screws' play), compensate_um (the firmware's compensation; default the play), and the machine's

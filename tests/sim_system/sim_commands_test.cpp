@@ -5,6 +5,7 @@
 #include <chrono>
 
 #include <string>
+#include <thread>
 
 #include "host/device/repeatability.h"
 #include "host/device/request.h"
@@ -29,6 +30,14 @@ std::string refusal(dg::host::Session& session, digitizer_Envelope message) {
   return "";
 }
 
+// The device's status, asked for in a session.
+digitizer_Status status_of(dg::host::Session& session) {
+  digitizer_Envelope ask = command(digitizer_CommandKind_CMD_STATUS);
+  const digitizer_Envelope reply = dg::host::request(session, ask, 5000);
+  LONGS_EQUAL(digitizer_Envelope_status_tag, reply.which_body);
+  return reply.body.status;
+}
+
 }  // namespace
 
 TEST_GROUP(SimCommands){};
@@ -37,10 +46,7 @@ TEST(SimCommands, StatusJogAndRefusalsCarryTheDevicesWords) {
   auto transport = dg::host::open_transport("sim:part=flat,start_x_mm=12.5,start_y_mm=7.5");
   dg::host::Session session(*transport);
   session.hello(5000);
-  digitizer_Envelope status = command(digitizer_CommandKind_CMD_STATUS);
-  const digitizer_Envelope reply = dg::host::request(session, status, 5000);
-  LONGS_EQUAL(digitizer_Envelope_status_tag, reply.which_body);
-  LONGS_EQUAL(digitizer_DeviceState_STATE_IDLE, reply.body.status.state);
+  LONGS_EQUAL(digitizer_DeviceState_STATE_IDLE, status_of(session).state);
   // Refusals first: a jog that is still moving would make any later command "busy".
   STRCMP_CONTAINS("soft limit", refusal(session, command(digitizer_CommandKind_CMD_JOG, 900000000)).c_str());
   // Homing: the table starts 12.5 mm, 7.5 mm from its switches (start_x_mm, start_y_mm) and
@@ -117,4 +123,18 @@ TEST(SimCommands, AMoveToAPointOffTheTableIsRefusedWithTheDevicesReason) {
   } catch (const dg::host::DeviceError& e) {
     STRCMP_CONTAINS("soft limit", e.what());
   }
+}
+
+// The simulator's firmware hangs 1 ms after it starts; its watchdog resets it, the simulator starts
+// the firmware again as the MCU would, and a host that connects then is told why it started.
+TEST(SimCommands, AFirmwareTheWatchdogResetSaysSoInItsStatus) {
+  auto transport = dg::host::open_transport("sim:watchdog_ms=200,hang_at_ms=1");
+  // Virtual time stands still while the device waits for a host that talks; a silent one lets it
+  // run (a quarter of the watchdog each 250 ms of real time), past the hang and the reset.
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  dg::host::Session session(*transport);
+  session.hello(5000);
+  const digitizer_Status status = status_of(session);
+  LONGS_EQUAL(digitizer_ResetCause_RESET_WATCHDOG, status.reset_cause);
+  LONGS_EQUAL(digitizer_DeviceState_STATE_IDLE, status.state);
 }

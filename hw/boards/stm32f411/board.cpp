@@ -36,6 +36,16 @@ Irq exti_irq(uint32_t line) {
 Stm32Board::Stm32Board(OtgFsDevice& usb) : usb_(usb) {}
 
 void Stm32Board::start() {
+  // Why the chip last started: a power-on sets the pin and brown-out flags too, so the causes are
+  // read from the most telling down; the flags stay until cleared.
+  const uint32_t csr = reg(kRccCsr);
+  reset_cause_ = (csr & (kCsrIwdgRstf | kCsrWwdgRstf)) ? hal::ResetCause::kWatchdog
+                 : (csr & kCsrSftRstf)                 ? hal::ResetCause::kSoftware
+                 : (csr & kCsrPorRstf)                 ? hal::ResetCause::kPowerOn
+                 : (csr & kCsrBorRstf)                 ? hal::ResetCause::kBrownOut
+                 : (csr & kCsrPinRstf)                 ? hal::ResetCause::kPin
+                                                       : hal::ResetCause::kUnknown;
+  reg(kRccCsr) = csr | kCsrRmvf;
   reg(kRccAhb1Enr) |= 0x7u;          // GPIOA, GPIOB, GPIOC
   reg(kRccApb1Enr) |= 1u | (1u << 3);  // TIM2, TIM5
   reg(kRccApb2Enr) |= 1u << 14;      // SYSCFG (EXTI port selection)
@@ -204,6 +214,25 @@ uint64_t Stm32Board::now_us() {
 size_t Stm32Board::link_write(const uint8_t* data, size_t size) { return usb_.write(data, size); }
 
 size_t Stm32Board::link_read(uint8_t* data, size_t capacity) { return usb_.read(data, capacity); }
+
+void Stm32Board::watchdog_start(uint32_t timeout_ms) {
+  reg(kDbgmcuApb1Fz) |= 1u << 12;
+  // The LSI runs at 32 kHz nominal (17 to 47 kHz, RM0383 and the datasheet): /64 gives 2 ms ticks,
+  // so the timeout is between 0.7 and 1.9 times the one asked for; the firmware kicks at a quarter.
+  uint32_t reload = timeout_ms / 2;
+  if (reload < 1) reload = 1;
+  if (reload > 0xFFF) reload = 0xFFF;
+  reg(kIwdgKr) = 0xCCCC;  // start (it cannot be stopped again)
+  reg(kIwdgKr) = 0x5555;  // unlock PR and RLR
+  reg(kIwdgPr) = 4;       // /64
+  reg(kIwdgRlr) = reload;
+  // PR and RLR reach the LSI domain a few LSI cycles later; bounded, since the LSI may be slow.
+  for (uint32_t spins = 0; (reg(kIwdgSr) & 0x3u) != 0 && spins < 100000; ++spins) {
+  }
+  reg(kIwdgKr) = 0xAAAA;
+}
+
+void Stm32Board::watchdog_kick() { reg(kIwdgKr) = 0xAAAA; }
 
 bool Stm32Board::wait(uint64_t deadline_us) {
   const uint64_t now = now_us();

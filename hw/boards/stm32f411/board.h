@@ -25,6 +25,9 @@ class Stm32Board final : public hal::Board {
   size_t link_write(const uint8_t* data, size_t size) override;
   size_t link_read(uint8_t* data, size_t capacity) override;
   bool wait(uint64_t deadline_us) override;
+  void watchdog_start(uint32_t timeout_ms) override;
+  void watchdog_kick() override;
+  hal::ResetCause reset_cause() override { return reset_cause_; }
 
   // Interrupt entry points (startup.cpp).
   void step_timer_irq();
@@ -46,6 +49,7 @@ class Stm32Board final : public hal::Board {
   Edge edges_[16];  // by EXTI line
   volatile uint32_t clock_high_ = 0;  // TIM5 wraps every 71.6 minutes; this counts the wraps
   uint32_t step_high_cycles_[2] = {};  // DWT cycle count when each STEP line went high
+  hal::ResetCause reset_cause_ = hal::ResetCause::kUnknown;  // from RCC_CSR at start(), then cleared
 };
 
 }  // namespace dg::stm32

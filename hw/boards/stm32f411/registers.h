@@ -13,6 +13,13 @@ constexpr uint32_t kRccCr = kRcc + 0x00, kRccPllCfgr = kRcc + 0x04, kRccCfgr = k
 constexpr uint32_t kRccAhb1Enr = kRcc + 0x30, kRccAhb2Enr = kRcc + 0x34;
 constexpr uint32_t kRccApb1Enr = kRcc + 0x40, kRccApb2Enr = kRcc + 0x44;
 constexpr uint32_t kPwrCr = 0x40007000;
+// RCC_CSR's reset flags (RM0383 6.3.21) and the independent watchdog (RM0383 17.4).
+constexpr uint32_t kRccCsr = kRcc + 0x74;
+constexpr uint32_t kCsrRmvf = 1u << 24, kCsrBorRstf = 1u << 25, kCsrPinRstf = 1u << 26, kCsrPorRstf = 1u << 27,
+                   kCsrSftRstf = 1u << 28, kCsrIwdgRstf = 1u << 29, kCsrWwdgRstf = 1u << 30;
+constexpr uint32_t kIwdg = 0x40003000;
+constexpr uint32_t kIwdgKr = kIwdg + 0x00, kIwdgPr = kIwdg + 0x04, kIwdgRlr = kIwdg + 0x08, kIwdgSr = kIwdg + 0x0C;
+constexpr uint32_t kDbgmcuApb1Fz = 0xE0042008;  // bit 12: the watchdog stops while a debugger halts the core
 constexpr uint32_t kFlashAcr = 0x40023C00;
 
 // GPIO ports A-C (RM0383 8.4): the registers used here (MODER, OSPEEDR, PUPDR, IDR, BSRR, AFRH).

@@ -7,6 +7,7 @@
 
 #include <cstdlib>
 #include <deque>
+#include <new>
 #include <vector>
 
 #include "common/proto/messages.h"
@@ -121,13 +122,20 @@ dg::DeviceConfig device_config(dg::HostSilence on_silence) {
 
 struct Bench {
   explicit Bench(dg::HostSilence on_silence = dg::HostSilence::kPause, const dg::sim::SimConfig& sim = sim_config(),
-                 bool require_homing = false)
-      : board(sim, &wire), device(board, with_homing(device_config(on_silence), require_homing)), host(wire) {
+                 bool require_homing = false, uint32_t watchdog_ms = 0)
+      : board(sim, &wire), config(with(device_config(on_silence), require_homing, watchdog_ms)), device(board, config), host(wire) {
     device.begin();
   }
-  static dg::DeviceConfig with_homing(dg::DeviceConfig c, bool require) {
-    c.require_homing = require;
+  static dg::DeviceConfig with(dg::DeviceConfig c, bool require_homing, uint32_t watchdog_ms) {
+    c.require_homing = require_homing;
+    c.watchdog_ms = watchdog_ms;
     return c;
+  }
+  // The board reset: the firmware starts again from scratch on the same table, as the MCU would.
+  void restart_firmware() {
+    device.~Device();
+    new (&device) dg::Device(board, config);
+    device.begin();
   }
   void command(digitizer_CommandKind kind, uint32_t id) {
     digitizer_Envelope m = digitizer_Envelope_init_zero;
@@ -212,6 +220,7 @@ struct Bench {
   digitizer_ScanRequest request = dg::test::grid_request(77, 0, 40000000, 10000000, 1000000, digitizer_ScanPattern_PATTERN_SERPENTINE);
   MemoryLink wire;
   dg::sim::SimBoard board;
+  dg::DeviceConfig config;
   dg::Device device;
   ScriptedHost host;
 };
@@ -232,6 +241,63 @@ size_t largest_batch(const std::vector<digitizer_Envelope>& received, size_t fro
 }
 
 }  // namespace
+
+TEST_GROUP(DeviceWatchdog){};
+
+// The main loop kicks the watchdog and never sleeps past a quarter of it, through a whole scan
+// with its waits for the gauge, the host and the motors, and a 300 ms settling wait at every
+// point that it would otherwise sleep through: a 100 ms watchdog never fires.
+TEST(DeviceWatchdog, ALoopThatKeepsRunningIsNeverResetThroughAWholeScan) {
+  Bench bench(dg::HostSilence::kPause, Bench::sim_config(), false, 100);
+  bench.request.settle_ms = 300;
+  bench.hello(1);
+  bench.start_scan();
+  // The simulated link wakes the loop every millisecond anyway; what a board whose link sleeps
+  // needs is that the loop never asks to sleep longer than 25 ms.
+  uint64_t longest_sleep_us = 0;
+  for (int round = 0; round < 10000000 && bench.host.last(digitizer_Envelope_scan_done_tag) == nullptr; ++round) {
+    bench.device.poll();
+    bench.host.now_us = bench.board.now_us();
+    bench.host.exchange();
+    const uint64_t deadline = bench.device.next_deadline_us();
+    const uint64_t now = bench.board.now_us();
+    if (deadline > now && deadline - now > longest_sleep_us) longest_sleep_us = deadline - now;
+    if (!bench.board.wait(deadline)) break;
+  }
+  LONGS_EQUAL(digitizer_ScanEnd_SCAN_COMPLETED, bench.host.done.reason);
+  CHECK(longest_sleep_us <= 25000);
+  CHECK(!bench.board.take_reset());
+}
+
+// A main loop that hangs mid-scan stops kicking: the watchdog resets the board within its
+// timeout, the steps stop, and the restarted firmware's status says why it started.
+TEST(DeviceWatchdog, AHungLoopIsResetWithinTheTimeoutAndStatusSaysWhy) {
+  dg::sim::SimConfig sim = Bench::sim_config();
+  sim.hang_at_ns = 3000000000ull;
+  Bench bench(dg::HostSilence::kPause, sim, false, 500);
+  bench.hello(1);
+  bench.command(digitizer_CommandKind_CMD_STATUS, 2);
+  bench.run_for(100000);
+  const digitizer_Envelope* before = bench.host.last(digitizer_Envelope_status_tag);
+  CHECK(before != nullptr);
+  LONGS_EQUAL(digitizer_ResetCause_RESET_POWER_ON, before->body.status.reset_cause);
+  bench.start_scan();
+  bench.run_for(10000000);
+  CHECK(bench.board.take_reset());
+  CHECK(bench.board.now_ns() >= 3000000000ull + 500000000ull);
+  CHECK(bench.board.now_ns() <= 3000000000ull + 750000000ull);  // the last kick came at most 125 ms before the hang
+  const uint64_t steps = bench.board.step_count();
+  bench.restart_firmware();
+  bench.new_host();
+  bench.hello(2);
+  bench.command(digitizer_CommandKind_CMD_STATUS, 3);
+  bench.run_for(1000000);
+  LONGS_EQUAL(steps, bench.board.step_count());  // nothing moved after the reset
+  const digitizer_Envelope* after = bench.host.last(digitizer_Envelope_status_tag);
+  CHECK(after != nullptr && after != before);
+  LONGS_EQUAL(digitizer_ResetCause_RESET_WATCHDOG, after->body.status.reset_cause);
+  LONGS_EQUAL(digitizer_DeviceState_STATE_IDLE, after->body.status.state);
+}
 
 TEST_GROUP(DeviceResume){};
 
