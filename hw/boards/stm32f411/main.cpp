@@ -61,7 +61,9 @@ int main() {
   config.stack_used_bytes = dg::cortex_m::stack_used_bytes;
   config.stack_size_bytes = dg::cortex_m::stack_size_bytes();
   auto* device = new (device_storage) dg::Device(*board, config);
-  usb->start();
+  // A USB core that does not answer its bounded waits leaves the board without a link: restart
+  // (the host, if any, sees no device; `status` after a good start says "software").
+  if (!usb->start()) dg::stm32::fatal_stop();
   device->run();
   dg::stm32::fatal_stop();
 }

@@ -37,7 +37,9 @@ constexpr uint32_t kUsbaep = 1u << 15, kStall = 1u << 21, kCnak = 1u << 26, kSna
                    kSd0pid = 1u << 28, kEpdis = 1u << 30, kEpena = 1u << 31;
 constexpr uint32_t kBulk = 2u << 18;
 // DxEPINTx bits.
-constexpr uint32_t kXfrc = 1u << 0, kStup = 1u << 3;
+constexpr uint32_t kXfrc = 1u << 0, kEpdisd = 1u << 1, kStup = 1u << 3;
+// DCTL: soft disconnect (the D+ pull-up off while set).
+constexpr uint32_t kSdis = 1u << 1;
 // Transfer size: one packet.
 constexpr uint32_t kOnePacket = 1u << 19;
 constexpr uint32_t kSetupCount3 = 3u << 29;
@@ -51,9 +53,22 @@ void delay_cycles(uint32_t cycles) {
   }
 }
 
+// Every wait on the core is bounded: a core that never answers (no clock, a broken board) is a
+// false from here, not a hang. 1 ms is far beyond what each step takes.
+constexpr uint32_t kCoreWaitCycles = kSysclkHz / 1000;
+
+// Waits until (register & mask) is nonzero when `set`, zero otherwise.
+bool wait_for(uint32_t address, uint32_t mask, bool set) {
+  const uint32_t start = reg(kDwtCyccnt);
+  while (((reg(address) & mask) != 0) != set) {
+    if (reg(kDwtCyccnt) - start > kCoreWaitCycles) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
-void OtgFsDevice::start() {
+bool OtgFsDevice::start() {
   // PA11 (D-) and PA12 (D+): alternate function 10, very high speed.
   reg(kRccAhb1Enr) |= 1u << 0;
   reg(kGpioA + kModer) = (reg(kGpioA + kModer) & ~(0xFu << 22)) | (0xAu << 22);
@@ -63,11 +78,13 @@ void OtgFsDevice::start() {
   (void)static_cast<uint32_t>(reg(kRccAhb2Enr));  // read back: the clock is on before the first access
 
   // Core soft reset once the AHB side is idle.
-  while ((reg(kGrstctl) & (1u << 31)) == 0) {
-  }
+  if (!wait_for(kGrstctl, 1u << 31, true)) return false;
   reg(kGrstctl) |= 1u;
-  while ((reg(kGrstctl) & 1u) != 0) {
-  }
+  if (!wait_for(kGrstctl, 1u, false)) return false;
+  // The D+ pull-up stays off until the core is set up: DCTL comes out of reset connected, and a
+  // host that sees the device before its FIFOs and interrupts exist resets and enumerates it into
+  // a core that cannot answer yet.
+  reg(kDctl) |= kSdis;
   // Full-speed PHY, turnaround time 6 (AHB at 32 MHz or more, RM0383 table 133), forced device
   // mode, which takes effect after 25 ms.
   reg(kGusbcfg) = (1u << 6) | (6u << 10) | (1u << 30);
@@ -80,23 +97,22 @@ void OtgFsDevice::start() {
   reg(kGrxfsiz) = 128;
   reg(kDieptxf0) = (32u << 16) | 128u;
   reg(kDieptxf1) = (64u << 16) | 160u;
-  flush_tx_fifo(0x10);  // all
+  if (!flush_tx_fifo(0x10)) return false;  // all
   reg(kGrstctl) = 1u << 4;  // RXFFLSH
-  while ((reg(kGrstctl) & (1u << 4)) != 0) {
-  }
+  if (!wait_for(kGrstctl, 1u << 4, false)) return false;
   reg(kDiepmsk) = kXfrc;
   reg(kDoepmsk) = kXfrc | kStup;
   reg(kGintsts) = 0xFFFFFFFF;
   reg(kGintmsk) = kRxflvl | kUsbsusp | kUsbrst | kEnumdne | kIepint | kOepint | kWkupint;
   reg(kGahbcfg) = 1u;  // global interrupt enable
   irq_enable(kIrqOtgFs, 2);
-  reg(kDctl) &= ~(1u << 1);  // leave soft disconnect: the pull-up on D+ goes on
+  reg(kDctl) &= ~kSdis;  // leave soft disconnect: the pull-up on D+ goes on
+  return true;
 }
 
-void OtgFsDevice::flush_tx_fifo(uint32_t number) {
+bool OtgFsDevice::flush_tx_fifo(uint32_t number) {
   reg(kGrstctl) = (number << 6) | (1u << 5);
-  while ((reg(kGrstctl) & (1u << 5)) != 0) {
-  }
+  return wait_for(kGrstctl, 1u << 5, false);
 }
 
 void OtgFsDevice::irq() {
@@ -120,7 +136,7 @@ void OtgFsDevice::irq() {
 
 void OtgFsDevice::bus_reset() {
   reg(kDctl) &= ~1u;  // no remote wake-up signalling
-  flush_tx_fifo(0x10);
+  (void)flush_tx_fifo(0x10);
   for (uint32_t ep = 0; ep <= kBulkEp; ++ep) {
     reg(doepctl(ep)) |= kSnak;
     reg(diepint(ep)) = 0xFF;
@@ -282,14 +298,22 @@ void OtgFsDevice::set_configured(bool configured) {
   if (reg(doepctl(kBulkEp)) & kEpena) reg(doepctl(kBulkEp)) |= kSnak;
   reg(diepctl(kBulkEp)) &= ~kUsbaep;
   reg(doepctl(kBulkEp)) &= ~kUsbaep;
-  flush_tx_fifo(1);
+  (void)flush_tx_fifo(1);
   in_busy_ = out_armed_ = false;
 }
 
 void OtgFsDevice::set_halt(uint8_t endpoint_address, bool halt) {
   const bool in = (endpoint_address & 0x80) != 0;
   const uint32_t control = in ? diepctl(kBulkEp) : doepctl(kBulkEp);
-  if (halt) {
+  if (halt && in && (reg(control) & kEpena) != 0) {
+    // A packet may sit in the IN FIFO: NAK and disable the endpoint first, wait for the core to
+    // say it is disabled, then flush (RM0383 22.17.6, stalling a non-isochronous IN endpoint).
+    reg(control) |= kSnak | kEpdis | kStall;
+    (void)wait_for(diepint(kBulkEp), kEpdisd, true);
+    reg(diepint(kBulkEp)) = kEpdisd;
+    (void)flush_tx_fifo(1);
+    in_busy_ = false;
+  } else if (halt) {
     reg(control) |= kStall;
   } else {
     // Clearing a halt resets the data toggle to DATA0 (USB 2.0 9.4.5).
@@ -299,7 +323,7 @@ void OtgFsDevice::set_halt(uint8_t endpoint_address, bool halt) {
   if (!halt) {
     if (in) {
       in_busy_ = false;
-      flush_tx_fifo(1);
+      (void)flush_tx_fifo(1);
       bulk_in_kick();
     } else {
       out_armed_ = false;

@@ -16,7 +16,8 @@ class OtgFsDevice final : public usb::EndpointControl {
   explicit OtgFsDevice(const char* serial) : control_(*this, serial) {}
 
   // Pins, clock, core reset and configuration, then the pull-up on D+ (the host sees a device).
-  void start();
+  // False when the core does not answer within its bounded waits (no USB clock: a broken board).
+  bool start();
   // The OTG_FS interrupt.
   void irq();
 
@@ -43,7 +44,8 @@ class OtgFsDevice final : public usb::EndpointControl {
   void bulk_in_kick();
   void bulk_out_arm();
   void fifo_read(uint8_t* out, size_t count, ByteRing<256>* ring);
-  void flush_tx_fifo(uint32_t number);
+  // Flushes a transmit FIFO (0x10: all); false when the core does not finish within 1 ms.
+  bool flush_tx_fifo(uint32_t number);
 
   usb::ControlRequests control_;
   uint8_t setup_[8] = {};
