@@ -42,6 +42,7 @@ void Device::begin() {
     gauge_.attach();
   }
   board_.write_pin(hal::Pin::kGaugeReq, false);
+  motion_.attach_estop();
   if (config_.watchdog_ms > 0) board_.watchdog_start(config_.watchdog_ms);
 }
 

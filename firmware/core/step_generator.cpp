@@ -131,7 +131,22 @@ uint32_t StepGenerator::halt(Trip trip) {
 
 uint32_t StepGenerator::on_tick(void* self) { return static_cast<StepGenerator*>(self)->tick(); }
 
+void StepGenerator::attach_estop() { board_.on_rising_edge(hal::Pin::kEstop, on_estop_edge, this); }
+
+void StepGenerator::on_estop_edge(void* self) {
+  StepGenerator& g = *static_cast<StepGenerator*>(self);
+  // Debounced as every safety read is: asserted now and again kConfirmNs later. A spike on the
+  // cable costs this interrupt kConfirmNs and nothing else.
+  if (!g.board_.read_pin(hal::Pin::kEstop)) return;
+  g.board_.spin_ns(kConfirmNs);
+  if (!g.board_.read_pin(hal::Pin::kEstop)) return;
+  g.board_.enable_drivers(false);
+  g.estop_cut_ = true;
+}
+
 uint32_t StepGenerator::tick() {
+  // The e-stop's edge already cut the drivers: no step goes to them.
+  if (estop_cut_) return halt(Trip::kEstop);
   if (wait_left_ns_ > 0) {
     // A wake between two steps far apart (a ramp's first steps are milliseconds apart): only the
     // e-stop is read, confirmed like before a step, so that it stops the table within

@@ -57,7 +57,14 @@ class StepGenerator {
   // switch are read; one asserted on two reads kConfirmNs apart stops the move (no step is taken)
   // and is kept here.
   Trip trip() const { return trip_; }
-  void clear_trip() { trip_ = Trip::kNone; }
+  void clear_trip() {
+    trip_ = Trip::kNone;
+    estop_cut_ = false;
+  }
+  // The e-stop's hardware path: an edge interrupt on the e-stop input reads it again kConfirmNs
+  // later and, still asserted, cuts the drivers at once and ends the move at its next tick (the
+  // step interrupt's own reads stay, for a board without the edge). Called once at start.
+  void attach_estop();
   // Stops at once (abort); the position stays exact.
   void stop();
   const MotionConfig& config() const { return config_; }
@@ -68,6 +75,7 @@ class StepGenerator {
 
  private:
   static uint32_t on_tick(void* self);
+  static void on_estop_edge(void* self);
   uint32_t tick();
   Status start(int64_t dx, int64_t dy, uint32_t rate_steps_s);
   uint32_t period_ns(uint32_t step_index) const;
@@ -97,6 +105,8 @@ class StepGenerator {
   volatile Trip trip_ = Trip::kNone;
   // A safety input was seen asserted on the last tick and is read again on this one.
   bool confirming_ = false;
+  // The e-stop's edge interrupt cut the drivers: the next tick ends the move, taking no step.
+  volatile bool estop_cut_ = false;
   uint32_t wait_left_ns_ = 0;  // of the wait for the next step, after the current part
   // The way each axis last moved; at power-up taken as positive, as homing's pull-off leaves it.
   int8_t last_dir_x_ = 1, last_dir_y_ = 1;

@@ -52,6 +52,14 @@ class Board {
   // Monotonic device time.
   virtual uint64_t now_us() = 0;
 
+  // Busy-waits about `ns` (an interrupt's short, bounded wait: a safety input's confirming read).
+  // A board with a finer clock than now_us() overrides it.
+  virtual void spin_ns(uint32_t ns) {
+    const uint64_t until = now_us() + (ns + 999) / 1000;
+    while (now_us() < until) {
+    }
+  }
+
   // Non-blocking byte link to the host: returns how many bytes were taken/read.
   virtual size_t link_write(const uint8_t* data, size_t size) = 0;
   virtual size_t link_read(uint8_t* data, size_t capacity) = 0;

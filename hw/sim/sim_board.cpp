@@ -115,8 +115,32 @@ void SimBoard::on_rising_edge(hal::Pin pin, hal::EdgeHandler handler, void* cont
   if (pin == hal::Pin::kGaugeClock) {
     clock_handler_ = handler;
     clock_context_ = context;
+  } else if (pin == hal::Pin::kEstop) {
+    estop_handler_ = handler;
+    estop_context_ = context;
   }
 }
+
+uint64_t SimBoard::estop_edge_ns(bool spikes) const {
+  uint64_t edge = kNever;
+  if (config_.estop_for_ns > 0 && config_.estop_at_ns > now_ns_) edge = config_.estop_at_ns;
+  if (spikes && config_.glitch_period_ns > 0) {
+    const uint64_t spike = (now_ns_ / config_.glitch_period_ns + 1) * config_.glitch_period_ns;
+    if (spike < edge) edge = spike;
+  }
+  return edge;
+}
+
+void SimBoard::run_timer_until(uint64_t until_ns) {
+  while (timer_next_ns_ <= until_ns) {
+    now_ns_ = timer_next_ns_;
+    const uint32_t delay = timer_handler_(timer_context_);
+    timer_next_ns_ = delay == 0 ? kNever : now_ns_ + delay;
+  }
+  now_ns_ = until_ns;
+}
+
+void SimBoard::spin_ns(uint32_t ns) { run_timer_until(now_ns_ + ns); }
 
 void SimBoard::start_step_timer(uint32_t delay_ns, hal::TimerHandler handler, void* context) {
   timer_handler_ = handler;
@@ -183,8 +207,17 @@ bool SimBoard::wait(uint64_t deadline_us) {
     const uint64_t gauge_ns = gauge_event_ns();
     uint64_t next = timer_next_ns_ < gauge_ns ? timer_next_ns_ : gauge_ns;
     if (deadline_ns < next) next = deadline_ns;
-    // Pressing the e-stop is an interrupt: the firmware wakes to it.
-    if (config_.estop_for_ns > 0 && config_.estop_at_ns > now_ns_ && config_.estop_at_ns <= next) {
+    // Pressing the e-stop is an interrupt: the firmware wakes to it, and its edge handler (the
+    // hardware path) runs first; so does a spike's edge.
+    if (estop_handler_ != nullptr) {
+      // Spikes only while time runs anyway: an idle machine's virtual time waits for its host.
+      const uint64_t edge = estop_edge_ns(next != kNever);
+      if (edge != kNever && edge <= next) {
+        now_ns_ = edge;
+        estop_handler_(estop_context_);
+        return true;
+      }
+    } else if (config_.estop_for_ns > 0 && config_.estop_at_ns > now_ns_ && config_.estop_at_ns <= next) {
       now_ns_ = config_.estop_at_ns;
       return true;
     }

@@ -80,6 +80,9 @@ class SimBoard final : public hal::Board {
   void start_step_timer(uint32_t delay_ns, hal::TimerHandler handler, void* context) override;
   void stop_step_timer() override;
   uint64_t now_us() override { return now_ns_ / 1000; }
+  // Virtual time passes; the step timer, whose interrupt outranks the edge interrupts that spin,
+  // keeps firing meanwhile.
+  void spin_ns(uint32_t ns) override;
   size_t link_write(const uint8_t* data, size_t size) override;
   size_t link_read(uint8_t* data, size_t capacity) override;
   bool wait(uint64_t deadline_us) override;
@@ -132,6 +135,12 @@ class SimBoard final : public hal::Board {
   DigimaticGauge gauge_;
   CaliperGauge caliper_;
   uint64_t gauge_event_ns() const { return config_.caliper ? caliper_.next_event_ns() : gauge_.next_event_ns(); }
+  // The next rising edge of the e-stop input after now (the press, or a spike if `spikes`; kNever: none).
+  uint64_t estop_edge_ns(bool spikes) const;
+  // Runs the step timer's interrupts due up to `until_ns`.
+  void run_timer_until(uint64_t until_ns);
+  hal::EdgeHandler estop_handler_ = nullptr;
+  void* estop_context_ = nullptr;
   uint64_t now_ns_ = 0;
   bool pins_[static_cast<int>(hal::Pin::kCount)] = {};
   hal::EdgeHandler clock_handler_ = nullptr;

@@ -234,6 +234,13 @@ void Stm32Board::watchdog_start(uint32_t timeout_ms) {
 
 void Stm32Board::watchdog_kick() { reg(kIwdgKr) = 0xAAAA; }
 
+void Stm32Board::spin_ns(uint32_t ns) {
+  const uint32_t cycles = static_cast<uint32_t>(static_cast<uint64_t>(ns) * (kSysclkHz / 1000000) / 1000);
+  const uint32_t start = reg(kDwtCyccnt);
+  while (reg(kDwtCyccnt) - start < cycles) {
+  }
+}
+
 bool Stm32Board::wait(uint64_t deadline_us) {
   const uint64_t now = now_us();
   if (deadline_us <= now || usb_.readable()) return true;

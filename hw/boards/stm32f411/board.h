@@ -22,6 +22,9 @@ class Stm32Board final : public hal::Board {
   void start_step_timer(uint32_t delay_ns, hal::TimerHandler handler, void* context) override;
   void stop_step_timer() override;
   uint64_t now_us() override;
+  // On the cycle counter: the e-stop's edge interrupt waits its 20 us confirming read with it, while
+  // the step timer's interrupt, which outranks it, keeps stepping.
+  void spin_ns(uint32_t ns) override;
   size_t link_write(const uint8_t* data, size_t size) override;
   size_t link_read(uint8_t* data, size_t capacity) override;
   bool wait(uint64_t deadline_us) override;

@@ -179,6 +179,42 @@ TEST(Homing, TheEstopStopsTheTableWithinAQuarterMillisecondWhileStepsAreMillisec
   LONGS_EQUAL(0, rig.board.table_x_steps());
 }
 
+// The e-stop's edge interrupt: pressed anywhere in a move, at rest or at full speed, the drivers
+// go off 20 us after the press (its confirming read), no step pulse reaches them after, and the
+// move ends at its next tick with the table where the steps say.
+TEST(Homing, TheEstopsEdgeCutsTheDriversTwentyMicrosecondsAfterThePressAtAnySpeed) {
+  for (uint64_t press_us : {500ull, 20000ull, 150000ull, 400000ull}) {
+    dg::sim::SimConfig c = table_at(0, 0);
+    c.estop_at_ns = press_us * 1000;
+    c.estop_for_ns = 1000000000;
+    Rig rig(c);
+    rig.motion.attach_estop();
+    CHECK(rig.motion.move_to(4000, 0, 0) == dg::Status::kOk);
+    while (rig.motion.busy() && rig.board.wait(UINT64_MAX)) {
+    }
+    CHECK(rig.motion.trip() == dg::Trip::kEstop);
+    CHECK_FALSE(rig.board.drivers_on());
+    LONGS_EQUAL(c.estop_at_ns + dg::StepGenerator::kConfirmNs, rig.board.drivers_cut_ns());
+    LONGS_EQUAL(0, rig.board.steps_without_drivers());
+    LONGS_EQUAL(rig.motion.x_steps(), rig.board.table_x_steps());
+  }
+}
+
+// A 2 us spike on the e-stop cable every 3 ms: each edge interrupt reads the input again 20 us
+// later, finds it released, and the move goes on to its end with the drivers on.
+TEST(Homing, SpikesOnTheEstopEdgeNeitherCutTheDriversNorStopTheMove) {
+  dg::sim::SimConfig c = table_at(0, 0);
+  c.glitch_period_ns = 3000000;
+  Rig rig(c);
+  rig.motion.attach_estop();
+  CHECK(rig.motion.move_to(4000, 0, 0) == dg::Status::kOk);
+  while (rig.motion.busy() && rig.board.wait(UINT64_MAX)) {
+  }
+  CHECK(rig.motion.trip() == dg::Trip::kNone);
+  CHECK(rig.board.drivers_on());
+  LONGS_EQUAL(4000, rig.board.table_x_steps());
+}
+
 TEST(Homing, BacklashCompensationKeepsTheTableWhereTheStepsSay) {
   // 0.1 mm of play in both screws. With compensation every reversal takes it up uncounted; without,
   // the table lags the count by the play after each reversal.
