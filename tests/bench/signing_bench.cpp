@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 
 #include "host/device/repeatability.h"
 #include "host/scan/lts_filter.h"
@@ -10,10 +11,18 @@
 #include "tests/support/monte_carlo_uncertainty.h"
 #include "tests/support/planted_outliers.h"
 
-int main() {
+int main(int argc, char** argv) {
   using Clock = std::chrono::steady_clock;
+  // `--lts-seeds FIRST:LAST`: only the LTS table, over those seeds (default 1:6, then the rest).
+  unsigned first_seed = 1, last_seed = 6;
+  const bool lts_only = argc == 3 && std::strcmp(argv[1], "--lts-seeds") == 0 &&
+                        std::sscanf(argv[2], "%u:%u", &first_seed, &last_seed) == 2 && first_seed >= 1 && last_seed >= first_seed;
+  if (argc > 1 && !lts_only) {
+    std::fprintf(stderr, "usage: signing_bench [--lts-seeds FIRST:LAST]\n");
+    return 2;
+  }
   std::printf("LTS filter, 41 x 31 scans at 1 mm, 5 %% of the points moved by 20-250 sigma plus 12 pairs/triples,\n"
-              "six seeds per row\n");
+              "seeds %u to %u in each row\n", first_seed, last_seed);
   std::printf("%-9s %6s %8s %7s %7s %12s %15s %10s\n", "part", "um", "planted", "missed", "false", "worst recall",
               "worst precision", "time/scan");
   for (dg::sim::PartKind kind : {dg::sim::PartKind::kDome, dg::sim::PartKind::kSaddle, dg::sim::PartKind::kCanister,
@@ -21,8 +30,8 @@ int main() {
     for (double sigma_um : {0.5, 1.0, 2.0, 5.0, 10.0}) {
       size_t planted = 0, missed = 0, false_alarms = 0;
       double worst_recall = 1, worst_precision = 1, seconds = 0;
-      constexpr unsigned kSeeds = 6;
-      for (unsigned seed = 1; seed <= kSeeds; ++seed) {
+      const unsigned seeds = last_seed - first_seed + 1;
+      for (unsigned seed = first_seed; seed <= last_seed; ++seed) {
         const dg::test::Planted p = dg::test::plant_outliers(kind, sigma_um, seed);
         const auto start = Clock::now();
         const dg::host::LtsResult r = dg::host::lts_filter(p.points, dg::host::LtsOptions{});
@@ -38,9 +47,10 @@ int main() {
         }
       }
       std::printf("%-9s %6.1f %8zu %7zu %7zu %12.3f %15.3f %9.3fs\n", dg::sim::part_name(kind), sigma_um, planted, missed,
-                  false_alarms, worst_recall, worst_precision, seconds / kSeeds);
+                  false_alarms, worst_recall, worst_precision, seconds / seeds);
     }
   }
+  if (lts_only) return 0;
   std::printf("\nPredicted standard uncertainty u of a 9 x 8 bicubic on a 21 x 16 canister scan against the spread of\n"
               "1000 refits of noisy replicas (GUM Supplement 1), on an 11 x 11 grid\n");
   for (bool weighted : {false, true}) {
