@@ -124,7 +124,7 @@ bool Device::accept(const PointSample& point) {
 
 void Device::poll() {
   // A main loop that stops coming here (stuck in a wait, a fault that loops) stops kicking, and
-  // the watchdog resets the board: the drivers go off with everything else.
+  // the watchdog resets the board: no more steps, and status then says why it started.
   if (config_.watchdog_ms > 0) board_.watchdog_kick();
   receive();
   watch_motion();
@@ -634,7 +634,8 @@ DeviceConfig hardware_device_config(bool caliper) {
                         digitizer_Capability_CAP_DEVICE_FIT | digitizer_Capability_CAP_RESUME |
                         digitizer_Capability_CAP_HOMING | digitizer_Capability_CAP_TOUCH_PROBE;
   config.require_homing = true;
-  // A hung main loop resets the board (drivers off with it), and status says so after.
+  // A hung main loop resets the board (the steps stop; the drivers' enable line falls back to its
+  // reset state), and status says so after.
   config.watchdog_ms = 1000;
   return config;
 }

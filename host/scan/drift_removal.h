@@ -25,7 +25,8 @@ struct DriftRemoval {
 // interpolation weights (when *sigma_mm has the readings' uncertainties), and the interpolation's
 // error bound M h^2 / 8 (M the drift's curvature from the readings' second differences, h the time
 // between readings) as a rectangular distribution. Without readings, nothing changes and nullopt
-// comes back. Throws std::invalid_argument, naming `name` and the reading, where a reading lies
+// comes back; without `remove` (the points as measured), the readings only leave the points and
+// nullopt comes back too. Throws std::invalid_argument, naming `name` and the reading, where a reading lies
 // elsewhere than the scan's first point, is not later than the one before, or differs from it by
 // more than 1 mm (the part or the gauge moved), or where the scan's first point is missing.
 std::optional<DriftRemoval> remove_drift(ScanData& scan, std::vector<double>* sigma_mm, const std::string& name,

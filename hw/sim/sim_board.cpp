@@ -185,7 +185,9 @@ bool SimBoard::take_reset() {
 bool SimBoard::wait(uint64_t deadline_us) {
   // A missed kick resets the board: the firmware's loop ends, the motors stop with it.
   auto watchdog_reset = [this] {
-    now_ns_ = watchdog_kicked_ns_ + watchdog_timeout_ns_;
+    // At its expiry, or now if a wait already ran past it: virtual time never goes back.
+    const uint64_t expiry_ns = watchdog_kicked_ns_ + watchdog_timeout_ns_;
+    if (expiry_ns > now_ns_) now_ns_ = expiry_ns;
     timer_next_ns_ = kNever;
     watchdog_timeout_ns_ = kNever;  // a reset stops it until the firmware starts it again
     reset_cause_ = hal::ResetCause::kWatchdog;
@@ -208,17 +210,12 @@ bool SimBoard::wait(uint64_t deadline_us) {
     uint64_t next = timer_next_ns_ < gauge_ns ? timer_next_ns_ : gauge_ns;
     if (deadline_ns < next) next = deadline_ns;
     // Pressing the e-stop is an interrupt: the firmware wakes to it, and its edge handler (the
-    // hardware path) runs first; so does a spike's edge.
-    if (estop_handler_ != nullptr) {
-      // Spikes only while time runs anyway: an idle machine's virtual time waits for its host.
-      const uint64_t edge = estop_edge_ns(next != kNever);
-      if (edge != kNever && edge <= next) {
-        now_ns_ = edge;
-        estop_handler_(estop_context_);
-        return true;
-      }
-    } else if (config_.estop_for_ns > 0 && config_.estop_at_ns > now_ns_ && config_.estop_at_ns <= next) {
-      now_ns_ = config_.estop_at_ns;
+    // hardware path), if attached, runs first; so does a spike's edge, only while time runs anyway
+    // (an idle machine's virtual time waits for its host).
+    const uint64_t edge = estop_edge_ns(estop_handler_ != nullptr && next != kNever);
+    if (edge != kNever && edge <= next) {
+      now_ns_ = edge;
+      if (estop_handler_ != nullptr) estop_handler_(estop_context_);
       return true;
     }
     if (link_ != nullptr && now_ns_ - last_link_poll_ns_ >= kLinkPollNs) {
