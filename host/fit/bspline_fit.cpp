@@ -9,12 +9,14 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "common/fit/bspline_basis.h"
 #include "host/fit/fit_error.h"
 #include "host/fit/knot_support.h"
 #include "host/geometry/vec3.h"
+#include "host/parallel/parallel_for.h"
 
 namespace dg::host {
 
@@ -210,10 +212,13 @@ NormalSystem assemble(const std::vector<Point3>& points, const Parameters& param
   }
   if (s.count_u <= s.degree_u || s.count_v <= s.degree_v) throw FitError("a net needs at least degree + 1 control points per direction");
   const size_t unknowns = static_cast<size_t>(s.count_u) * s.count_v;
+  std::optional<SiteIndex> own_index;
+  const SiteIndex& sites =
+      spec.sites && &spec.sites->uv() == &params.uv ? *spec.sites : own_index.emplace(params.uv);
   std::vector<char> outside;
   size_t fitted = unknowns;
   if (spec.fill_outside) {
-    outside = outside_control_points(s.knots_u, s.degree_u, s.knots_v, s.degree_v, params.uv, spec.outside_below);
+    outside = outside_control_points(s.knots_u, s.degree_u, s.knots_v, s.degree_v, sites, spec.outside_below);
     fitted = static_cast<size_t>(std::count(outside.begin(), outside.end(), 0));
   }
   if (points.size() < fitted) {
@@ -225,7 +230,7 @@ NormalSystem assemble(const std::vector<Point3>& points, const Parameters& param
     check_support(s.knots_u, s.degree_u, s.count_u, params.uv, true, params);
     check_support(s.knots_v, s.degree_v, s.count_v, params.uv, false, params);
   }
-  const std::string problem = net_support_problem(s.knots_u, s.degree_u, s.knots_v, s.degree_v, params.uv, params,
+  const std::string problem = net_support_problem(s.knots_u, s.degree_u, s.knots_v, s.degree_v, sites, params,
                                                   spec.fill_outside ? &outside : nullptr);
   if (!problem.empty()) throw FitError("the points cannot determine this net: " + problem);
 
@@ -278,9 +283,8 @@ NormalSystem assemble(const std::vector<Point3>& points, const Parameters& param
   // pivots of the factorization say whether it is determined; one far below the largest (relative
   // to the rounding of a double over the matrix's size) means a control point the data leaves free.
   // Steps' ramps (knot_support.h): control points no point measures are eliminated, x = T y.
-  const double merge = site_merge_distance(points.size());
-  const std::vector<RampPoint> ramps_u = ramp_points(s.knots_u, s.degree_u, distinct_sites(params.uv, true, merge));
-  const std::vector<RampPoint> ramps_v = ramp_points(s.knots_v, s.degree_v, distinct_sites(params.uv, false, merge));
+  const std::vector<RampPoint> ramps_u = ramp_points(s.knots_u, s.degree_u, sites.sites_u());
+  const std::vector<RampPoint> ramps_v = ramp_points(s.knots_v, s.degree_v, sites.sites_v());
   const bool eliminate = !ramps_u.empty() || !ramps_v.empty();
   Eigen::SparseMatrix<double> normal = band.lower(), map;
   Eigen::MatrixXd reduced_rhs = rhs;
@@ -437,7 +441,9 @@ SurfaceUncertainty region_fit_uncertainty(const std::vector<Point3>& points, con
 std::vector<double> parameter_distances(const BSplineSurface& surface, const std::vector<Point3>& points,
                                         const Parameters& params) {
   std::vector<double> d(points.size());
-  for (size_t k = 0; k < points.size(); ++k) d[k] = norm(points[k] - surface.evaluate(params.uv[k].u, params.uv[k].v));
+  parallel_for(points.size(), [&](size_t begin, size_t end, unsigned) {
+    for (size_t k = begin; k < end; ++k) d[k] = norm(points[k] - surface.evaluate(params.uv[k].u, params.uv[k].v));
+  }, 4096);
   return d;
 }
 

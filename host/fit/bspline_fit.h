@@ -5,6 +5,7 @@
 
 #include "host/geometry/bspline_surface.h"
 #include "host/fit/parameterize.h"
+#include "host/fit/site_index.h"
 #include "host/geometry/fitted_surface.h"
 
 namespace dg::host {
@@ -21,6 +22,9 @@ struct LsqSpec {
   // The basis value below which a control point counts as outside (knot_support.h's
   // outside_control_points); 0 fits every control point that any point touches.
   double outside_below = 0.01;
+  // The points' SiteIndex when the caller has one for this very params.uv (a refinement loop fits
+  // the same points many times); the fit builds its own otherwise.
+  const SiteIndex* sites = nullptr;
 };
 
 // Solves Koivunen and Bajcsy 1992, eq. 8, C^T C B = C^T S, without forming C: each point adds the outer product of

@@ -5,10 +5,12 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <optional>
 
 #include "host/fit/fit_error.h"
 #include "host/fit/knot_support.h"
 #include "host/geometry/closest_point.h"
+#include "host/parallel/parallel_for.h"
 #include "host/scan/neighbours.h"
 
 namespace dg::host {
@@ -50,52 +52,82 @@ double box_excess(const Point3& s, const Point3* const* corners, int count, doub
   return std::max({dx, dy, dz});
 }
 
+// The checks of one unit of work (a scan line, a point): how many, and the worst.
+struct RangeWorst {
+  size_t checks = 0;
+  double excess_mm = 0;
+  Point3 where{};
+  // Keeps the first of equal worsts, as one thread going through the units in order would.
+  void merge(const RangeWorst& later) {
+    checks += later.checks;
+    if (later.excess_mm > excess_mm) excess_mm = later.excess_mm, where = later.where;
+  }
+};
+
 class NeighbourCheck {
  public:
-  NeighbourCheck(const BSplineSurface& surface, const PointCloud& cloud, const Parameters& params, double slack,
-                 FitValidation& out)
-      : surface_(surface), cloud_(cloud), params_(params), slack_(slack), out_(out) {}
+  NeighbourCheck(const BSplineSurface& surface, const PointCloud& cloud, const Parameters& params, double slack)
+      : surface_(surface), cloud_(cloud), params_(params), slack_(slack) {}
 
   // Samples the surface at `samples` parameters strictly between points a and b; `bulge` is how
   // far a smooth surface through them may rise above their box (from the curvature around them).
-  void segment(size_t a, size_t b, int samples, double bulge) {
+  void segment(size_t a, size_t b, int samples, double bulge, RangeWorst& out) const {
     const Point3* corners[2] = {&cloud_.points[a], &cloud_.points[b]};
     for (int k = 1; k <= samples; ++k) {
       const double t = static_cast<double>(k) / (samples + 1);
-      check(lerp(params_.uv[a], params_.uv[b], t), corners, 2, bulge);
+      check(lerp(params_.uv[a], params_.uv[b], t), corners, 2, bulge, out);
     }
   }
   // The centre of the cell of four neighbours.
-  void cell(size_t a, size_t b, size_t c, size_t d, double bulge) {
+  void cell(size_t a, size_t b, size_t c, size_t d, double bulge, RangeWorst& out) const {
     const Point3* corners[4] = {&cloud_.points[a], &cloud_.points[b], &cloud_.points[c], &cloud_.points[d]};
     const UV& p = params_.uv[a];
     const UV& q = params_.uv[b];
     const UV& r = params_.uv[c];
     const UV& s = params_.uv[d];
-    check({(p.u + q.u + r.u + s.u) / 4, (p.v + q.v + r.v + s.v) / 4}, corners, 4, bulge);
+    check({(p.u + q.u + r.u + s.u) / 4, (p.v + q.v + r.v + s.v) / 4}, corners, 4, bulge, out);
   }
 
  private:
   static UV lerp(const UV& a, const UV& b, double t) { return {a.u + (b.u - a.u) * t, a.v + (b.v - a.v) * t}; }
-  void check(const UV& uv, const Point3* const* corners, int count, double bulge) {
+  void check(const UV& uv, const Point3* const* corners, int count, double bulge, RangeWorst& out) const {
     const Point3 s = surface_.evaluate(std::clamp(uv.u, 0.0, 1.0), std::clamp(uv.v, 0.0, 1.0));
     const double excess = box_excess(s, corners, count, slack_ + bulge);
-    ++out_.neighbour_checks;
-    if (excess > out_.range_excess_max_mm) {
-      out_.range_excess_max_mm = excess;
-      out_.range_worst = s;
+    ++out.checks;
+    if (excess > out.excess_mm) {
+      out.excess_mm = excess;
+      out.where = s;
     }
   }
   const BSplineSurface& surface_;
   const PointCloud& cloud_;
   const Parameters& params_;
   double slack_;
-  FitValidation& out_;
 };
+
+// Runs unit(i, worst) for i in [0, n) on every core, in fixed blocks of units with a RangeWorst
+// each, and merges the blocks in order into `out`: the figures do not depend on the number of threads.
+template <typename Unit>
+void check_units(size_t n, Unit unit, FitValidation& out) {
+  constexpr size_t kBlock = 64;
+  std::vector<RangeWorst> worst((n + kBlock - 1) / kBlock);
+  parallel_for(worst.size(), [&](size_t begin, size_t end, unsigned) {
+    for (size_t b = begin; b < end; ++b) {
+      for (size_t i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i) unit(i, worst[b]);
+    }
+  }, 1);
+  RangeWorst all;
+  all.excess_mm = out.range_excess_max_mm;
+  all.where = out.range_worst;
+  for (const RangeWorst& w : worst) all.merge(w);
+  out.neighbour_checks += all.checks;
+  out.range_excess_max_mm = all.excess_mm;
+  out.range_worst = all.where;
+}
 
 void check_neighbours(const BSplineSurface& surface, const PointCloud& cloud, const Parameters& params,
                       const ValidationOptions& options, FitValidation& out) {
-  NeighbourCheck check(surface, cloud, params, options.tolerance_mm, out);
+  const NeighbourCheck check(surface, cloud, params, options.tolerance_mm);
   if (cloud.line) {
     const std::vector<std::vector<size_t>> lines = lines_of(cloud);
     // Each line's points by their parameter along the line, to pair a point with the nearest one
@@ -130,25 +162,25 @@ void check_neighbours(const BSplineSurface& surface, const PointCloud& cloud, co
       if (l == 0 || l + 1 == lines.size()) continue;
       for (size_t i : line) bulge_across[i] = second(nearest_on(l - 1, i), i, nearest_on(l + 1, i));
     }
-    for (size_t l = 0; l < lines.size(); ++l) {
+    check_units(lines.size(), [&](size_t l, RangeWorst& worst) {
       const std::vector<size_t>& line = lines[l];
       for (size_t k = 1; k < line.size(); ++k) {
         const size_t a = line[k - 1], b = line[k];
-        check.segment(a, b, options.samples_between, std::max(bulge_along[a], bulge_along[b]));
+        check.segment(a, b, options.samples_between, std::max(bulge_along[a], bulge_along[b]), worst);
       }
-      if (l + 1 == lines.size() || line.empty() || lines[l + 1].empty()) continue;
+      if (l + 1 == lines.size() || line.empty() || lines[l + 1].empty()) return;
       for (size_t k = 0; k < line.size(); ++k) {
         const size_t a = line[k], c = nearest_on(l + 1, a);
-        check.segment(a, c, options.samples_between, std::max(bulge_across[a], bulge_across[c]));
+        check.segment(a, c, options.samples_between, std::max(bulge_across[a], bulge_across[c]), worst);
         if (k > 0) {
           const size_t b = line[k - 1], d = nearest_on(l + 1, b);
           if (d == c) continue;
           double bulge = 0;
           for (size_t i : {a, b, c, d}) bulge = std::max(bulge, bulge_along[i] + bulge_across[i]);
-          check.cell(b, a, c, d, bulge);
+          check.cell(b, a, c, d, bulge, worst);
         }
       }
-    }
+    }, out);
     return;
   }
   // Scattered points: each point and its four nearest neighbours in the parameter plane.
@@ -156,11 +188,11 @@ void check_neighbours(const BSplineSurface& surface, const PointCloud& cloud, co
   for (size_t i = 0; i < plane.size(); ++i) plane[i] = {params.uv[i].u, params.uv[i].v, 0.0};
   std::vector<std::vector<size_t>> near;
   nearest_neighbourhoods(plane, 5, near);
-  for (size_t i = 0; i < near.size(); ++i) {
+  check_units(near.size(), [&](size_t i, RangeWorst& worst) {
     for (size_t j : near[i]) {
-      if (j > i) check.segment(i, j, options.samples_between, 0.0);
+      if (j > i) check.segment(i, j, options.samples_between, 0.0, worst);
     }
-  }
+  }, out);
 }
 
 }  // namespace
@@ -189,42 +221,49 @@ std::vector<int> validation_folds(const PointCloud& cloud, int folds) {
 FoldSupport::FoldSupport(const PointCloud& cloud, const Parameters& params, int folds, bool fill_outside)
     : fill_outside_(fill_outside) {
   const std::vector<int> fold = validation_folds(cloud, folds);
-  const double merge = site_merge_distance(cloud.points.size());
+  kept_params_.reserve(static_cast<size_t>(std::max(folds, 0)));
   for (int f = 0; f < folds; ++f) {
-    std::vector<UV> kept;
+    Parameters kept = params;
+    kept.uv.clear();
     for (size_t i = 0; i < fold.size(); ++i) {
-      if (fold[i] != f) kept.push_back(params.uv[i]);
+      if (fold[i] != f) kept.uv.push_back(params.uv[i]);
     }
-    sites_u_.push_back(distinct_sites(kept, true, merge));
-    sites_v_.push_back(distinct_sites(kept, false, merge));
-    kept_.push_back(std::move(kept));
+    kept_params_.push_back(std::move(kept));
   }
+  // Only now: each index points at its fold's uv, which no longer moves.
+  // Each index sorts its fold's sites: the folds' on every core.
+  std::vector<std::optional<SiteIndex>> built(kept_params_.size());
+  parallel_for(built.size(), [&](size_t begin, size_t end, unsigned) {
+    for (size_t f = begin; f < end; ++f) built[f].emplace(kept_params_[f].uv);
+  }, 1);
+  kept_sites_.reserve(kept_params_.size());
+  for (std::optional<SiteIndex>& index : built) kept_sites_.push_back(std::move(*index));
 }
-
-
 
 std::string FoldSupport::problem(const std::vector<double>& knots_u, int degree_u, const std::vector<double>& knots_v,
                                  int degree_v) const {
-  for (size_t f = 0; f < sites_u_.size(); ++f) {
+  const std::string of_folds = std::to_string(kept_sites_.size());
+  for (size_t f = 0; f < kept_sites_.size(); ++f) {
+    const SiteIndex& sites = kept_sites_[f];
     if (fill_outside_) {
       const std::vector<char> outside =
-          outside_control_points(knots_u, degree_u, knots_v, degree_v, kept_[f], kRegionMinProduct);
-      const auto [i, j] = unmatched_control_point(knots_u, degree_u, knots_v, degree_v, kept_[f], kRegionMinProduct, &outside);
+          outside_control_points(knots_u, degree_u, knots_v, degree_v, sites, kRegionMinProduct);
+      const auto [i, j] = unmatched_control_point(knots_u, degree_u, knots_v, degree_v, sites, kRegionMinProduct, &outside);
       if (i < 0) continue;
-      return "with validation fold " + std::to_string(f + 1) + " of " + std::to_string(sites_u_.size()) +
+      return "with validation fold " + std::to_string(f + 1) + " of " + of_folds +
              " held out, the remaining points of the region cannot determine control point (" + std::to_string(i) +
              ", " + std::to_string(j) + ") of the net";
     }
     // A margin (each control point with a site where its basis function is at least 0.1) keeps
     // the nets the tolerance loop reaches well conditioned for every fold.
-    if (schoenberg_whitney_gap(knots_u, degree_u, sites_u_[f], 0.1) >= 0 ||
-        schoenberg_whitney_gap(knots_v, degree_v, sites_v_[f], 0.1) >= 0) {
-      return "with validation fold " + std::to_string(f + 1) + " of " + std::to_string(sites_u_.size()) +
+    if (schoenberg_whitney_gap(knots_u, degree_u, sites.sites_u(), 0.1) >= 0 ||
+        schoenberg_whitney_gap(knots_v, degree_v, sites.sites_v(), 0.1) >= 0) {
+      return "with validation fold " + std::to_string(f + 1) + " of " + of_folds +
              " held out, the remaining points cannot determine the net";
     }
-    const auto [i, j] = unmatched_control_point(knots_u, degree_u, knots_v, degree_v, kept_[f], 0.01);
+    const auto [i, j] = unmatched_control_point(knots_u, degree_u, knots_v, degree_v, sites, 0.01);
     if (i >= 0) {
-      return "with validation fold " + std::to_string(f + 1) + " of " + std::to_string(sites_u_.size()) +
+      return "with validation fold " + std::to_string(f + 1) + " of " + of_folds +
              " held out, the remaining points cannot determine control point (" + std::to_string(i) + ", " +
              std::to_string(j) + ") of the net (a hole in the scan beside it)";
     }
@@ -233,10 +272,11 @@ std::string FoldSupport::problem(const std::vector<double>& knots_u, int degree_
 }
 
 FitValidation validate_fit(const PointCloud& cloud, const Parameters& params, const std::vector<double>* weights,
-                           const BSplineSurface& surface, const ValidationOptions& options) {
+                           const BSplineSurface& surface, const ValidationOptions& options, const FoldSupport* support) {
   FitValidation out;
   out.checked = true;
   out.folds = options.folds;
+  if (support && support->folds() != options.folds) support = nullptr;
   const std::vector<int> fold = validation_folds(cloud, options.folds);
   LsqSpec spec;
   spec.degree_u = surface.degree_u;
@@ -247,8 +287,8 @@ FitValidation validate_fit(const PointCloud& cloud, const Parameters& params, co
   double sum_sq = 0;
   for (int f = 0; f < options.folds; ++f) {
     std::vector<Point3> kept;
-    Parameters kept_params = params;
-    kept_params.uv.clear();
+    Parameters own_params = params;
+    own_params.uv.clear();
     std::vector<double> kept_weights;
     std::vector<size_t> held;
     for (size_t i = 0; i < fold.size(); ++i) {
@@ -257,9 +297,11 @@ FitValidation validate_fit(const PointCloud& cloud, const Parameters& params, co
         continue;
       }
       kept.push_back(cloud.points[i]);
-      kept_params.uv.push_back(params.uv[i]);
+      if (!support) own_params.uv.push_back(params.uv[i]);
       if (weights) kept_weights.push_back((*weights)[i]);
     }
+    const Parameters& kept_params = support ? support->kept_params(f) : own_params;
+    spec.sites = support ? &support->kept_sites(f) : nullptr;
     if (held.empty()) continue;
     BSplineSurface refit;
     try {
@@ -273,13 +315,20 @@ FitValidation validate_fit(const PointCloud& cloud, const Parameters& params, co
       out.held_out_max_mm = 0;
       return out;
     }
-    for (size_t i : held) {
-      const double d = std::fabs(closest_point(refit, cloud.points[i], params.uv[i].u, params.uv[i].v).distance);
+    std::vector<double> distance(held.size());
+    parallel_for(held.size(), [&](size_t begin, size_t end, unsigned) {
+      for (size_t n = begin; n < end; ++n) {
+        const size_t i = held[n];
+        distance[n] = std::fabs(closest_point(refit, cloud.points[i], params.uv[i].u, params.uv[i].v).distance);
+      }
+    }, 1024);
+    for (size_t n = 0; n < held.size(); ++n) {
+      const double d = distance[n];
       sum_sq += d * d;
       ++out.held_out_points;
       if (d > out.held_out_max_mm) {
         out.held_out_max_mm = d;
-        out.held_out_worst = cloud.points[i];
+        out.held_out_worst = cloud.points[held[n]];
       }
     }
   }

@@ -22,12 +22,19 @@ class FoldSupport {
   // `fill_outside`: a region's net (LsqSpec::fill_outside), whose control points beyond the points
   // are placed, not fitted; only the others must be determined.
   FoldSupport(const PointCloud& cloud, const Parameters& params, int folds, bool fill_outside = false);
+  FoldSupport(const FoldSupport&) = delete;  // its indexes point into its own parameters
+  FoldSupport& operator=(const FoldSupport&) = delete;
   std::string problem(const std::vector<double>& knots_u, int degree_u, const std::vector<double>& knots_v,
                       int degree_v) const;
 
+  int folds() const { return static_cast<int>(kept_params_.size()); }
+  // Fold f's remaining points' parameters and their index, for validate_fit's refits.
+  const Parameters& kept_params(int f) const { return kept_params_[static_cast<size_t>(f)]; }
+  const SiteIndex& kept_sites(int f) const { return kept_sites_[static_cast<size_t>(f)]; }
+
  private:
-  std::vector<std::vector<double>> sites_u_, sites_v_;  // per fold, of the points that remain
-  std::vector<std::vector<UV>> kept_;                  // per fold, the parameters of those points
+  std::vector<Parameters> kept_params_;  // per fold, the parameters of the points that remain
+  std::vector<SiteIndex> kept_sites_;    // per fold, over kept_params_[f].uv
   bool fill_outside_ = false;
 };
 
@@ -48,7 +55,10 @@ struct ValidationOptions {
 //     by the tolerance; a surface that rings between the samples leaves it.
 // With a tolerance, `passed` says both held; `problem` says where the worst failure is, or why the
 // fit could not be validated (a fold whose remaining points cannot determine the net).
+// `support`, when given, is the FoldSupport of the same cloud, parameters and folds: its indexes
+// spare every refit a pass over the points.
 FitValidation validate_fit(const PointCloud& cloud, const Parameters& params, const std::vector<double>* weights,
-                           const BSplineSurface& surface, const ValidationOptions& options);
+                           const BSplineSurface& surface, const ValidationOptions& options,
+                           const FoldSupport* support = nullptr);
 
 }  // namespace dg::host

@@ -4,6 +4,7 @@
 
 #include "common/fit/bspline_basis.h"
 #include "host/geometry/bspline_surface.h"
+#include "host/fit/site_index.h"
 
 #include <algorithm>
 #include <cmath>
@@ -13,14 +14,17 @@ namespace dg::host {
 
 namespace {
 
-// Sorts `values` through buckets of width `width` (a counting sort on the bucket, then each bucket
-// sorted on its own): every fit and every validation fold asks for the distinct sites of all its
-// points, and a comparison sort of 200,000 parameters each time was a fifth of a fit's time.
+// Sorts `values` through buckets (a counting sort on the bucket, then each bucket sorted on its
+// own): every fit and every validation fold asks for the distinct sites of all its points, and a
+// comparison sort of 200,000 parameters each time was a fifth of a fit's time. At least one bucket
+// per value (or per `width`), so each bucket's own sort has next to nothing to do.
 void sort_by_buckets(std::vector<double>& values, double width) {
   if (values.size() < 2) return;
   const auto [lo_it, hi_it] = std::minmax_element(values.begin(), values.end());
   const double lo = *lo_it, span = *hi_it - lo;
-  const size_t buckets = std::min<size_t>(4 * values.size(), width > 0 ? static_cast<size_t>(span / width) + 1 : 1);
+  const double by_width = width > 0 ? span / width + 1 : 1.0;
+  const size_t buckets = static_cast<size_t>(std::min(4.0 * static_cast<double>(values.size()),
+                                                      std::max(by_width, static_cast<double>(values.size()))));
   if (!(span > 0) || buckets < 2) {
     std::sort(values.begin(), values.end());
     return;
@@ -154,38 +158,64 @@ bool augment(int c, const std::vector<std::vector<int>>& points_of, std::vector<
 
 }  // namespace
 
+namespace {
+
+// Whether point k lies under control point (i, j) with N_i(u) N_j(v) > min_product.
+bool under(const std::vector<double>& knots_u, int degree_u, int count_u, const std::vector<double>& knots_v,
+           int degree_v, int count_v, const UV& p, int i, int j, double min_product) {
+  const int su = fit::find_span(count_u, degree_u, p.u, knots_u.data());
+  const int a = i - (su - degree_u);
+  if (a < 0 || a > degree_u) return false;
+  const int sv = fit::find_span(count_v, degree_v, p.v, knots_v.data());
+  const int b = j - (sv - degree_v);
+  if (b < 0 || b > degree_v) return false;
+  double nu[fit::kMaxDegree + 1], nv[fit::kMaxDegree + 1];
+  fit::bspline_basis(su, degree_u, p.u, knots_u.data(), nu);
+  fit::bspline_basis(sv, degree_v, p.v, knots_v.data(), nv);
+  return nu[a] * nv[b] > min_product;
+}
+
+}  // namespace
+
 std::pair<int, int> unmatched_control_point(const std::vector<double>& knots_u, int degree_u,
-                                            const std::vector<double>& knots_v, int degree_v,
-                                            const std::vector<UV>& uv, double min_product,
-                                            const std::vector<char>* outside) {
+                                            const std::vector<double>& knots_v, int degree_v, const SiteIndex& index,
+                                            double min_product, const std::vector<char>* outside) {
   const int count_u = static_cast<int>(knots_u.size()) - degree_u - 1;
   const int count_v = static_cast<int>(knots_v.size()) - degree_v - 1;
-  if (count_u <= 0 || count_v <= 0 || degree_u >= 8 || degree_v >= 8) return {-1, -1};
+  if (count_u <= 0 || count_v <= 0 || degree_u > fit::kMaxDegree || degree_v > fit::kMaxDegree) return {-1, -1};
+  const std::vector<UV>& uv = index.uv();
+  std::vector<bool> ramp_u(static_cast<size_t>(count_u), false), ramp_v(static_cast<size_t>(count_v), false);
+  for (const RampPoint& r : ramp_points(knots_u, degree_u, index.sites_u())) ramp_u[r.index] = true;
+  for (const RampPoint& r : ramp_points(knots_v, degree_v, index.sites_v())) ramp_v[r.index] = true;
+  // Each control point keeps at most `cap` of its points, one more than the other control points
+  // whose supports overlap its own. That loses no matching: take one of the whole graph; the control
+  // points with fewer than `cap` points keep all of theirs and their matches, and each of the others
+  // then finds a free point among its `cap`, since only its cap - 1 neighbours can hold any of them.
+  // So a million points cost a few dozen basis evaluations per control point, not a pass over all.
+  const size_t cap = static_cast<size_t>(2 * degree_u + 1) * static_cast<size_t>(2 * degree_v + 1);
   std::vector<std::vector<int>> points_of(static_cast<size_t>(count_u) * count_v);
-  for (size_t k = 0; k < uv.size(); ++k) {
-    const int su = fit::find_span(count_u, degree_u, uv[k].u, knots_u.data());
-    const int sv = fit::find_span(count_v, degree_v, uv[k].v, knots_v.data());
-    double nu[8], nv[8];
-    fit::bspline_basis(su, degree_u, uv[k].u, knots_u.data(), nu);
-    fit::bspline_basis(sv, degree_v, uv[k].v, knots_v.data(), nv);
-    for (int a = 0; a <= degree_u; ++a) {
-      for (int b = 0; b <= degree_v; ++b) {
-        if (nu[a] * nv[b] > min_product) {
-          points_of[static_cast<size_t>(su - degree_u + a) * count_v + (sv - degree_v + b)].push_back(static_cast<int>(k));
-        }
-      }
+  auto asked = [&](int i, int j) {
+    return !ramp_u[static_cast<size_t>(i)] && !ramp_v[static_cast<size_t>(j)] &&
+           !(outside && (*outside)[static_cast<size_t>(i * count_v + j)]);
+  };
+  for (int i = 0; i < count_u; ++i) {
+    for (int j = 0; j < count_v; ++j) {
+      if (!asked(i, j)) continue;
+      std::vector<int>& mine = points_of[static_cast<size_t>(i * count_v + j)];
+      index.visit(knots_u[static_cast<size_t>(i)], knots_u[static_cast<size_t>(i + degree_u + 1)],
+                  knots_v[static_cast<size_t>(j)], knots_v[static_cast<size_t>(j + degree_v + 1)], [&](size_t k) {
+                    if (under(knots_u, degree_u, count_u, knots_v, degree_v, count_v, uv[k], i, j, min_product)) {
+                      mine.push_back(static_cast<int>(k));
+                    }
+                    return mine.size() < cap;
+                  });
     }
   }
-  const double merge = site_merge_distance(uv.size());
-  std::vector<bool> ramp_u(static_cast<size_t>(count_u), false), ramp_v(static_cast<size_t>(count_v), false);
-  for (const RampPoint& r : ramp_points(knots_u, degree_u, distinct_sites(uv, true, merge))) ramp_u[r.index] = true;
-  for (const RampPoint& r : ramp_points(knots_v, degree_v, distinct_sites(uv, false, merge))) ramp_v[r.index] = true;
   std::vector<int> control_of_point(uv.size(), -1), seen(uv.size(), -1);
   for (int i = 0; i < count_u; ++i) {
     for (int j = 0; j < count_v; ++j) {
-      if (ramp_u[static_cast<size_t>(i)] || ramp_v[static_cast<size_t>(j)]) continue;
+      if (!asked(i, j)) continue;
       const int c = i * count_v + j;
-      if (outside && (*outside)[static_cast<size_t>(c)]) continue;
       if (!augment(c, points_of, control_of_point, seen, c)) return {i, j};
     }
   }
@@ -193,39 +223,37 @@ std::pair<int, int> unmatched_control_point(const std::vector<double>& knots_u, 
 }
 
 std::vector<char> outside_control_points(const std::vector<double>& knots_u, int degree_u,
-                                         const std::vector<double>& knots_v, int degree_v, const std::vector<UV>& uv,
+                                         const std::vector<double>& knots_v, int degree_v, const SiteIndex& index,
                                          double min_product) {
   const int count_u = static_cast<int>(knots_u.size()) - degree_u - 1;
   const int count_v = static_cast<int>(knots_v.size()) - degree_v - 1;
-  if (count_u <= 0 || count_v <= 0 || degree_u >= 8 || degree_v >= 8) return {};
+  if (count_u <= 0 || count_v <= 0 || degree_u > fit::kMaxDegree || degree_v > fit::kMaxDegree) return {};
+  const std::vector<UV>& uv = index.uv();
   std::vector<char> outside(static_cast<size_t>(count_u) * count_v, 1);
-  for (const UV& p : uv) {
-    const int su = fit::find_span(count_u, degree_u, p.u, knots_u.data());
-    const int sv = fit::find_span(count_v, degree_v, p.v, knots_v.data());
-    double nu[8], nv[8];
-    fit::bspline_basis(su, degree_u, p.u, knots_u.data(), nu);
-    fit::bspline_basis(sv, degree_v, p.v, knots_v.data(), nv);
-    for (int a = 0; a <= degree_u; ++a) {
-      for (int b = 0; b <= degree_v; ++b) {
-        if (nu[a] * nv[b] > min_product) outside[static_cast<size_t>(su - degree_u + a) * count_v + (sv - degree_v + b)] = 0;
-      }
+  for (int i = 0; i < count_u; ++i) {
+    for (int j = 0; j < count_v; ++j) {
+      char& flag = outside[static_cast<size_t>(i * count_v + j)];
+      index.visit(knots_u[static_cast<size_t>(i)], knots_u[static_cast<size_t>(i + degree_u + 1)],
+                  knots_v[static_cast<size_t>(j)], knots_v[static_cast<size_t>(j + degree_v + 1)], [&](size_t k) {
+                    if (under(knots_u, degree_u, count_u, knots_v, degree_v, count_v, uv[k], i, j, min_product)) flag = 0;
+                    return flag != 0;
+                  });
     }
   }
   return outside;
 }
 
 std::string net_support_problem(const std::vector<double>& knots_u, int degree_u, const std::vector<double>& knots_v,
-                                int degree_v, const std::vector<UV>& uv, const Parameters& params,
+                                int degree_v, const SiteIndex& index, const Parameters& params,
                                 const std::vector<char>* outside) {
   if (outside) {
-    const auto [i, j] = unmatched_control_point(knots_u, degree_u, knots_v, degree_v, uv, 0.0, outside);
+    const auto [i, j] = unmatched_control_point(knots_u, degree_u, knots_v, degree_v, index, 0.0, outside);
     if (i < 0) return "";
     return "control point (" + std::to_string(i) + ", " + std::to_string(j) +
            ") has no point of its own under its support (the region is too small or too thin for this net)";
   }
-  const double merge = site_merge_distance(uv.size());
-  std::string problem = direction_problem(knots_u, degree_u, distinct_sites(uv, true, merge), true, params);
-  if (problem.empty()) problem = direction_problem(knots_v, degree_v, distinct_sites(uv, false, merge), false, params);
+  std::string problem = direction_problem(knots_u, degree_u, index.sites_u(), true, params);
+  if (problem.empty()) problem = direction_problem(knots_v, degree_v, index.sites_v(), false, params);
   return problem;
 }
 

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "host/fit/parameterize.h"
+#include "host/fit/site_index.h"
 
 namespace dg::host {
 
@@ -46,9 +47,8 @@ int schoenberg_whitney_gap(const std::vector<double>& knots, int degree, const s
 // {-1, -1} when it holds, else a control point (i along u, j along v) left without a point.
 // Control points flagged in `outside` (index i * count_v + j) are not asked for a point.
 std::pair<int, int> unmatched_control_point(const std::vector<double>& knots_u, int degree_u,
-                                            const std::vector<double>& knots_v, int degree_v,
-                                            const std::vector<UV>& uv, double min_product = 0.0,
-                                            const std::vector<char>* outside = nullptr);
+                                            const std::vector<double>& knots_v, int degree_v, const SiteIndex& index,
+                                            double min_product = 0.0, const std::vector<char>* outside = nullptr);
 
 // For a net fitted to one region of a scan (host/fit/regions.h): the control points whose support
 // holds no point at all, flagged by index i * count_v + j. They lie beyond the region, where its
@@ -57,7 +57,7 @@ std::pair<int, int> unmatched_control_point(const std::vector<double>& knots_u, 
 // With `min_product` > 0 a control point whose basis reaches at most that at every point counts as
 // outside too: a sliver of support determines it too weakly to fit.
 std::vector<char> outside_control_points(const std::vector<double>& knots_u, int degree_u,
-                                         const std::vector<double>& knots_v, int degree_v, const std::vector<UV>& uv,
+                                         const std::vector<double>& knots_v, int degree_v, const SiteIndex& index,
                                          double min_product = 0.0);
 
 // The margin region fits use: a control point is fitted only where its basis reaches 1 % somewhere.
@@ -68,7 +68,7 @@ constexpr double kRegionMinProduct = 0.01;
 // With `outside`, only the tensor matching for the other control points is checked (a region's
 // points need not cover every row and column of the net's box).
 std::string net_support_problem(const std::vector<double>& knots_u, int degree_u, const std::vector<double>& knots_v,
-                                int degree_v, const std::vector<UV>& uv, const Parameters& params,
+                                int degree_v, const SiteIndex& index, const Parameters& params,
                                 const std::vector<char>* outside = nullptr);
 
 }  // namespace dg::host

@@ -1,14 +1,18 @@
-// Closest-point projection per point from the parameters the fit gave it: a few Gauss-Newton steps each.
+// Closest-point projection per point from the parameters the fit gave it: a few Gauss-Newton steps
+// each, on every core (each point has its own slot, so any number of threads gives the same values).
 #include "host/fit/orthogonal_distances.h"
 
 #include "host/geometry/closest_point.h"
+#include "host/parallel/parallel_for.h"
 
 namespace dg::host {
 
 std::vector<double> orthogonal_distances(const BSplineSurface& surface, const std::vector<Point3>& points,
                                          const Parameters& params) {
   std::vector<double> d(points.size());
-  for (size_t k = 0; k < points.size(); ++k) d[k] = closest_point(surface, points[k], params.uv[k].u, params.uv[k].v).distance;
+  parallel_for(points.size(), [&](size_t begin, size_t end, unsigned) {
+    for (size_t k = begin; k < end; ++k) d[k] = closest_point(surface, points[k], params.uv[k].u, params.uv[k].v).distance;
+  }, 1024);
   return d;
 }
 

@@ -104,7 +104,9 @@ ToleranceResult refine(const PointCloud& cloud, const Parameters& params, const 
   // The residuals hold the readings' whole scatter, rounding included.
   const double noise = noise_estimate.reading_sigma_mm;
   const std::vector<Point3>& points = cloud.points;
+  const SiteIndex sites(params.uv);
   LsqSpec spec;
+  spec.sites = &sites;
   spec.fill_outside = options.fill_outside;
   spec.degree_u = options.degree_u;
   spec.degree_v = options.degree_v;
@@ -265,7 +267,7 @@ ToleranceResult refine(const PointCloud& cloud, const Parameters& params, const 
     refusal = "largest orthogonal distance " + mm_text(best.max_distance_mm) + " exceeds the tolerance";
   }
   if (best.kept) {
-    best.validation = validate_fit(cloud, params, weights, best.surface, validation_options);
+    best.validation = validate_fit(cloud, params, weights, best.surface, validation_options, &fold_support);
     if (!best.validation.passed) {
       // Back through the coarser nets that held the tolerance: the finest one that is also
       // confirmed between the samples is the answer, at most kFallbacks of them, and only one
@@ -283,7 +285,7 @@ ToleranceResult refine(const PointCloud& cloud, const Parameters& params, const 
         double worst = 0;
         for (double d : distances) worst = std::max(worst, std::fabs(d));
         if (worst > options.tolerance_mm) continue;
-        FitValidation validation = validate_fit(cloud, params, weights, held[h].surface, validation_options);
+        FitValidation validation = validate_fit(cloud, params, weights, held[h].surface, validation_options, &fold_support);
         if (!validation.passed) continue;
         best.surface = held[h].surface;
         best.rms_mm = held[h].rms_mm;

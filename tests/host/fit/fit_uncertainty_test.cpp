@@ -68,7 +68,7 @@ TEST(FitUncertainty, ARegionsNetAgreesWithMonteCarloInsideItsTrim) {
   spec.knots_u = clamped_uniform_knots(8, 3);
   spec.knots_v = clamped_uniform_knots(7, 3);
   spec.fill_outside = true;
-  const std::vector<char> outside = outside_control_points(spec.knots_u, 3, spec.knots_v, 3, p.uv, kRegionMinProduct);
+  const std::vector<char> outside = outside_control_points(spec.knots_u, 3, spec.knots_v, 3, SiteIndex(p.uv), kRegionMinProduct);
   CHECK(std::count(outside.begin(), outside.end(), 1) >= 4);  // the corners' control points are placed
   const BSplineSurface nominal = fit_least_squares(truth, p, nullptr, spec);
   constexpr int kGrid = 11;

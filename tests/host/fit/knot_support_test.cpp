@@ -2,8 +2,11 @@
 // straight ramps over data-free C0 spans, and the matching over the whole tensor-product net.
 #include <CppUTest/TestHarness.h>
 
+#include <functional>
+#include <random>
 #include <vector>
 
+#include "common/fit/bspline_basis.h"
 #include "host/fit/knot_support.h"
 #include "host/geometry/bspline_surface.h"
 
@@ -73,7 +76,8 @@ TEST(KnotSupport, ADataFreeSpanBetweenTwoC0KnotsIsAStraightRamp) {
 
 TEST(KnotSupport, AFullGridGivesEveryControlPointAPointOfItsOwn) {
   const std::pair<int, int> none{-1, -1};
-  CHECK(none == unmatched_control_point(clamped_uniform_knots(12, 3), 3, clamped_uniform_knots(10, 3), 3, grid(20, 15)));
+  const std::vector<UV> uv = grid(20, 15);
+  CHECK(none == unmatched_control_point(clamped_uniform_knots(12, 3), 3, clamped_uniform_knots(10, 3), 3, SiteIndex(uv)));
 }
 
 TEST(KnotSupport, AHoleInTheCornerLeavesTheCornerControlPointWithoutAPoint) {
@@ -83,7 +87,7 @@ TEST(KnotSupport, AHoleInTheCornerLeavesTheCornerControlPointWithoutAPoint) {
   const auto knots_u = clamped_uniform_knots(12, 3), knots_v = clamped_uniform_knots(10, 3);
   LONGS_EQUAL(-1, schoenberg_whitney_gap(knots_u, 3, distinct_sites(uv, true, site_merge_distance(uv.size()))));
   LONGS_EQUAL(-1, schoenberg_whitney_gap(knots_v, 3, distinct_sites(uv, false, site_merge_distance(uv.size()))));
-  const std::pair<int, int> hole = unmatched_control_point(knots_u, 3, knots_v, 3, uv);
+  const std::pair<int, int> hole = unmatched_control_point(knots_u, 3, knots_v, 3, SiteIndex(uv));
   CHECK(hole.first >= 9 && hole.second >= 7);
 }
 
@@ -93,6 +97,77 @@ TEST(KnotSupport, AMarginRefusesControlPointsSeenOnlyAtTheTailOfTheirSupport) {
   const std::vector<UV> uv = grid(20, 15, 0.9, 0.9, 1.0, 1.0);
   const auto knots_u = clamped_uniform_knots(12, 3), knots_v = clamped_uniform_knots(10, 3);
   const std::pair<int, int> none{-1, -1};
-  CHECK(none == unmatched_control_point(knots_u, 3, knots_v, 3, uv, 0.0));
-  CHECK(none != unmatched_control_point(knots_u, 3, knots_v, 3, uv, 0.01));
+  const SiteIndex index(uv);
+  CHECK(none == unmatched_control_point(knots_u, 3, knots_v, 3, index, 0.0));
+  CHECK(none != unmatched_control_point(knots_u, 3, knots_v, 3, index, 0.01));
+}
+
+namespace {
+
+// The first control point (in i, j order) that a maximum matching over every point leaves without
+// one of its own: Kuhn's algorithm on the whole graph, the textbook form, as the oracle.
+std::pair<int, int> unmatched_over_all_points(const std::vector<double>& knots_u, const std::vector<double>& knots_v,
+                                              const std::vector<UV>& uv, double min_product) {
+  const int count_u = static_cast<int>(knots_u.size()) - 4, count_v = static_cast<int>(knots_v.size()) - 4;
+  std::vector<std::vector<int>> points_of(static_cast<size_t>(count_u * count_v));
+  for (size_t k = 0; k < uv.size(); ++k) {
+    const int su = dg::fit::find_span(count_u, 3, uv[k].u, knots_u.data());
+    const int sv = dg::fit::find_span(count_v, 3, uv[k].v, knots_v.data());
+    double nu[4], nv[4];
+    dg::fit::bspline_basis(su, 3, uv[k].u, knots_u.data(), nu);
+    dg::fit::bspline_basis(sv, 3, uv[k].v, knots_v.data(), nv);
+    for (int a = 0; a < 4; ++a) {
+      for (int b = 0; b < 4; ++b) {
+        if (nu[a] * nv[b] > min_product) points_of[static_cast<size_t>((su - 3 + a) * count_v + sv - 3 + b)].push_back(static_cast<int>(k));
+      }
+    }
+  }
+  std::vector<int> owner(uv.size(), -1), seen(uv.size(), -1);
+  std::function<bool(int, int)> augment = [&](int c, int stamp) {
+    for (int k : points_of[static_cast<size_t>(c)]) {
+      if (seen[static_cast<size_t>(k)] == stamp) continue;
+      seen[static_cast<size_t>(k)] = stamp;
+      if (owner[static_cast<size_t>(k)] < 0 || augment(owner[static_cast<size_t>(k)], stamp)) {
+        owner[static_cast<size_t>(k)] = c;
+        return true;
+      }
+    }
+    return false;
+  };
+  for (int c = 0; c < count_u * count_v; ++c) {
+    if (!augment(c, c)) return {c / count_v, c % count_v};
+  }
+  return {-1, -1};
+}
+
+}  // namespace
+
+TEST(KnotSupport, TheMatchingOnAFewPointsPerControlPointAgreesWithTheMatchingOverAllPoints) {
+  // Dense random points (hundreds per control point, so each keeps only its cap) with random
+  // holes: one hole beside a corner, thin slots, nearly empty spans. The capped matching must
+  // find the same first unmatched control point as the matching over every point, or none.
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int failures_seen = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    const int count_u = 5 + trial % 7, count_v = 4 + trial % 5;
+    const double hole_u0 = unit(rng), hole_v0 = unit(rng);
+    const double hole_u1 = hole_u0 + 0.6 * unit(rng), hole_v1 = hole_v0 + 0.6 * unit(rng);
+    std::vector<UV> uv;
+    const int n = trial % 2 == 0 ? 400 + 200 * (trial % 4) : 30 + 10 * (trial % 5);
+    for (int k = 0; k < n; ++k) {
+      const UV p{unit(rng), unit(rng)};
+      if (p.u > hole_u0 && p.u < hole_u1 && p.v > hole_v0 && p.v < hole_v1) continue;
+      uv.push_back(p);
+    }
+    const auto knots_u = clamped_uniform_knots(count_u, 3), knots_v = clamped_uniform_knots(count_v, 3);
+    for (double min_product : {0.0, 0.01}) {
+      const std::pair<int, int> expected = unmatched_over_all_points(knots_u, knots_v, uv, min_product);
+      if (expected.first >= 0) ++failures_seen;
+      const std::pair<int, int> got = unmatched_control_point(knots_u, 3, knots_v, 3, SiteIndex(uv), min_product);
+      LONGS_EQUAL(expected.first, got.first);
+      LONGS_EQUAL(expected.second, got.second);
+    }
+  }
+  CHECK(failures_seen >= 10);  // the trials exercise refusals as well as matchings
 }

@@ -1,0 +1,37 @@
+// A counting sort of the points into square buckets, about four points to a bucket.
+#include "host/fit/site_index.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "host/fit/knot_support.h"
+
+namespace dg::host {
+
+SiteIndex::SiteIndex(const std::vector<UV>& uv) : uv_(&uv) {
+  if (uv.size() >= UINT32_MAX) throw std::length_error("more than 4 billion points");
+  side_ = static_cast<size_t>(std::clamp(std::sqrt(static_cast<double>(uv.size()) / 4.0), 1.0, 2048.0));
+  start_.assign(side_ * side_ + 1, 0);
+  std::vector<uint32_t> bucket_of(uv.size());
+  for (size_t k = 0; k < uv.size(); ++k) {
+    bucket_of[k] = static_cast<uint32_t>(bucket(uv[k].v) * side_ + bucket(uv[k].u));
+    ++start_[bucket_of[k] + 1];
+  }
+  for (size_t b = 0; b + 1 < start_.size(); ++b) start_[b + 1] += start_[b];
+  order_.resize(uv.size());
+  std::vector<uint32_t> next(start_.begin(), start_.end() - 1);
+  for (size_t k = 0; k < uv.size(); ++k) order_[next[bucket_of[k]]++] = static_cast<uint32_t>(k);
+  const double merge = site_merge_distance(uv.size());
+  sites_u_ = distinct_sites(uv, true, merge);
+  sites_v_ = distinct_sites(uv, false, merge);
+}
+
+size_t SiteIndex::bucket(double t) const {
+  // Parameters lie on [0, 1]; anything else (or NaN) goes to the nearest edge bucket.
+  if (!(t > 0)) return 0;
+  if (!(t < 1)) return side_ - 1;
+  return std::min(side_ - 1, static_cast<size_t>(t * static_cast<double>(side_)));
+}
+
+}  // namespace dg::host

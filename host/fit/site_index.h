@@ -1,0 +1,59 @@
+// The points' parameters bucketed over the unit square, and their distinct sites along u and v.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "host/fit/parameterize.h"
+
+namespace dg::host {
+
+// Built once per point set and shared by every support check of a refinement loop: a check then
+// visits only the points under one control point's support instead of all of them, and the sorted
+// sites are not sorted again for every candidate knot. Holds a pointer to `uv`, which must outlive it.
+class SiteIndex {
+ public:
+  explicit SiteIndex(const std::vector<UV>& uv);
+  explicit SiteIndex(std::vector<UV>&&) = delete;  // it would point at a temporary
+
+  const std::vector<UV>& uv() const { return *uv_; }
+  // distinct_sites() along u and v with site_merge_distance() of this many points.
+  const std::vector<double>& sites_u() const { return sites_u_; }
+  const std::vector<double>& sites_v() const { return sites_v_; }
+
+  // Calls visit(k) for every point k with u in [u_lo, u_hi] and v in [v_lo, v_hi] (and some just
+  // outside, in the same buckets) until visit returns false.
+  // Buckets are visited from the rectangle's centre outwards, so a search that stops early finds
+  // the points where a control point's basis function is largest first, not its support's fringe.
+  template <typename Visit>
+  void visit(double u_lo, double u_hi, double v_lo, double v_hi, Visit visit) const {
+    const size_t bu0 = bucket(u_lo), bu1 = bucket(u_hi), bv0 = bucket(v_lo), bv1 = bucket(v_hi);
+    if (bu1 < bu0 || bv1 < bv0) return;
+    const size_t rows = bv1 - bv0 + 1, columns = bu1 - bu0 + 1;
+    for (size_t r = 0; r < rows; ++r) {
+      const size_t bv = centre_out(bv0, rows, r);
+      for (size_t c = 0; c < columns; ++c) {
+        const size_t b = bv * side_ + centre_out(bu0, columns, c);
+        for (uint32_t n = start_[b]; n < start_[b + 1]; ++n) {
+          if (!visit(static_cast<size_t>(order_[n]))) return;
+        }
+      }
+    }
+  }
+
+ private:
+  // The n-th of `count` buckets from `first` in the order middle, middle + 1, middle - 1, ...
+  static size_t centre_out(size_t first, size_t count, size_t n) {
+    const size_t middle = (count - 1) / 2, step = (n + 1) / 2;
+    return first + (n % 2 == 1 ? middle + step : middle - step);
+  }
+  size_t bucket(double t) const;
+
+  const std::vector<UV>* uv_;
+  size_t side_ = 1;               // buckets per direction
+  std::vector<uint32_t> start_;   // bucket b's points are order_[start_[b] .. start_[b + 1])
+  std::vector<uint32_t> order_;
+  std::vector<double> sites_u_, sites_v_;
+};
+
+}  // namespace dg::host
