@@ -54,11 +54,12 @@ void node_basis(const BSplineSurface& s, double u, double v, Eigen::VectorXd& b)
 }
 
 // Every row and column of control points needs points in its support, or nothing determines it.
-void check_support(const std::vector<double>& knots, int degree, int count, const std::vector<UV>& uv, bool along_u,
-                   const Parameters& params) {
+// The points' distinct sites along the direction (SiteIndex) stand for them: a few hundred lines, not
+// a million points.
+void check_support(const std::vector<double>& knots, int degree, int count, const std::vector<double>& sites,
+                   bool along_u, const Parameters& params) {
   std::vector<int> hits(static_cast<size_t>(count), 0);
-  for (const auto& p : uv) {
-    const double t = along_u ? p.u : p.v;
+  for (const double t : sites) {
     const int span = fit::find_span(count, degree, t, knots.data());
     for (int k = span - degree; k <= span; ++k) ++hits[k];
   }
@@ -214,7 +215,7 @@ NormalSystem assemble(const std::vector<Point3>& points, const Parameters& param
   const size_t unknowns = static_cast<size_t>(s.count_u) * s.count_v;
   std::optional<SiteIndex> own_index;
   const SiteIndex& sites =
-      spec.sites && &spec.sites->uv() == &params.uv ? *spec.sites : own_index.emplace(params.uv);
+      spec.sites && &spec.sites->uv() == &params.uv ? *spec.sites : own_index.emplace(params.uv, spec.fill_outside);
   std::vector<char> outside;
   size_t fitted = unknowns;
   if (spec.fill_outside) {
@@ -227,8 +228,8 @@ NormalSystem assemble(const std::vector<Point3>& points, const Parameters& param
   }
   check_memory(static_cast<int>(unknowns), s.degree_u * s.count_v + s.degree_v, s.count_u, s.count_v);
   if (!spec.fill_outside) {
-    check_support(s.knots_u, s.degree_u, s.count_u, params.uv, true, params);
-    check_support(s.knots_v, s.degree_v, s.count_v, params.uv, false, params);
+    check_support(s.knots_u, s.degree_u, s.count_u, sites.sites_u(), true, params);
+    check_support(s.knots_v, s.degree_v, s.count_v, sites.sites_v(), false, params);
   }
   const std::string problem = net_support_problem(s.knots_u, s.degree_u, s.knots_v, s.degree_v, sites, params,
                                                   spec.fill_outside ? &outside : nullptr);
@@ -243,25 +244,42 @@ NormalSystem assemble(const std::vector<Point3>& points, const Parameters& param
   const int pu = s.degree_u + 1, pv = s.degree_v + 1, m = pu * pv;
   // Every point of a cell (a pair of knot spans) touches the same m unknowns, so each cell sums its
   // points' products in a small dense block of its own, contiguous and vectorisable, and the blocks
-  // go into the band at the end. Points are read in their order; the blocks take about as much
-  // memory as the band for nets of 40 x 40 and less for larger ones.
+  // go into the band at the end. The blocks take about as much memory as the band for nets of
+  // 40 x 40 and less for larger ones.
   const int cells_u = s.count_u - s.degree_u, cells_v = s.count_v - s.degree_v;
   const size_t block_size = static_cast<size_t>(m) * (m + 1) / 2 + static_cast<size_t>(m) * 3;
-  std::vector<double> blocks(static_cast<size_t>(cells_u) * cells_v * block_size, 0.0);
-  for (size_t k = 0; k < points.size(); ++k) {
-    const double w = weights ? (*weights)[k] : 1.0;
-    double c[kMaxBasis * kMaxBasis];
-    const Cell cell = tensor_basis(s, params.uv[k].u, params.uv[k].v, c);
-    const Point3& p = points[k];
-    const double value[3] = {height_field ? p.z : p.x, p.y, p.z};
-    double* row = &blocks[(static_cast<size_t>(cell.u) * cells_v + cell.v) * block_size];
-    double* block_rhs = row + static_cast<size_t>(m) * (m + 1) / 2;
-    for (int a = 0; a < m; ++a) {
-      const double wc = w * c[a];
-      for (int b = 0; b <= a; ++b) row[b] += wc * c[b];
-      row += a + 1;
-      for (int r = 0; r < rhs_count; ++r) block_rhs[a * 3 + r] += wc * value[r];
+  const size_t blocks_total = static_cast<size_t>(cells_u) * cells_v * block_size;
+  // Large scans: fixed slices of the points, each summed into blocks of its own on whichever core
+  // takes it, then added in slice order, so the sums do not depend on the number of threads. At
+  // most 8 slices, 64 MB of blocks, and one slice per 64k points (a small scan is one slice).
+  const size_t slices = std::clamp<size_t>(
+      std::min<size_t>(points.size() / 65536, (size_t{64} << 20) / (blocks_total * sizeof(double) + 1)), 1, 8);
+  std::vector<std::vector<double>> slice_blocks(slices);
+  parallel_for(slices, [&](size_t first, size_t last, unsigned) {
+    for (size_t slice = first; slice < last; ++slice) {
+      std::vector<double>& blocks = slice_blocks[slice];
+      blocks.assign(blocks_total, 0.0);
+      const size_t begin = points.size() * slice / slices, end = points.size() * (slice + 1) / slices;
+      for (size_t k = begin; k < end; ++k) {
+        const double w = weights ? (*weights)[k] : 1.0;
+        double c[kMaxBasis * kMaxBasis];
+        const Cell cell = tensor_basis(s, params.uv[k].u, params.uv[k].v, c);
+        const Point3& p = points[k];
+        const double value[3] = {height_field ? p.z : p.x, p.y, p.z};
+        double* row = &blocks[(static_cast<size_t>(cell.u) * cells_v + cell.v) * block_size];
+        double* block_rhs = row + static_cast<size_t>(m) * (m + 1) / 2;
+        for (int a = 0; a < m; ++a) {
+          const double wc = w * c[a];
+          for (int b = 0; b <= a; ++b) row[b] += wc * c[b];
+          row += a + 1;
+          for (int r = 0; r < rhs_count; ++r) block_rhs[a * 3 + r] += wc * value[r];
+        }
+      }
     }
+  }, 1);
+  std::vector<double>& blocks = slice_blocks[0];
+  for (size_t slice = 1; slice < slices; ++slice) {
+    for (size_t e = 0; e < blocks_total; ++e) blocks[e] += slice_blocks[slice][e];
   }
   // Block unknown a of cell (cu, cv) is control point (cu + a / pv, cv + a % pv); indices ascend with
   // a, so (a, b <= a) lies in the lower band.

@@ -6,11 +6,20 @@
 #include <stdexcept>
 
 #include "host/fit/knot_support.h"
+#include "host/parallel/parallel_for.h"
 
 namespace dg::host {
 
-SiteIndex::SiteIndex(const std::vector<UV>& uv) : uv_(&uv) {
+SiteIndex::SiteIndex(const std::vector<UV>& uv, bool buckets) : uv_(&uv) {
   if (uv.size() >= UINT32_MAX) throw std::length_error("more than 4 billion points");
+  // The two directions' sorts are the bulk of the work: one on each of two cores.
+  const double merge = site_merge_distance(uv.size());
+  parallel_for(2, [&](size_t begin, size_t end, unsigned) {
+    for (size_t direction = begin; direction < end; ++direction) {
+      (direction == 0 ? sites_u_ : sites_v_) = distinct_sites(uv, direction == 0, merge);
+    }
+  }, 1);
+  if (!buckets) return;
   side_ = static_cast<size_t>(std::clamp(std::sqrt(static_cast<double>(uv.size()) / 4.0), 1.0, 2048.0));
   start_.assign(side_ * side_ + 1, 0);
   std::vector<uint32_t> bucket_of(uv.size());
@@ -22,9 +31,6 @@ SiteIndex::SiteIndex(const std::vector<UV>& uv) : uv_(&uv) {
   order_.resize(uv.size());
   std::vector<uint32_t> next(start_.begin(), start_.end() - 1);
   for (size_t k = 0; k < uv.size(); ++k) order_[next[bucket_of[k]]++] = static_cast<uint32_t>(k);
-  const double merge = site_merge_distance(uv.size());
-  sites_u_ = distinct_sites(uv, true, merge);
-  sites_v_ = distinct_sites(uv, false, merge);
 }
 
 size_t SiteIndex::bucket(double t) const {

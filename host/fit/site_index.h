@@ -13,8 +13,9 @@ namespace dg::host {
 // sites are not sorted again for every candidate knot. Holds a pointer to `uv`, which must outlive it.
 class SiteIndex {
  public:
-  explicit SiteIndex(const std::vector<UV>& uv);
-  explicit SiteIndex(std::vector<UV>&&) = delete;  // it would point at a temporary
+  // `buckets` false: the sites only, for a check that never visits (visit() then finds nothing).
+  explicit SiteIndex(const std::vector<UV>& uv, bool buckets = true);
+  explicit SiteIndex(std::vector<UV>&&, bool = true) = delete;  // it would point at a temporary
 
   const std::vector<UV>& uv() const { return *uv_; }
   // distinct_sites() along u and v with site_merge_distance() of this many points.
@@ -28,7 +29,7 @@ class SiteIndex {
   template <typename Visit>
   void visit(double u_lo, double u_hi, double v_lo, double v_hi, Visit visit) const {
     const size_t bu0 = bucket(u_lo), bu1 = bucket(u_hi), bv0 = bucket(v_lo), bv1 = bucket(v_hi);
-    if (bu1 < bu0 || bv1 < bv0) return;
+    if (start_.empty() || bu1 < bu0 || bv1 < bv0) return;
     const size_t rows = bv1 - bv0 + 1, columns = bu1 - bu0 + 1;
     for (size_t r = 0; r < rows; ++r) {
       const size_t bv = centre_out(bv0, rows, r);

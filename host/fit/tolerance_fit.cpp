@@ -104,7 +104,7 @@ ToleranceResult refine(const PointCloud& cloud, const Parameters& params, const 
   // The residuals hold the readings' whole scatter, rounding included.
   const double noise = noise_estimate.reading_sigma_mm;
   const std::vector<Point3>& points = cloud.points;
-  const SiteIndex sites(params.uv);
+  const SiteIndex sites(params.uv, options.fill_outside);
   LsqSpec spec;
   spec.sites = &sites;
   spec.fill_outside = options.fill_outside;
