@@ -23,44 +23,69 @@ void nearest_neighbourhoods(const std::vector<Point3>& points, size_t k, std::ve
   const double n = static_cast<double>(points.size());
   const double cell = std::max({std::sqrt(area * 4.0 / n), 4.0 * std::max(x1 - x0, y1 - y0) / n, 1e-9});
   const long columns = static_cast<long>(std::floor((x1 - x0) / cell)) + 1, rows = static_cast<long>(std::floor((y1 - y0) / cell)) + 1;
-  auto column_of = [&](const Point3& p) { return std::min(columns - 1, static_cast<long>(std::floor((p.x - x0) / cell))); };
-  auto row_of = [&](const Point3& p) { return std::min(rows - 1, static_cast<long>(std::floor((p.y - y0) / cell))); };
+  auto column_of = [&](double x) { return std::min(columns - 1, static_cast<long>(std::floor((x - x0) / cell))); };
+  auto row_of = [&](double y) { return std::min(rows - 1, static_cast<long>(std::floor((y - y0) / cell))); };
   // Counting sort of the points by cell: cell c holds members[start[c] .. start[c + 1]).
   std::vector<size_t> start(static_cast<size_t>(columns * rows) + 1, 0), members(points.size());
-  for (const Point3& p : points) ++start[static_cast<size_t>(row_of(p) * columns + column_of(p)) + 1];
+  for (const Point3& p : points) ++start[static_cast<size_t>(row_of(p.y) * columns + column_of(p.x)) + 1];
   for (size_t c = 1; c < start.size(); ++c) start[c] += start[c - 1];
   {
     std::vector<size_t> fill(start.begin(), start.end() - 1);
-    for (size_t i = 0; i < points.size(); ++i) members[fill[static_cast<size_t>(row_of(points[i]) * columns + column_of(points[i]))]++] = i;
+    for (size_t i = 0; i < points.size(); ++i) members[fill[static_cast<size_t>(row_of(points[i].y) * columns + column_of(points[i].x))]++] = i;
   }
   k = std::min(k, points.size());
-  std::vector<std::vector<std::pair<double, size_t>>> candidates_of(worker_count());
-  parallel_for(points.size(), [&](size_t begin, size_t end, unsigned worker) {
-    std::vector<std::pair<double, size_t>>& candidates = candidates_of[worker];
-    for (size_t i = begin; i < end; ++i) {
-      const long cx = column_of(points[i]), cy = row_of(points[i]);
-      // Grow the ring until it holds k candidates and one more ring (points in it may be nearer).
+  if (k == 0) return;
+  // The points' XY in cell order: a cell's candidates are then read from one run of memory, not
+  // from wherever the cloud keeps them (for a million points that was most of the time).
+  std::vector<double> cell_xy(2 * points.size());
+  for (size_t m = 0; m < members.size(); ++m) {
+    cell_xy[2 * m] = points[members[m]].x;
+    cell_xy[2 * m + 1] = points[members[m]].y;
+  }
+  // Each ring adds only its new cells; the k best (distance, index) pairs so far are kept sorted, so
+  // ties go to the lower index whatever order the cells give them in. Point i is done once its k-th
+  // best lies within `ring * cell`: every point that near has been seen. Points are taken in cell
+  // order too, so neighbouring searches share what the cache holds.
+  parallel_for(points.size(), [&](size_t begin, size_t end, unsigned) {
+    // The chunk's own list: per-worker lists side by side in one array shared their cache line,
+    // and every insert by one core stalled the other.
+    std::vector<std::pair<double, size_t>> best;
+    best.reserve(k + 1);
+    for (size_t position = begin; position < end; ++position) {
+      const size_t i = members[position];
+      const double xi = cell_xy[2 * position], yi = cell_xy[2 * position + 1];
+      const long cx = column_of(xi), cy = row_of(yi);
+      best.clear();
+      size_t seen = 0;
+      auto take_cell = [&](long x, long y) {
+        const size_t c = static_cast<size_t>(y * columns + x);
+        seen += start[c + 1] - start[c];
+        for (size_t m = start[c]; m < start[c + 1]; ++m) {
+          const double ddx = cell_xy[2 * m] - xi, ddy = cell_xy[2 * m + 1] - yi;
+          const double distance = ddx * ddx + ddy * ddy;
+          if (best.size() == k && distance > best.back().first) continue;
+          const std::pair<double, size_t> candidate{distance, members[m]};
+          if (best.size() == k && !(candidate < best.back())) continue;
+          if (best.size() == k) best.pop_back();
+          best.insert(std::upper_bound(best.begin(), best.end(), candidate), candidate);
+        }
+      };
+      take_cell(cx, cy);
       for (long ring = 1;; ++ring) {
-        candidates.clear();
-        for (long y = std::max(0L, cy - ring); y <= std::min(rows - 1, cy + ring); ++y)
-          for (long x = std::max(0L, cx - ring); x <= std::min(columns - 1, cx + ring); ++x) {
-            const size_t c = static_cast<size_t>(y * columns + x);
-            for (size_t m = start[c]; m < start[c + 1]; ++m) {
-              const size_t j = members[m];
-              const double ddx = points[j].x - points[i].x, ddy = points[j].y - points[i].y;
-              candidates.push_back({ddx * ddx + ddy * ddy, j});
-            }
+        // The cells at Chebyshev distance `ring` from (cx, cy), inside the grid.
+        for (long y = std::max(0L, cy - ring); y <= std::min(rows - 1, cy + ring); ++y) {
+          if (y == cy - ring || y == cy + ring) {
+            for (long x = std::max(0L, cx - ring); x <= std::min(columns - 1, cx + ring); ++x) take_cell(x, y);
+          } else {
+            if (cx - ring >= 0) take_cell(cx - ring, y);
+            if (cx + ring < columns) take_cell(cx + ring, y);
           }
-        // Every point within `ring * cell` of i has been seen; enough of them means done.
+        }
         const double reach = static_cast<double>(ring) * cell;
-        const size_t within = static_cast<size_t>(std::count_if(candidates.begin(), candidates.end(),
-                                                                [&](const auto& c) { return c.first <= reach * reach; }));
-        if (within >= k || candidates.size() == points.size()) break;
+        if ((best.size() == k && best.back().first <= reach * reach) || seen == points.size()) break;
       }
-      // (distance, index) pairs: ties go to the lower index, whatever order the cells gave them in.
-      std::partial_sort(candidates.begin(), candidates.begin() + static_cast<std::ptrdiff_t>(k), candidates.end());
       out[i].reserve(k);
-      for (size_t m = 0; m < k; ++m) out[i].push_back(candidates[m].second);
+      for (const auto& [distance, j] : best) out[i].push_back(j);
     }
   }, 64);
 }
