@@ -2,13 +2,15 @@
 #include "host/io/text_field.h"
 
 #include <cerrno>
+#include <charconv>
+#include <string>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 
 namespace dg::host {
 
-bool parse_decimal(const std::string& field, double* value) {
+bool parse_decimal(std::string_view field, double* value) {
   size_t i = 0, n = field.size();
   while (i < n && (field[i] == ' ' || field[i] == '\t')) ++i;
   while (n > i && (field[n - 1] == ' ' || field[n - 1] == '\t' || field[n - 1] == '\r')) --n;
@@ -29,16 +31,25 @@ bool parse_decimal(const std::string& field, double* value) {
     if (exponent_digits == 0) return false;
   }
   if (i != n) return false;  // anything else, an embedded NUL included
-  const std::string text = field.substr(start, n - start);
-  errno = 0;
-  const double v = std::strtod(text.c_str(), nullptr);
+  // The grammar is checked: std::from_chars reads it exactly, without a copy or the locale (it
+  // takes no '+'). Only a value out of range goes the slow way, where strtod tells underflow (a
+  // tiny number, kept) from overflow (refused below).
+  const size_t digits_start = field[start] == '+' ? start + 1 : start;
+  double v = 0;
+  const auto [end, error] = std::from_chars(field.data() + digits_start, field.data() + n, v);
+  if (error == std::errc::result_out_of_range) {
+    const std::string text(field.substr(start, n - start));
+    v = std::strtod(text.c_str(), nullptr);
+  } else if (error != std::errc() || end != field.data() + n) {
+    return false;
+  }
   // ERANGE with a finite result is underflow (a denormal or 0): a valid, tiny number.
   if (!std::isfinite(v)) return false;
   *value = v;
   return true;
 }
 
-std::string quoted(const std::string& field) {
+std::string quoted(std::string_view field) {
   constexpr size_t kShown = 80;
   std::string out = "'";
   for (size_t i = 0; i < field.size() && i < kShown; ++i) {
