@@ -14,7 +14,6 @@
 #include <map>
 #include <sstream>
 #include <string_view>
-#include <tuple>
 
 #include "host/io/file_name.h"
 #include "host/io/text_field.h"
@@ -127,27 +126,50 @@ void split_views(std::string_view row, char separator, std::vector<std::string_v
 
 }  // namespace
 
+namespace {
+
+uint64_t mixed(uint64_t v) {
+  // SplitMix64's finalizer: every bit of the coordinate moves every bit of the hash.
+  v ^= v >> 30;
+  v *= 0xbf58476d1ce4e5b9ULL;
+  v ^= v >> 27;
+  v *= 0x94d049bb133111ebULL;
+  return v ^ (v >> 31);
+}
+
+uint64_t coordinate_bits(double c) {
+  c += 0.0;  // -0.0 becomes 0.0: equal coordinates, equal bits (NaN never reaches here)
+  uint64_t bits;
+  std::memcpy(&bits, &c, sizeof bits);
+  return bits;
+}
+
+}  // namespace
+
 void check_duplicate_points(const PointCloud& cloud, const std::function<std::string(size_t)>& where_is) {
-  // The points' numbers sorted by (x, y, z, number): equal points sit together, the first of each
-  // run its earliest. The point named is the earliest that repeats an earlier one, as a reader
-  // going through the file would meet it (a map of the points seen so far did the same: 0.9 s of
-  // the 7.1 s `fit` took on a million points).
+  // One pass in file order through an open-addressing table of the points met so far (their
+  // numbers, hashed by their coordinates' bits): the first point found already in the table is
+  // the earliest that repeats an earlier one, and the table holds that earlier one's number. A
+  // sort of the numbers by coordinates did the same in 0.2 s on a million points; this, in a
+  // fraction of it.
   const std::vector<Point3>& p = cloud.points;
-  std::vector<size_t> order(p.size());
-  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) {
-    return std::make_tuple(p[a].x, p[a].y, p[a].z, a) < std::make_tuple(p[b].x, p[b].y, p[b].z, b);
-  });
-  size_t repeat = SIZE_MAX, first = SIZE_MAX;
-  for (size_t m = 1; m < order.size(); ++m) {
-    const Point3 &a = p[order[m - 1]], &b = p[order[m]];
-    if (a.x != b.x || a.y != b.y || a.z != b.z) continue;
-    // order[m - 1] is the run's first when this is the run's second, the only one that can be
-    // the run's earliest repeat.
-    const bool second = m < 2 || p[order[m - 2]].x != a.x || p[order[m - 2]].y != a.y || p[order[m - 2]].z != a.z;
-    if (second && order[m] < repeat) repeat = order[m], first = order[m - 1];
+  if (p.size() < 2) return;
+  size_t capacity = 16;
+  while (capacity < 2 * p.size()) capacity *= 2;
+  std::vector<size_t> slot(capacity, SIZE_MAX);
+  for (size_t i = 0; i < p.size(); ++i) {
+    const uint64_t hash = mixed(coordinate_bits(p[i].x) ^ mixed(coordinate_bits(p[i].y) ^ mixed(coordinate_bits(p[i].z))));
+    for (size_t s = static_cast<size_t>(hash) & (capacity - 1);; s = (s + 1) & (capacity - 1)) {
+      const size_t held = slot[s];
+      if (held == SIZE_MAX) {
+        slot[s] = i;
+        break;
+      }
+      if (p[held].x == p[i].x && p[held].y == p[i].y && p[held].z == p[i].z) {
+        throw PointFileError(where_is(i) + ": the same point as " + where_is(held));
+      }
+    }
   }
-  if (repeat != SIZE_MAX) throw PointFileError(where_is(repeat) + ": the same point as " + where_is(first));
 }
 
 PointCloud parse_csv_points(const std::string& text, const std::string& name) {
