@@ -98,7 +98,7 @@ std::string surface_json_text(const FittedSurface& f) {
       fit["validation"] = {
           {"passed", v.passed},
           {"problem", v.problem},
-          {"hold_out", {{"folds", v.folds}, {"points", v.held_out_points}, {"rms_mm", finite_or_null(v.held_out_rms_mm)},
+          {"hold_out", {{"folds", v.folds}, {"of", v.folds_of_lines ? "lines" : "points"}, {"points", v.held_out_points}, {"rms_mm", finite_or_null(v.held_out_rms_mm)},
                         {"max_mm", finite_or_null(v.held_out_max_mm)}}},
           {"neighbours", {{"checks", v.neighbour_checks}, {"excess_max_mm", finite_or_null(v.range_excess_max_mm)}}}};
     }
@@ -310,6 +310,7 @@ FittedSurface parse_surface_json(const std::string& text, const std::string& nam
         f.validation.problem = v.value("problem", "");
         const auto& h = v.at("hold_out");
         f.validation.folds = static_cast<int>(whole(h.at("folds"), name, "folds", 0, 1000));
+        f.validation.folds_of_lines = h.value("of", std::string("lines")) != "points";
         f.validation.held_out_points = static_cast<size_t>(whole(h.at("points"), name, "points", 0, 1LL << 48));
         f.validation.held_out_rms_mm = h.at("rms_mm").get<double>();
         f.validation.held_out_max_mm = h.at("max_mm").get<double>();

@@ -75,9 +75,9 @@ void print_validation(const FittedSurface& out) {
   const FitValidation& v = out.validation;
   if (!v.checked) return;
   if (v.held_out_points > 0) {
-    std::printf("between the samples: %zu points predicted by surfaces fitted without them (%d folds of scan lines): "
+    std::printf("between the samples: %zu points predicted by surfaces fitted without them (%d folds of %s): "
                 "rms %.4f max %.4f mm\n",
-                v.held_out_points, v.folds, v.held_out_rms_mm, v.held_out_max_mm);
+                v.held_out_points, v.folds, v.folds_of_lines ? "scan lines" : "points", v.held_out_rms_mm, v.held_out_max_mm);
   }
   if (v.neighbour_checks > 0) {
     std::printf("between neighbouring samples (%zu places): the surface leaves their range by %.4f mm at most%s\n",

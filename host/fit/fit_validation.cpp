@@ -276,6 +276,7 @@ FitValidation validate_fit(const PointCloud& cloud, const Parameters& params, co
   FitValidation out;
   out.checked = true;
   out.folds = options.folds;
+  out.folds_of_lines = cloud.line.has_value();
   if (support && support->folds() != options.folds) support = nullptr;
   const std::vector<int> fold = validation_folds(cloud, options.folds);
   LsqSpec spec;

@@ -655,6 +655,7 @@ RegionFit fit_regions(const PointCloud& cloud, const std::vector<double>* weight
     if (!rv.checked) continue;
     v.checked = true;
     v.folds = std::max(v.folds, rv.folds);
+    v.folds_of_lines = rv.folds_of_lines;
     held_sq += rv.held_out_rms_mm * rv.held_out_rms_mm * static_cast<double>(rv.held_out_points);
     v.held_out_points += rv.held_out_points;
     if (rv.held_out_max_mm >= v.held_out_max_mm) v.held_out_max_mm = rv.held_out_max_mm, v.held_out_worst = rv.held_out_worst;

@@ -16,6 +16,7 @@ struct FitValidation {
   std::string problem;  // why it failed, or why it could not be validated
   // Hold-out: the points of each fold predicted by a surface fitted without them.
   int folds = 0;
+  bool folds_of_lines = true;  // a fold is every folds-th scan line; false: every folds-th point (no lines)
   size_t held_out_points = 0;
   double held_out_rms_mm = 0, held_out_max_mm = 0;
   Point3 held_out_worst;  // the measured point predicted worst
