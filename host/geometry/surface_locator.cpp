@@ -57,9 +57,11 @@ SurfaceLocator::SurfaceLocator(const BSplineSurface& surface, int per_span) : su
     ++first_[static_cast<size_t>(key[k]) + 1];
   }
   for (size_t b = 1; b <= buckets; ++b) first_[b] += first_[b - 1];
-  order_.resize(samples_.size());
+  // The samples themselves in bucket order: a search reads each bucket's from one run of memory.
+  std::vector<Sample> by_bucket(samples_.size());
   std::vector<size_t> next(first_.begin(), first_.end() - 1);
-  for (size_t k = 0; k < samples_.size(); ++k) order_[next[static_cast<size_t>(key[k])]++] = k;
+  for (size_t k = 0; k < samples_.size(); ++k) by_bucket[next[static_cast<size_t>(key[k])]++] = samples_[k];
+  samples_.swap(by_bucket);
 }
 
 long SurfaceLocator::cell_key(int x, int y, int z) const { return (static_cast<long>(x) * ny_ + y) * nz_ + z; }
@@ -98,12 +100,12 @@ Closest SurfaceLocator::closest(const Point3& p) const {
           }
           const long b = cell_key(x, y, z);
           for (size_t o = first_[static_cast<size_t>(b)]; o < first_[static_cast<size_t>(b) + 1]; ++o) {
-            const Point3 d = samples_[order_[o]].point - p;
+            const Point3 d = samples_[o].point - p;
             const double d2 = dot(d, d);
-            if (ring <= 1 && near_count < 256) near[near_count++] = {order_[o], d2};
+            if (ring <= 1 && near_count < 256) near[near_count++] = {o, d2};
             if (d2 < best_d2) {
               best_d2 = d2;
-              best = order_[o];
+              best = o;
             }
           }
         }

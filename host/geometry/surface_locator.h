@@ -31,8 +31,7 @@ class SurfaceLocator {
   Point3 origin_;
   double cell_mm_ = 1;
   int nx_ = 1, ny_ = 1, nz_ = 1;
-  std::vector<size_t> first_;   // bucket b holds order_[first_[b] .. first_[b + 1])
-  std::vector<size_t> order_;
+  std::vector<size_t> first_;   // bucket b holds samples_[first_[b] .. first_[b + 1]) (samples in bucket order)
   double spacing_u_ = 0, spacing_v_ = 0;
 };
 
