@@ -4,6 +4,7 @@
 #include <CppUTest/TestHarness.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <random>
 
 #include "host/geometry/closest_point.h"
@@ -174,4 +175,49 @@ TEST(BSplineFit, RefusesANetTooLargeForTheMachinesMemoryWithTheFigure) {
   } catch (const FitError& e) {
     STRCMP_CONTAINS("GB for its normal equations", e.what());
   }
+}
+
+namespace {
+
+// Restores the machine's thread count after a test that sets it.
+struct ThreadCount {
+  explicit ThreadCount(const char* n) { setenv("DIGITIZER_THREADS", n, 1); }
+  ~ThreadCount() { unsetenv("DIGITIZER_THREADS"); }
+};
+
+}  // namespace
+
+TEST(BSplineFit, OneThreadAndFourGiveTheSameNetToTheBit) {
+  // 300,000 points: the assembly sums them in four slices, which one thread or four may take.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> along(0.0, 60.0);
+  std::normal_distribution<double> noise(0.0, 0.002);
+  PointCloud c;
+  for (int k = 0; k < 300000; ++k) {
+    const double x = along(rng), y = along(rng);
+    c.points.push_back({x, y, wave(x, y) + noise(rng)});
+  }
+  const Parameters p = parameterize(c, Parameterization::kTableXy);
+  BSplineSurface one, four;
+  std::vector<double> d_one, d_four;
+  {
+    const ThreadCount threads("1");
+    one = fit_least_squares(c.points, p, nullptr, cubic(20, 17));
+    d_one = orthogonal_distances(one, c.points, p);
+  }
+  {
+    const ThreadCount threads("4");
+    four = fit_least_squares(c.points, p, nullptr, cubic(20, 17));
+    d_four = orthogonal_distances(four, c.points, p);
+  }
+  LONGS_EQUAL(one.control.size(), four.control.size());
+  for (size_t k = 0; k < one.control.size(); ++k) {
+    CHECK(one.control[k].x == four.control[k].x && one.control[k].y == four.control[k].y &&
+          one.control[k].z == four.control[k].z);
+  }
+  CHECK(d_one == d_four);
+  // And the fit is a fit: the noise is what is left.
+  double sum_sq = 0;
+  for (double d : d_one) sum_sq += d * d;
+  DOUBLES_EQUAL(0.002, std::sqrt(sum_sq / static_cast<double>(d_one.size())), 0.0002);
 }
