@@ -19,6 +19,7 @@
 #include "host/io/atomic_file.h"
 #include "host/scan/height_map.h"
 #include "host/scan/point_export.h"
+#include "host/scan/position_uncertainty.h"
 #include "host/scan/scan_uncertainty.h"
 #include "host/scan/table_calibration.h"
 #include "host/scan/drift_removal.h"
@@ -223,7 +224,8 @@ int run_export(const ExportArgs& a) {
   // in the scan file); the readings themselves are no points.
   ScanPointSigmas sigmas = scan_point_sigmas(data);
   remove_drift(data, &sigmas.sigma_mm, input);
-  correct_by_record(data, &sigmas.sigma_mm, input);
+  const std::optional<TableCalibration> calibration = correct_by_record(data, &sigmas.sigma_mm, input);
+  add_position_uncertainty(data, table_position(data, calibration), sigmas.sigma_mm);
   // --format names the format whatever the output's extension (a Klipper profile saved as .txt, say).
   static const std::map<std::string, FileFormat> kNamed = {{"csv", FileFormat::kCsv},          {"xyz", FileFormat::kXyz},
                                                            {"ply", FileFormat::kPly},          {"bcnc", FileFormat::kBcncProbe},

@@ -18,6 +18,7 @@
 #include "host/io/file_name.h"
 #include "host/io/text_field.h"
 #include "host/scan/ply_reader.h"
+#include "host/scan/position_uncertainty.h"
 #include "host/scan/drift_removal.h"
 #include "host/scan/scan_file.h"
 #include "host/scan/scan_uncertainty.h"
@@ -309,6 +310,8 @@ PointCloud read_points(const std::string& path, bool as_measured) {
     const std::optional<DriftRemoval> drift = remove_drift(data, &sigmas.sigma_mm, path, !as_measured);
     // The scan's own calibration record corrects the raw points it keeps.
     const std::optional<TableCalibration> calibration = correct_by_record(data, &sigmas.sigma_mm, path);
+    // Where the part slopes, the table's own position uncertainty reaches the height too.
+    const double position_mm = add_position_uncertainty(data, table_position(data, calibration), sigmas.sigma_mm);
     PointCloud cloud;
     cloud.line.emplace();
     if (data.device && data.device->gauge_resolution_nm > 0) cloud.resolution_mm = data.device->gauge_resolution_nm * 1e-6;
@@ -319,6 +322,11 @@ PointCloud read_points(const std::string& path, bool as_measured) {
     if (!sigmas.sigma_mm.empty()) {
       cloud.sigma = std::move(sigmas.sigma_mm);
       cloud.sigma_from = sigmas.from + (drift ? ", the drift removal" : "") + (calibration ? " and the table calibration's map" : "");
+      if (position_mm > 0) {
+        char text[160];
+        std::snprintf(text, sizeof text, ", and the table's position times the part's slope (adds u <= %.4f mm)", position_mm);
+        cloud.sigma_from += text;
+      }
     }
     if (calibration) cloud.calibration = "the table calibration of " + (calibration->created_utc.empty() ? std::string("unknown date") : calibration->created_utc);
     if (drift) {
