@@ -82,8 +82,7 @@ std::vector<std::pair<double, double>> scan_slopes(const ScanData& scan) {
         slope[i] = {(a22 * b1 - a12 * b2) / det, (a11 * b2 - a12 * b1) / det};
       } else if (a11 + a22 > 0) {
         // Neighbours along one direction only (a single line, say): the slope along it.
-        const double t = (b1 * b1 + b2 * b2 > 0) ? 1.0 / (a11 + a22) : 0.0;
-        slope[i] = {b1 * t, b2 * t};
+        slope[i] = {b1 / (a11 + a22), b2 / (a11 + a22)};
       }
     }
   }
