@@ -1031,6 +1031,19 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
           return m.gain <= kLineGainMax && std::fabs(points[i].z - m.prediction) <= widen * std::max(bound, limit);
         };
         if (outlier && predicts(split.own, 1)) outlier = false;
+        // The wider window may put its cut on the wrong side of a point just over a crease: at a
+        // corner of the dome's scan it held the point with the plate and condemned a rim point
+        // 0.36 mm above it, where the point's own window, cut in two, had the cap's side predict it
+        // to 1.6 sigma. That side clears too, but only within half its bound: the cut is the best
+        // of many, and a side holding two outliers beside the point (the canister's edge) predicted
+        // the third to 6 sigma.
+        if (outlier) {
+          const SplitModels own_window = split_model(points, hood[i], i, reference, suspect);
+          if (own_window.own.ok && own_window.own.scale <= 2.0 * sigma && own_window.other.ok &&
+              predicts(own_window.own, 0.5)) {
+            outlier = false;
+          }
+        }
         // The far side's model, extrapolated across the cut, clears only: it errs by its shape too.
         const bool near_either = predicts(split.own, kSplitCondemnWiden) || split.other.gain > kLineGainMax ||
                                  predicts(split.other, kSplitCondemnWiden);

@@ -274,6 +274,21 @@ TEST(LtsRecall, AnEdgeOutlierTheWholeWindowCannotResolveIsCaughtByAPreciseHalfPl
   }
 }
 
+// A clean point just inside the dome's rim near a corner of the scan, 0.36 mm above the plate (the
+// dome's (4, 3) of seed 3 at 0.5 um): the wider window's cut held it with the plate, whose side
+// condemned it and would have put a 0.36 mm dent in the surface. Its own window cut along the rim
+// has the cap's side predict it to 1.6 sigma and clears it. Of the canister's edge outlier beside
+// another ((12, 1) of seed 2 at 0.5 um), the same cut's side came within 6.4 sigma: inside the
+// full bound of 10.4, not within the half bound the own window's cut is held to.
+TEST(LtsRecall, ARimPointNearACornerIsClearedByItsOwnWindowsCutAlongTheRim) {
+  const Verdict rim = verdict_at(dg::sim::PartKind::kDome, 0.5, 3, 4, 3);
+  CHECK(!rim.planted);
+  CHECK(!rim.reported);
+  const Verdict edge = verdict_at(dg::sim::PartKind::kCanister, 0.5, 2, 12, 1);
+  CHECK(edge.planted);
+  CHECK(edge.reported);
+}
+
 // The filter shares its points among the cores; one thread or four find the same heights and the
 // same outliers, to the last bit.
 TEST(LtsRecall, OneThreadAndFourGiveTheSameResult) {
