@@ -289,6 +289,18 @@ TEST(LtsRecall, ARimPointNearACornerIsClearedByItsOwnWindowsCutAlongTheRim) {
   CHECK(edge.reported);
 }
 
+// Two clean rim points near the dome's corner (3, 26) and (4, 27) of seed 4 at 0.5 um, 0.14 and
+// 0.36 mm above the plate: the first had an envelope of cap and plate 2.15 sigma in scale that
+// predicted it to 6.5 sigma (the envelope then judged only at 2 sigma); the second, judged again
+// once the first was cleared, an envelope of gain 9.3 that predicted it to 5.7 sigma (the envelope
+// then judged only up to a line's gain). Both were condemned by the plate's half-planes.
+TEST(LtsRecall, RimPointsAnEnvelopeOfCapAndPlatePredictsAreNotCondemned) {
+  for (const Verdict& v : {verdict_at(dg::sim::PartKind::kDome, 0.5, 4, 3, 26), verdict_at(dg::sim::PartKind::kDome, 0.5, 4, 4, 27)}) {
+    CHECK(!v.planted);
+    CHECK(!v.reported);
+  }
+}
+
 // The filter shares its points among the cores; one thread or four find the same heights and the
 // same outliers, to the last bit.
 TEST(LtsRecall, OneThreadAndFourGiveTheSameResult) {
