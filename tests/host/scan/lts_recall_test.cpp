@@ -301,6 +301,16 @@ TEST(LtsRecall, RimPointsAnEnvelopeOfCapAndPlatePredictsAreNotCondemned) {
   }
 }
 
+// At 10 um one cubic describes a window across the dome's rim within 2.5 sigma, and the envelope
+// of cap and plate was not tried there; a plate point 0.53 mm low near the scan's edge ((6, 29) of
+// seed 3), where the cap continued past its rim dips that far, passed as the cap's. The envelope
+// is tried where the smooth cubic keeps fewer than two of the point's four nearest neighbours.
+TEST(LtsRecall, APlateOutlierWhereTheCapWouldDipIsCaughtAtTenMicrometres) {
+  const Verdict v = verdict_at(dg::sim::PartKind::kDome, 10.0, 3, 6, 29);
+  CHECK(v.planted);
+  CHECK(v.reported);
+}
+
 // The filter shares its points among the cores; one thread or four find the same heights and the
 // same outliers, to the last bit.
 TEST(LtsRecall, OneThreadAndFourGiveTheSameResult) {
