@@ -3,29 +3,49 @@
 
 namespace dg {
 
+void CobsWriter::close_block() {
+  if (code_index_ < capacity_) {
+    out_[code_index_] = code_;
+  } else {
+    overflow_ = true;
+  }
+  code_index_ = write_++;
+  code_ = 1;
+}
+
+void CobsWriter::put(const uint8_t* in, size_t size) {
+  for (size_t i = 0; i < size; ++i) {
+    if (in[i] == 0) {
+      close_block();
+      continue;
+    }
+    if (write_ < capacity_) {
+      out_[write_] = in[i];
+    } else {
+      overflow_ = true;
+    }
+    ++write_;
+    if (++code_ == 0xFF) close_block();
+  }
+}
+
+Status CobsWriter::finish(size_t* out_size) {
+  if (code_index_ < capacity_) {
+    out_[code_index_] = code_;
+  } else {
+    overflow_ = true;
+  }
+  if (overflow_) return Status::kOverflow;
+  *out_size = write_;
+  return Status::kOk;
+}
+
 Status cobs_encode(const uint8_t* in, size_t in_size, uint8_t* out, size_t out_capacity,
                    size_t* out_size) {
   if (out_capacity < cobs_max_encoded_size(in_size)) return Status::kOverflow;
-  size_t code_index = 0;
-  size_t write = 1;
-  uint8_t code = 1;
-  for (size_t i = 0; i < in_size; ++i) {
-    if (in[i] == 0) {
-      out[code_index] = code;
-      code_index = write++;
-      code = 1;
-      continue;
-    }
-    out[write++] = in[i];
-    if (++code == 0xFF) {
-      out[code_index] = code;
-      code_index = write++;
-      code = 1;
-    }
-  }
-  out[code_index] = code;
-  *out_size = write;
-  return Status::kOk;
+  CobsWriter writer(out, out_capacity);
+  writer.put(in, in_size);
+  return writer.finish(out_size);
 }
 
 Status cobs_decode(const uint8_t* in, size_t in_size, uint8_t* out, size_t out_capacity,

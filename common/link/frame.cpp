@@ -26,18 +26,23 @@ uint32_t get_u32(const uint8_t* p) {
 Status frame_encode(const FrameHeader& header, const uint8_t* payload, size_t payload_size,
                     uint8_t* out, size_t out_capacity, size_t* out_size) {
   if (payload_size > kFrameMaxPayload) return Status::kBadLength;
-  uint8_t raw[kFrameMaxRaw];
-  raw[0] = static_cast<uint8_t>((kFrameVersion << 4) | (static_cast<uint8_t>(header.kind) & 0x0F));
-  put_u16(raw + 1, header.seq);
-  put_u16(raw + 3, header.ack);
-  if (payload_size > 0) std::memcpy(raw + kFrameHeaderSize, payload, payload_size);
-  const size_t body = kFrameHeaderSize + payload_size;
-  put_u32(raw + body, crc32(raw, body));
-  const size_t raw_size = body + kFrameCrcSize;
+  // Header, payload and CRC are stuffed piece by piece: a copy of the whole frame took 558 bytes
+  // of a device's stack at its deepest call.
+  uint8_t head[kFrameHeaderSize];
+  head[0] = static_cast<uint8_t>((kFrameVersion << 4) | (static_cast<uint8_t>(header.kind) & 0x0F));
+  put_u16(head + 1, header.seq);
+  put_u16(head + 3, header.ack);
+  uint8_t tail[kFrameCrcSize];
+  put_u32(tail, crc32_update(crc32(head, sizeof(head)), payload, payload_size));
+  const size_t raw_size = kFrameHeaderSize + payload_size + kFrameCrcSize;
   if (out_capacity < cobs_max_encoded_size(raw_size) + 2) return Status::kOverflow;
-  size_t stuffed = 0;
   out[0] = 0;
-  const Status status = cobs_encode(raw, raw_size, out + 1, out_capacity - 2, &stuffed);
+  CobsWriter writer(out + 1, out_capacity - 2);
+  writer.put(head, sizeof(head));
+  if (payload_size > 0) writer.put(payload, payload_size);
+  writer.put(tail, sizeof(tail));
+  size_t stuffed = 0;
+  const Status status = writer.finish(&stuffed);
   if (status != Status::kOk) return status;
   out[1 + stuffed] = 0;
   *out_size = stuffed + 2;

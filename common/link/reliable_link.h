@@ -72,9 +72,22 @@ class ReliableLink {
   // acknowledgements have made room. kOverflow for a payload larger than a frame holds.
   Status send(const uint8_t* payload, size_t size, uint64_t now_us) {
     if (size > kFrameMaxPayload) return Status::kOverflow;
+    uint8_t* slot_payload = next_payload();
+    if (slot_payload == nullptr) return Status::kBusy;
+    for (size_t i = 0; i < size; ++i) slot_payload[i] = payload[i];
+    return commit(size, now_us);
+  }
+
+  // The next data frame's payload (kFrameMaxPayload bytes), for a message to be encoded into in
+  // place, or nullptr while the window is full; commit() queues it. A device has no stack to spare
+  // for a frame-sized copy.
+  uint8_t* next_payload() { return window_full() ? nullptr : slots_[index(next_seq_)].payload; }
+
+  // Queues the `size` bytes written at next_payload() as the next data frame.
+  Status commit(size_t size, uint64_t now_us) {
+    if (size > kFrameMaxPayload) return Status::kOverflow;
     if (window_full()) return Status::kBusy;
     Slot& slot = slots_[index(next_seq_)];
-    for (size_t i = 0; i < size; ++i) slot.payload[i] = payload[i];
     slot.size = static_cast<uint16_t>(size);
     slot.seq = next_seq_;
     slot.sent = false;

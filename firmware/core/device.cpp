@@ -436,11 +436,14 @@ void Device::restart_session() {
 }
 
 bool Device::send(const digitizer_Envelope& message) {
-  uint8_t payload[kFrameMaxPayload];
+  // A full window (the host has not acknowledged its frames) waits: the caller tries again.
+  // The message is encoded straight into the link's next slot: a payload buffer here was the
+  // largest frame on the stack's deepest path.
+  uint8_t* payload = link_.next_payload();
+  if (payload == nullptr) return false;
   size_t payload_size = 0;
-  if (encode_envelope(message, payload, sizeof(payload), &payload_size) != Status::kOk) return false;
-  // A full window (the host has not acknowledged four frames) waits: the caller tries again.
-  if (link_.send(payload, payload_size, board_.now_us()) != Status::kOk) return false;
+  if (encode_envelope(message, payload, kFrameMaxPayload, &payload_size) != Status::kOk) return false;
+  if (link_.commit(payload_size, board_.now_us()) != Status::kOk) return false;
   flush_tx();
   return true;
 }
@@ -518,6 +521,14 @@ bool Device::send_reply(const Reply& reply) {
       message.which_body = digitizer_Envelope_repeatability_tag;
       message.body.repeatability = repeat_.result();
       break;
+    case Reply::kLineDone:
+      message.which_body = digitizer_Envelope_line_done_tag;
+      message.body.line_done = line_done_;
+      break;
+    case Reply::kScanDone:
+      message.which_body = digitizer_Envelope_scan_done_tag;
+      message.body.scan_done = last_done_;
+      break;
     case Reply::kFault:
       message.which_body = digitizer_Envelope_fault_tag;
       message.body.fault.code = reply.code;
@@ -583,10 +594,9 @@ void Device::transmit() {
       continue;
     }
     if (line_done_pending_) {
-      digitizer_Envelope message = digitizer_Envelope_init_zero;
-      message.which_body = digitizer_Envelope_line_done_tag;
-      message.body.line_done = line_done_;
-      if (!send(message)) return;
+      Reply line_done{};
+      line_done.kind = Reply::kLineDone;
+      if (!send_reply(line_done)) return;
       line_done_pending_ = false;
       continue;
     }
@@ -611,10 +621,9 @@ void Device::transmit() {
     }
     // ScanDone of the scan that just ended, or again for a resumed host that missed it.
     if (resend_done_ && next_send_seq_ == next_seq_) {
-      digitizer_Envelope message = digitizer_Envelope_init_zero;
-      message.which_body = digitizer_Envelope_scan_done_tag;
-      message.body.scan_done = last_done_;
-      if (!send(message)) return;
+      Reply scan_done{};
+      scan_done.kind = Reply::kScanDone;
+      if (!send_reply(scan_done)) return;
       resend_done_ = false;
       if (scan_.finished()) scan_.acknowledge_finished();
       continue;

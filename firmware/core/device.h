@@ -104,7 +104,9 @@ class Device : private PointSink {
 
  private:
   struct Reply {
-    enum Kind : uint8_t { kHello, kStatus, kAccepted, kFault, kFitResult, kRepeatability, kTouch } kind;
+    // kLineDone and kScanDone send line_done_ and last_done_: built here rather than in transmit(),
+    // whose frame would otherwise hold a second message under send_reply's on the deepest path.
+    enum Kind : uint8_t { kHello, kStatus, kAccepted, kFault, kFitResult, kRepeatability, kTouch, kLineDone, kScanDone } kind;
     uint32_t request_id;
     digitizer_FaultCode code;
     const char* detail;

@@ -3,6 +3,7 @@
 
 #include <CppUTest/TestHarness.h>
 
+#include <random>
 #include <vector>
 
 namespace {
@@ -55,4 +56,51 @@ TEST(Cobs, ReportsTooSmallOutput) {
   uint8_t out[3];
   size_t size = 0;
   CHECK(dg::cobs_encode(in, sizeof(in), out, sizeof(out), &size) == dg::Status::kOverflow);
+}
+
+// A frame is stuffed piece by piece (header, payload, CRC) so that no copy of it sits on a device's
+// stack: any split of any input gives the bytes of one cobs_encode, runs of 254 and zeros across
+// the pieces' seams included.
+TEST(Cobs, AWriterFedInPiecesEncodesAsOneCall) {
+  std::mt19937 rng(11);
+  for (int trial = 0; trial < 400; ++trial) {
+    std::vector<uint8_t> in(rng() % 700);
+    for (auto& b : in) b = static_cast<uint8_t>(rng() % 4 == 0 ? 0 : 1 + rng() % 255);
+    if (trial % 3 == 0) std::fill(in.begin(), in.end(), 0x5A);  // runs of 254 non-zero bytes
+    std::vector<uint8_t> whole(dg::cobs_max_encoded_size(in.size()));
+    size_t whole_size = 0;
+    CHECK(dg::cobs_encode(in.data(), in.size(), whole.data(), whole.size(), &whole_size) == dg::Status::kOk);
+    std::vector<uint8_t> pieces(whole.size());
+    dg::CobsWriter writer(pieces.data(), pieces.size());
+    for (size_t at = 0; at < in.size();) {
+      const size_t length = std::min<size_t>(in.size() - at, rng() % 300);
+      writer.put(in.data() + at, length);
+      at += length;
+    }
+    size_t pieces_size = 0;
+    CHECK(writer.finish(&pieces_size) == dg::Status::kOk);
+    LONGS_EQUAL(whole_size, pieces_size);
+    CHECK(std::equal(whole.begin(), whole.begin() + static_cast<std::ptrdiff_t>(whole_size), pieces.begin()));
+  }
+}
+
+// A writer whose output is too small says so and writes nothing past its end.
+TEST(Cobs, AWriterWithTooLittleRoomOverflowsWithoutWritingPastIt) {
+  std::vector<uint8_t> in(300, 0x33);
+  in[100] = 0;
+  // 301 bytes encoded: a code and 100 bytes, then a code and 199.
+  for (size_t room = 0; room < 301; room += 7) {
+    std::vector<uint8_t> out(room + 16, 0xEE);
+    dg::CobsWriter writer(out.data(), room);
+    writer.put(in.data(), in.size());
+    size_t size = 0;
+    CHECK(writer.finish(&size) == dg::Status::kOverflow);
+    for (size_t i = room; i < out.size(); ++i) LONGS_EQUAL(0xEE, out[i]);
+  }
+  std::vector<uint8_t> out(301);
+  dg::CobsWriter writer(out.data(), out.size());
+  writer.put(in.data(), in.size());
+  size_t size = 0;
+  CHECK(writer.finish(&size) == dg::Status::kOk);
+  LONGS_EQUAL(301, size);
 }

@@ -137,6 +137,32 @@ TEST(ReliableLink, AFullWindowPushesBackUntilAcknowledged) {
   CHECK(dg::Status::kOk == link.send(payload, 1, 0));
 }
 
+// A device encodes its message straight into the next slot: nothing to write into while the window
+// is full, and what was written there goes out as the next frame, exactly as send() would send it.
+TEST(ReliableLink, AMessageEncodedIntoTheNextSlotIsSentAsTheNextFrame) {
+  Link link;
+  const uint8_t payload[3] = {1, 0, 2};
+  for (int i = 0; i < 3; ++i) CHECK(dg::Status::kOk == link.send(payload, 3, 0));
+  uint8_t* slot = link.next_payload();
+  CHECK(slot != nullptr);
+  slot[0] = 9, slot[1] = 8;
+  CHECK(dg::Status::kOk == link.commit(2, 0));
+  CHECK(link.window_full());
+  CHECK(link.next_payload() == nullptr);
+  CHECK(dg::Status::kBusy == link.commit(1, 0));
+  uint8_t wire[dg::kFrameMaxWire];
+  size_t size = 0;
+  for (int frame = 0; frame < 4; ++frame) CHECK(link.next_frame(0, wire, sizeof wire, &size));
+  // The last frame out is the fourth: sequence 4 carrying 9, 8.
+  dg::FrameDecoder decoder;
+  size_t consumed = 0;
+  CHECK(dg::Status::kOk == decoder.feed(wire, size, &consumed));
+  LONGS_EQUAL(4, decoder.header().seq);
+  LONGS_EQUAL(2, decoder.payload_size());
+  LONGS_EQUAL(9, decoder.payload()[0]);
+  LONGS_EQUAL(8, decoder.payload()[1]);
+}
+
 TEST(ReliableLink, RetransmitsOnlyAfterTheTimeout) {
   Link link(50000);
   const uint8_t payload[1] = {1};
