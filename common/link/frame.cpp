@@ -49,13 +49,15 @@ Status frame_encode(const FrameHeader& header, const uint8_t* payload, size_t pa
   return Status::kOk;
 }
 
-void FrameDecoder::reset() {
+void FrameReader::reset() {
   fill_ = 0;
   discarding_ = false;
+  header_ = FrameHeader{};
   payload_size_ = 0;
+  counters_ = Counters{};
 }
 
-Status FrameDecoder::feed(const uint8_t* data, size_t size, size_t* consumed) {
+Status FrameReader::feed(const uint8_t* data, size_t size, size_t* consumed) {
   for (size_t i = 0; i < size; ++i) {
     const uint8_t byte = data[i];
     if (byte != 0) {
@@ -63,7 +65,7 @@ Status FrameDecoder::feed(const uint8_t* data, size_t size, size_t* consumed) {
         ++counters_.garbage_bytes;
         continue;
       }
-      if (fill_ == sizeof(buffer_)) {
+      if (fill_ == capacity_) {
         ++counters_.overflow;
         counters_.garbage_bytes += static_cast<uint32_t>(fill_ + 1);
         fill_ = 0;
@@ -88,9 +90,9 @@ Status FrameDecoder::feed(const uint8_t* data, size_t size, size_t* consumed) {
   return Status::kNeedMore;
 }
 
-Status FrameDecoder::finish_frame() {
+Status FrameReader::finish_frame() {
   size_t raw_size = 0;
-  if (cobs_decode(buffer_, fill_, buffer_, sizeof(buffer_), &raw_size) != Status::kOk ||
+  if (cobs_decode(buffer_, fill_, buffer_, capacity_, &raw_size) != Status::kOk ||
       raw_size < kFrameHeaderSize + kFrameCrcSize || (buffer_[0] >> 4) != kFrameVersion) {
     ++counters_.bad_encoding;
     counters_.garbage_bytes += static_cast<uint32_t>(fill_);

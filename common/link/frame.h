@@ -42,9 +42,10 @@ struct FrameHeader {
 Status frame_encode(const FrameHeader& header, const uint8_t* payload, size_t payload_size,
                     uint8_t* out, size_t out_capacity, size_t* out_size);
 
-// Incremental frame reader. Feed bytes as they arrive; each call reports at most
-// one finished frame. Bad frames are counted and skipped, never returned.
-class FrameDecoder {
+// Incremental frame reader over a buffer it does not own (SizedFrameDecoder holds one). Feed bytes
+// as they arrive; each call reports at most one finished frame. Bad frames are counted and
+// skipped, never returned.
+class FrameReader {
  public:
   struct Counters {
     uint32_t frames = 0;
@@ -53,6 +54,10 @@ class FrameDecoder {
     uint32_t overflow = 0;      // more bytes than a frame can hold before a delimiter
     uint32_t garbage_bytes = 0; // bytes thrown away while resynchronising
   };
+
+  // It points into its owner: a copy would read into the original's buffer.
+  FrameReader(const FrameReader&) = delete;
+  FrameReader& operator=(const FrameReader&) = delete;
 
   // Consumes bytes from `data` up to and including the delimiter that ends a
   // frame. Returns kOk with *consumed set when a valid frame is ready (read it
@@ -65,17 +70,39 @@ class FrameDecoder {
   const uint8_t* payload() const { return buffer_ + kFrameHeaderSize; }
   size_t payload_size() const { return payload_size_; }
   const Counters& counters() const { return counters_; }
+  // Forgets a partial frame and the counters, as a new reader would.
   void reset();
+
+ protected:
+  FrameReader(uint8_t* buffer, size_t capacity) : buffer_(buffer), capacity_(capacity) {}
+  ~FrameReader() = default;
 
  private:
   Status finish_frame();
 
-  uint8_t buffer_[cobs_max_encoded_size(kFrameMaxRaw)] = {};
+  uint8_t* buffer_;
+  size_t capacity_;
   size_t fill_ = 0;
   bool discarding_ = false;  // overflowed: skip until the next delimiter
   FrameHeader header_{};
   size_t payload_size_ = 0;
   Counters counters_{};
 };
+
+// A frame reader for payloads of up to kMaxPayload bytes. A device, which only ever receives the
+// host's short requests, keeps room for those rather than for the largest message; a longer frame
+// is counted as an overflow and skipped.
+template <size_t kMaxPayload>
+class SizedFrameDecoder : public FrameReader {
+ public:
+  static_assert(kMaxPayload <= kFrameMaxPayload, "no frame carries more than kFrameMaxPayload");
+  SizedFrameDecoder() : FrameReader(storage_, sizeof(storage_)) {}
+
+ private:
+  uint8_t storage_[cobs_max_encoded_size(kFrameHeaderSize + kMaxPayload + kFrameCrcSize)] = {};
+};
+
+// Room for every frame.
+using FrameDecoder = SizedFrameDecoder<kFrameMaxPayload>;
 
 }  // namespace dg

@@ -2,11 +2,24 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <initializer_list>
 
 #include "common/status.h"
 #include "digitizer.pb.h"
 
 namespace dg {
+
+// The largest Envelope a host sends: its request id (a tag and a 5-byte varint) and the largest of
+// the bodies a host sends, with their tag and a length of up to two bytes. A device's frame reader
+// needs room for no more.
+constexpr size_t kHostEnvelopeMaxSize = [] {
+  size_t body = 0;
+  for (size_t size : {size_t{digitizer_HostHello_size}, size_t{digitizer_ScanRequest_size}, size_t{digitizer_Command_size},
+                      size_t{digitizer_PointAck_size}, size_t{digitizer_ResumeScan_size}}) {
+    body = size > body ? size : body;
+  }
+  return 6 + 3 + body;
+}();
 
 // Encodes `envelope`; kOverflow if it does not fit in `capacity` bytes.
 Status encode_envelope(const digitizer_Envelope& envelope, uint8_t* out, size_t capacity,

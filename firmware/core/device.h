@@ -5,6 +5,7 @@
 
 #include "common/link/frame.h"
 #include "common/link/reliable_link.h"
+#include "common/proto/messages.h"
 #include "common/proto/point_batch.h"
 #include "digitizer.pb.h"
 #include "firmware/core/device_fit.h"
@@ -159,7 +160,8 @@ class Device : private PointSink {
   ScanEngine scan_;
   DeviceFit fit_;
   PointRing<kPointRingCapacity> ring_;
-  FrameDecoder decoder_;
+  // Room for the host's requests only: 556 bytes for any frame was the largest buffer after the fit's.
+  SizedFrameDecoder<kHostEnvelopeMaxSize> decoder_;
   uint32_t next_seq_ = 1;        // next point sequence number
   uint32_t next_send_seq_ = 1;   // first point not yet sent
   uint32_t line_first_seq_ = 1;  // first point of the line being sent

@@ -50,7 +50,7 @@ std::string capability_names(uint32_t bits) {
 
 void Session::reopen() {
   transport_.reconnect();
-  decoder_ = FrameDecoder{};
+  decoder_.reset();
   inbox_.clear();
   kept_.clear();
   pending_size_ = pending_offset_ = 0;

@@ -27,7 +27,7 @@ struct Received {
   int errors = 0;
 };
 
-Received feed_all(dg::FrameDecoder& decoder, const std::vector<uint8_t>& bytes) {
+Received feed_all(dg::FrameReader& decoder, const std::vector<uint8_t>& bytes) {
   Received r;
   size_t offset = 0;
   while (offset < bytes.size()) {
@@ -124,6 +124,26 @@ TEST(FrameDecoder, RecoversFromAnEndlessRunWithoutDelimiter) {
   const Received r = feed_all(decoder, stream);
   LONGS_EQUAL(1, r.payloads.size());
   CHECK(decoder.counters().overflow >= 1);
+}
+
+// A device reads with room for the host's requests only: a longer frame is an overflow that costs
+// only itself, frames of the room's size on either side of it arrive whole, and reset() makes it
+// new again.
+TEST(FrameDecoder, AReaderSizedForShortFramesSkipsALongOneAndKeepsTheRest) {
+  dg::SizedFrameDecoder<16> decoder;
+  const std::vector<uint8_t> fits(16, 0x00), longer(17, 0x07);
+  std::vector<uint8_t> stream = make_frame(1, 0, fits);
+  for (const auto& frame : {make_frame(2, 0, longer), make_frame(3, 0, fits)}) stream.insert(stream.end(), frame.begin(), frame.end());
+  const Received r = feed_all(decoder, stream);
+  LONGS_EQUAL(2, r.payloads.size());
+  CHECK(r.payloads[0] == fits);
+  CHECK(r.payloads[1] == fits);
+  LONGS_EQUAL(3, r.headers[1].seq);
+  LONGS_EQUAL(1, decoder.counters().overflow);
+  LONGS_EQUAL(2, decoder.counters().frames);
+  decoder.reset();
+  LONGS_EQUAL(0, decoder.counters().frames);
+  LONGS_EQUAL(0, decoder.counters().overflow);
 }
 
 TEST(FrameDecoder, RefusesOversizedPayload) {

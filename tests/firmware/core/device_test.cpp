@@ -210,7 +210,7 @@ struct Bench {
   // A host process that died: its link state is gone with it; the cable is plugged back.
   void new_host() {
     host.link.reset();
-    host.decoder = dg::FrameDecoder{};
+    host.decoder.reset();
     wire.to_device.clear();
     wire.to_host.clear();
     wire.connected = true;
