@@ -29,14 +29,19 @@ struct LinkCounters {
   uint32_t fast_retransmits = 0;  // resends started by repeated acks, before the timer
 };
 
-// kWindow frames may be unacknowledged at once; each holds up to kFrameMaxPayload bytes.
-template <size_t kWindow>
+// kWindow frames may be unacknowledged at once; each holds up to kSlotPayload bytes (a board with
+// little RAM sends shorter frames than the protocol allows; it receives any).
+template <size_t kWindow, size_t kSlotPayload = kFrameMaxPayload>
 class ReliableLink {
  public:
+  static_assert(kSlotPayload >= 1 && kSlotPayload <= kFrameMaxPayload, "a slot holds at most a frame's payload");
+  // A data frame's payload capacity, and the wire bytes its frame may take.
+  static constexpr size_t kPayloadCapacity = kSlotPayload;
+  static constexpr size_t kWireCapacity = cobs_max_encoded_size(kFrameHeaderSize + kSlotPayload + kFrameCrcSize) + 2;
   // A power of two divides 2^16, so the slots of any kWindow consecutive sequence numbers differ,
   // across the wrap from 65535 to 0 too.
   static_assert(kWindow >= 1 && kWindow <= 16384 && (kWindow & (kWindow - 1)) == 0, "the window must be a power of two");
-  static_assert(kFrameMaxPayload <= UINT16_MAX, "a slot keeps its payload size in 16 bits");
+  static_assert(kSlotPayload <= UINT16_MAX, "a slot keeps its payload size in 16 bits");
 
   // `retransmit_us` is the shortest retransmission timeout and the one used until round trips
   // have been measured; the timeout then follows the measured round trip (RFC 6298's estimator:
@@ -71,21 +76,21 @@ class ReliableLink {
   // Queues a payload as the next data frame. kBusy when the window is full: try again once
   // acknowledgements have made room. kOverflow for a payload larger than a frame holds.
   Status send(const uint8_t* payload, size_t size, uint64_t now_us) {
-    if (size > kFrameMaxPayload) return Status::kOverflow;
+    if (size > kSlotPayload) return Status::kOverflow;
     uint8_t* slot_payload = next_payload();
     if (slot_payload == nullptr) return Status::kBusy;
     for (size_t i = 0; i < size; ++i) slot_payload[i] = payload[i];
     return commit(size, now_us);
   }
 
-  // The next data frame's payload (kFrameMaxPayload bytes), for a message to be encoded into in
+  // The next data frame's payload (kPayloadCapacity bytes), for a message to be encoded into in
   // place, or nullptr while the window is full; commit() queues it. A device has no stack to spare
   // for a frame-sized copy.
   uint8_t* next_payload() { return window_full() ? nullptr : slots_[index(next_seq_)].payload; }
 
   // Queues the `size` bytes written at next_payload() as the next data frame.
   Status commit(size_t size, uint64_t now_us) {
-    if (size > kFrameMaxPayload) return Status::kOverflow;
+    if (size > kSlotPayload) return Status::kOverflow;
     if (window_full()) return Status::kBusy;
     Slot& slot = slots_[index(next_seq_)];
     slot.size = static_cast<uint16_t>(size);
@@ -221,8 +226,8 @@ class ReliableLink {
 
  private:
   struct Slot {
-    uint8_t payload[kFrameMaxPayload];
-    uint16_t size = 0;  // <= kFrameMaxPayload; 16 bits keep a slot to its payload plus 16 bytes
+    uint8_t payload[kSlotPayload];
+    uint16_t size = 0;  // <= kSlotPayload; 16 bits keep a slot to its payload plus 16 bytes
     uint16_t seq = 0;
     bool sent = false;
     bool resent = false;  // sent more than once: its ack cannot tell which copy it answers

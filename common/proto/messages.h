@@ -21,6 +21,19 @@ constexpr size_t kHostEnvelopeMaxSize = [] {
   return 6 + 3 + body;
 }();
 
+// The largest Envelope a device sends other than a point batch (Hello, Status, FitResult, Fault,
+// and the rest), counted as kHostEnvelopeMaxSize is: a device's frames must have room for it.
+constexpr size_t kDeviceReplyMaxSize = [] {
+  size_t body = 0;
+  for (size_t size : {size_t{digitizer_Hello_size}, size_t{digitizer_Status_size}, size_t{digitizer_FitResult_size},
+                      size_t{digitizer_Fault_size}, size_t{digitizer_Accepted_size}, size_t{digitizer_LineDone_size},
+                      size_t{digitizer_ScanDone_size}, size_t{digitizer_Repeatability_size},
+                      size_t{digitizer_TouchResult_size}}) {
+    body = size > body ? size : body;
+  }
+  return 6 + 3 + body;
+}();
+
 // Encodes `envelope`; kOverflow if it does not fit in `capacity` bytes.
 Status encode_envelope(const digitizer_Envelope& envelope, uint8_t* out, size_t capacity,
                        size_t* out_size);

@@ -24,6 +24,13 @@ struct PointSample {
 constexpr size_t kMaxPointsPerBatch =
     sizeof(digitizer_PointBatch::dx_nm) / sizeof(digitizer_PointBatch::dx_nm[0]);
 
+// The most bytes an Envelope holding a batch of `points` points can take: the request id (tag and a
+// 5-byte varint), the body's tag and a 2-byte length; first_seq, line, x0, y0, z0 (a tag and up to
+// 5 bytes each) and t0 (a tag and up to 10); five packed arrays (a tag and a 2-byte length each);
+// and per point five varints of up to 5 bytes (dx, dy, dz, dt, flags). A board whose frames are
+// shorter than the protocol's sends as many points per batch as this lets it.
+constexpr size_t point_batch_envelope_max(size_t points) { return 6 + 3 + 5 * 6 + 11 + 5 * 3 + 25 * points; }
+
 // Starts an empty batch for points of one line, the first numbered `first_seq`.
 void point_batch_begin(digitizer_PointBatch* batch, uint32_t first_seq, uint32_t line);
 

@@ -442,7 +442,7 @@ bool Device::send(const digitizer_Envelope& message) {
   uint8_t* payload = link_.next_payload();
   if (payload == nullptr) return false;
   size_t payload_size = 0;
-  if (encode_envelope(message, payload, kFrameMaxPayload, &payload_size) != Status::kOk) return false;
+  if (encode_envelope(message, payload, Link::kPayloadCapacity, &payload_size) != Status::kOk) return false;
   if (link_.commit(payload_size, board_.now_us()) != Status::kOk) return false;
   flush_tx();
   return true;
@@ -471,7 +471,7 @@ bool Device::send_reply(const Reply& reply) {
       h.gauge_resolution_nm = config_.gauge_resolution_nm;
       h.axis_resolution_nm = config_.motion.nm_per_step;
       h.point_ring_capacity = kPointRingCapacity;
-      h.max_points_per_batch = kMaxPointsPerBatch;
+      h.max_points_per_batch = kPointsPerBatch;
       break;
     }
     case Reply::kStatus: {
@@ -545,8 +545,8 @@ void Device::adapt_batch_size() {
     seen_retransmits_ = resent;
     batch_points_ = batch_points_ > 1 ? static_cast<uint16_t>(batch_points_ / 2) : 1;
     clean_batches_ = 0;
-  } else if (batch_points_ < kMaxPointsPerBatch && ++clean_batches_ >= kCleanBatchesToGrow) {
-    batch_points_ = static_cast<uint16_t>(batch_points_ * 2 < kMaxPointsPerBatch ? batch_points_ * 2 : kMaxPointsPerBatch);
+  } else if (batch_points_ < kPointsPerBatch && ++clean_batches_ >= kCleanBatchesToGrow) {
+    batch_points_ = static_cast<uint16_t>(batch_points_ * 2 < kPointsPerBatch ? batch_points_ * 2 : kPointsPerBatch);
     clean_batches_ = 0;
   }
 }

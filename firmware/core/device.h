@@ -22,15 +22,27 @@ namespace dg {
 
 // A board with little RAM builds the core with smaller figures (see hw/boards/stm32f411): the ring
 // holds the points the host has not yet confirmed (32 bytes each), the window is how many frames
-// may be in flight unacknowledged (a power of two, 574 bytes each).
+// may be in flight unacknowledged (a power of two), and a frame's payload is at most
+// DG_LINK_SLOT_PAYLOAD bytes (each frame in flight keeps that many, plus 16).
 #ifndef DG_POINT_RING_CAPACITY
 #define DG_POINT_RING_CAPACITY 128
 #endif
 #ifndef DG_LINK_WINDOW
 #define DG_LINK_WINDOW 4
 #endif
+#ifndef DG_LINK_SLOT_PAYLOAD
+#define DG_LINK_SLOT_PAYLOAD kFrameMaxPayload
+#endif
 constexpr size_t kPointRingCapacity = DG_POINT_RING_CAPACITY;
 constexpr size_t kLinkWindow = DG_LINK_WINDOW;
+constexpr size_t kLinkSlotPayload = DG_LINK_SLOT_PAYLOAD;
+static_assert(kDeviceReplyMaxSize <= kLinkSlotPayload, "every reply must fit one of the device's frames");
+// Points per batch: as many as the protocol allows and a frame holds.
+constexpr size_t kPointsPerBatch = point_batch_envelope_max(kMaxPointsPerBatch) <= kLinkSlotPayload
+                                       ? kMaxPointsPerBatch
+                                       : (kLinkSlotPayload - point_batch_envelope_max(0)) / (point_batch_envelope_max(1) - point_batch_envelope_max(0));
+static_assert(kPointsPerBatch >= 1 && point_batch_envelope_max(kPointsPerBatch) <= kLinkSlotPayload,
+              "a frame must hold a batch of at least one point");
 // A partly filled batch goes out after this long, so a slow scan still streams.
 constexpr uint64_t kBatchMaxAgeUs = 1000000;
 // An unacknowledged frame is sent again after this long.
@@ -169,33 +181,35 @@ class Device : private PointSink {
   // kCleanBatchesToGrow batches without one: on a line that damages bytes, a short frame gets
   // through where a full one almost never does.
   static constexpr uint16_t kCleanBatchesToGrow = 16;
-  uint16_t batch_points_ = kMaxPointsPerBatch;
+  uint16_t batch_points_ = kPointsPerBatch;
   uint16_t clean_batches_ = 0;
   uint32_t seen_retransmits_ = 0;  // the link's retransmission count when last looked at
+  // The flags together: scattered among wider members each took a word or more of padding.
   bool line_done_pending_ = false;
-  digitizer_LineDone line_done_ = digitizer_LineDone_init_zero;
   bool alarm_ = false;
+  bool jogging_ = false;
+  bool homed_ = false;
+  bool estop_confirmed_ = false;  // seen twice: the alarm is raised, no more looks needed
+  bool touching_ = false;          // a CMD_TOUCH move is running
+  bool silence_paused_ = false;   // paused by watch_host(), not by CMD_PAUSE
+  bool have_last_done_ = false;
+  bool resend_done_ = false;  // last_done_ is due on the wire
+  digitizer_LineDone line_done_ = digitizer_LineDone_init_zero;
   digitizer_FaultCode alarm_code_ = digitizer_FaultCode_FAULT_NONE;
   const char* alarm_detail_ = "";  // a string literal: the alarm's reason, for Status
-  bool jogging_ = false;
   Homing homing_;
-  bool homed_ = false;
   // When the e-stop was first seen pressed between moves, for its confirming read.
   static constexpr uint64_t kNotSeen = UINT64_MAX;
   static constexpr uint64_t kEstopConfirmUs = StepGenerator::kConfirmNs / 1000;
   uint64_t estop_seen_us_ = kNotSeen;
-  bool estop_confirmed_ = false;  // seen twice: the alarm is raised, no more looks needed
   RepeatabilityRun repeat_;
-  bool touching_ = false;          // a CMD_TOUCH move is running
   uint32_t touch_request_ = 0;
   uint64_t host_heard_us_ = 0;    // device time of the last good frame from a host
-  bool silence_paused_ = false;   // paused by watch_host(), not by CMD_PAUSE
   // The last scan's ScanDone, kept to be sent again when a resumed host asks for a finished scan.
   digitizer_ScanDone last_done_ = digitizer_ScanDone_init_zero;
-  bool have_last_done_ = false;
-  bool resend_done_ = false;  // last_done_ is due on the wire
-  ReliableLink<kLinkWindow> link_;
-  uint8_t tx_wire_[kFrameMaxWire] = {};
+  using Link = ReliableLink<kLinkWindow, kLinkSlotPayload>;
+  Link link_;
+  uint8_t tx_wire_[Link::kWireCapacity] = {};
   size_t tx_size_ = 0, tx_sent_ = 0;
   Reply replies_[8] = {};
   size_t reply_count_ = 0;

@@ -108,3 +108,30 @@ TEST(PointBatch, ExpandRejectsCoordinatesThatOverflow) {
   size_t count = 0;
   CHECK(dg::point_batch_expand(batch, out, &count) == dg::Status::kBadEncoding);
 }
+
+// A board with short frames sizes its batches by point_batch_envelope_max: the worst points there
+// are (every delta, time step and flag word at its longest varint, the largest ids) never encode
+// longer, and the bound is what they take but for fields this test cannot make longer.
+TEST(PointBatch, TheEnvelopeBoundHoldsForTheLongestPoints) {
+  uint8_t wire[digitizer_Envelope_size];
+  for (size_t n = 1; n <= dg::kMaxPointsPerBatch; ++n) {
+    digitizer_Envelope e = digitizer_Envelope_init_zero;
+    e.id = UINT32_MAX;
+    e.which_body = digitizer_Envelope_points_tag;
+    dg::point_batch_begin(&e.body.points, UINT32_MAX - 40, 3);
+    for (size_t i = 0; i < n; ++i) {
+      // x, y and z swing by 2.14e9 nm between points; time steps by 4e9 us; every flag set.
+      const int32_t swing = i % 2 ? 1070000000 : -1070000000;
+      dg::PointSample p = point(UINT32_MAX - 40 + static_cast<uint32_t>(i), swing, -swing, swing,
+                                (uint64_t{1} << 62) + 4000000000ull * i, UINT32_MAX);
+      CHECK(dg::point_batch_append(&e.body.points, p) == dg::Status::kOk);
+    }
+    size_t size = 0;
+    CHECK(dg::encode_envelope(e, wire, sizeof(wire), &size) == dg::Status::kOk);
+    CHECK(size <= dg::point_batch_envelope_max(n));
+    // The slack: the first point's four deltas are zero (16 bytes), the line is 3 (4), the packed
+    // arrays' lengths take one byte (5), t0 one byte less than counted, and the body's length one
+    // byte while the body is under 128 bytes.
+    LONGS_EQUAL(dg::point_batch_envelope_max(n) - (size < 130 ? 27 : 26), size);
+  }
+}
