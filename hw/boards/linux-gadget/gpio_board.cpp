@@ -56,10 +56,11 @@ bool GpioBoard::open(const PinMap& map, std::string* error) {
   for (int pin = 0; pin < kPinCount; ++pin) {
     if (!map.wired[pin]) continue;
     const auto p = static_cast<hal::Pin>(pin);
-    // CK and the touch probe raise "interrupts"; DATA's edges are kept to know its level at each
-    // CK edge; every other input is read when wanted.
+    // CK, the touch probe and the e-stop raise "interrupts" (the e-stop's cuts the drivers between
+    // steps, and while the table stands still); DATA's edges are kept to know its level at each CK
+    // edge; every other input is read when wanted.
     const gpio::Direction direction = is_output(pin) ? gpio::Direction::kOutput
-                                      : (p == hal::Pin::kGaugeClock || p == hal::Pin::kTouchProbe)
+                                      : (p == hal::Pin::kGaugeClock || p == hal::Pin::kTouchProbe || p == hal::Pin::kEstop)
                                           ? gpio::Direction::kRisingEdges
                                       : p == hal::Pin::kGaugeData ? gpio::Direction::kBothEdges
                                                                   : gpio::Direction::kInput;
@@ -182,17 +183,18 @@ bool GpioBoard::dispatch_edges(int pin) {
 
 bool GpioBoard::wait(uint64_t deadline_us) {
   const uint64_t deadline_ns = deadline_us == UINT64_MAX ? kNever : deadline_us * 1000;
-  const int edge_pins[] = {index(hal::Pin::kGaugeClock), index(hal::Pin::kTouchProbe)};
+  // The e-stop first: its handler cuts the drivers before a gauge bit is decoded.
+  const int edge_pins[] = {index(hal::Pin::kEstop), index(hal::Pin::kGaugeClock), index(hal::Pin::kTouchProbe)};
   for (;;) {
     if (link_.closed()) return false;
     if (run_step_timer()) return true;  // a move ended: the firmware moves on
     const uint64_t now = now_ns();
     if (deadline_ns != kNever && deadline_ns <= now) return true;
     const uint64_t next = timer_due_ns_ < deadline_ns ? timer_due_ns_ : deadline_ns;
-    pollfd fds[3];
+    pollfd fds[1 + sizeof(edge_pins) / sizeof(edge_pins[0])];
     int count = 0;
     fds[count++] = {link_.wake_fd(), POLLIN, 0};
-    int polled_pin[3] = {-1, -1, -1};
+    int polled_pin[1 + sizeof(edge_pins) / sizeof(edge_pins[0])] = {-1, -1, -1, -1};
     for (int pin : edge_pins) {
       if (lines_[pin].requested()) {
         polled_pin[count] = pin;
