@@ -1,6 +1,6 @@
-// The C and C++ run-time start every Cortex-M4F image shares: the stack painted (for its
-// high-water mark), .data copied from flash, .bss zeroed, the FPU enabled, then (after whatever
-// the board must do first) the constructors.
+// The C and C++ run-time start every Cortex-M image shares: the stack painted (for its high-water
+// mark), .data copied from flash, .bss zeroed, the FPU enabled where the build uses one, then
+// (after whatever the board must do first) the constructors.
 // The symbols come from each image's linker script.
 #pragma once
 #include <cstdint>
@@ -16,8 +16,11 @@ inline void init_memory_and_fpu() {
   const uint32_t* from = &__data_load;
   for (uint32_t* to = &__data_start; to < &__data_end;) *to++ = *from++;
   for (uint32_t* to = &__bss_start; to < &__bss_end;) *to++ = 0;
-  // CPACR: full access to CP10 and CP11, as the hard-float ABI of the build expects.
+#ifdef __ARM_FP
+  // CPACR: full access to CP10 and CP11, as the hard-float ABI of the build expects. A build
+  // without an FPU (a Cortex-M0+) has no CPACR to write.
   *reinterpret_cast<volatile uint32_t*>(0xE000ED88) |= 0xFu << 20;
+#endif
 }
 
 // The stack is painted with this word at reset; the deepest word no longer holding it is the

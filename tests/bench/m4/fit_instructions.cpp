@@ -73,7 +73,8 @@ int main() {
   const uint32_t net_solve = measure([] { net.solve(net_heights, net_work); });
   const uint32_t pull = measure([] { device_fit.result(digitizer_DeviceFitModel_DEVICE_FIT_NET, true, &result); });
 
-  dg::bench::write_text("Cortex-M4 (QEMU mps2-an386, -icount), 1024 points over 200 x 200 mm:\n");
+  dg::bench::write_text(dg::bench::kCoreName);
+  dg::bench::write_text(", 1024 points over 200 x 200 mm:\n");
   report("  instructions per point, Bezier patch and 5x5 net together (DeviceFit::add): ", instructions(both), kPoints);
   report("  instructions per point, Bezier patch alone: ", instructions(bezier_ticks), kPoints);
   report("  instructions per point, 5x5 net alone: ", instructions(net_ticks), kPoints);

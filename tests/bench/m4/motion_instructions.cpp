@@ -97,7 +97,8 @@ int main() {
   }
   const uint64_t per_frame = (dg::bench::ticks_since_start() * milli_per_tick / 1000 + kFrames / 2) / kFrames;
 
-  dg::bench::write_text("Cortex-M4 (QEMU mps2-an386, -icount), the firmware core's interrupts:\n");
+  dg::bench::write_text(dg::bench::kCoreName);
+  dg::bench::write_text(", the firmware core's interrupts:\n");
   report("  instructions per step (StepGenerator ticks: a ramped move of 6000 x and 2000 y steps): ", per_step);
   report("  instructions per step-timer interrupt (steps and the e-stop reads between slow steps): ", per_interrupt);
   // At 96 MHz (the STM32F411 board), counting an instruction as about 1.3 cycles plus 30 cycles of
