@@ -1,0 +1,27 @@
+// The LTS filter's grid: each point's window of grid neighbours and its lines of neighbours along
+// the rows, columns and diagonals.
+#pragma once
+#include <array>
+#include <cstddef>
+#include <vector>
+
+#include "host/geometry/point3.h"
+
+namespace dg::host::lts {
+
+// Along a row, a column or a diagonal, a point on a sliver of surface between a crease and the
+// scan's edge (too thin for any half-plane to hold mostly its own surface) still has neighbours on
+// its own surface: one quadratic per side (kLines of them) may vouch for it but never replace it.
+// Each side holds up to kLineReach grid neighbours, nearest first, contiguous (a gap ends the
+// side); a line model uses the first kLinePoints of them that are not suspected outliers.
+constexpr int kLines = 8;
+constexpr long kLineReach = 8;
+using LineSides = std::array<std::vector<size_t>, kLines>;
+
+// When the points lie on a regular XY grid (holes allowed): true, with each point's window x window
+// grid neighbourhood in `out` (shifted inwards at the scan's edges), the rows and columns in
+// `rows_and_columns`, and each point's kLines sides of line neighbours in `sides`. False otherwise.
+bool grid_neighbourhoods(const std::vector<Point3>& points, int window, std::vector<std::vector<size_t>>& out,
+                         std::vector<std::vector<size_t>>& rows_and_columns, std::vector<LineSides>& sides);
+
+}  // namespace dg::host::lts

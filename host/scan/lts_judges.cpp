@@ -1,0 +1,241 @@
+// The LTS filter's outlier judges over a point's windows, lines, cuts and envelopes.
+#include "host/scan/lts_judges.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+namespace dg::host::lts {
+
+PointTest test_point(const std::vector<Point3>& points, const std::vector<size_t>& hood, size_t i,
+                     const std::vector<double>& reference, const std::vector<char>& excluded) {
+  // Half-planes bounded by the lines through the point along x, y and both diagonals: a crease
+  // that crosses the window at any of these angles leaves one of them wholly on the point's side.
+  static const double kNormal[8][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, {-1, -1}, {1, -1}, {-1, 1}};
+  PointTest t;
+  std::vector<size_t> windows[kWindows];
+  for (size_t j : hood) {
+    if (j == i || excluded[j]) continue;
+    windows[0].push_back(j);
+    const double dx = points[j].x - points[i].x, dy = points[j].y - points[i].y;
+    for (int w = 0; w < 8; ++w) {
+      if (kNormal[w][0] * dx + kNormal[w][1] * dy >= -1e-9) windows[w + 1].push_back(j);
+    }
+  }
+  for (int w = 0; w < kWindows; ++w) {
+    // The whole neighbourhood, a cubic: at 0.5 um of noise a quadratic's shape error over 5 x 5 mm
+    // of the canister's dish is several sigma. A half-plane holds too few points for one.
+    t.model[w] = w == 0 ? loo_model(points, windows[w], i, reference, 3, 0.7, &t.whole_misses)
+                        : loo_model(points, windows[w], i, reference, 2);
+    if (t.model[w].ok) t.residual[w] = points[i].z - t.model[w].prediction;
+  }
+  return t;
+}
+
+bool some_window_describes(const PointTest& t, double sigma) {
+  for (int w = 0; w < kWindows; ++w) {
+    if (t.model[w].ok && t.model[w].scale <= 2.5 * sigma) return true;
+  }
+  return false;
+}
+
+bool near_crease(const PointTest& t, double sigma) {
+  for (int w = 0; w < kWindows; ++w) {
+    if (t.model[w].ok && t.model[w].scale > 2.5 * sigma) return true;
+  }
+  return false;
+}
+
+SplitModels split_model(const std::vector<Point3>& points, const std::vector<size_t>& hood, size_t i,
+                     const std::vector<double>& reference, const std::vector<char>& excluded) {
+  std::vector<size_t> members;
+  double step = HUGE_VAL;
+  for (size_t j : hood) {
+    if (j == i || excluded[j]) continue;
+    members.push_back(j);
+    step = std::min(step, std::hypot(points[j].x - points[i].x, points[j].y - points[i].y));
+  }
+  SplitModels best;
+  double best_score = HUGE_VAL;
+  if (members.size() < 2 * kSplitSide || !(step > 0) || !std::isfinite(step)) return best;
+  constexpr double kPi = 3.14159265358979323846;
+  std::set<std::vector<char>> tried;
+  std::vector<size_t> near_side, far_side, best_near;
+  std::vector<char> membership(members.size());
+  for (int direction = 0; direction < 16; ++direction) {
+    const double nx = std::cos(direction * kPi / 8), ny = std::sin(direction * kPi / 8);
+    for (double offset_steps : {0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0}) {
+      near_side.clear(), far_side.clear();
+      for (size_t m = 0; m < members.size(); ++m) {
+        const size_t j = members[m];
+        const bool near = nx * (points[j].x - points[i].x) + ny * (points[j].y - points[i].y) < offset_steps * step;
+        membership[m] = near;
+        (near ? near_side : far_side).push_back(j);
+      }
+      if (near_side.size() < kSplitSide || far_side.size() < kSplitSide) continue;
+      if (!tried.insert(membership).second) continue;
+      const LooModel own = loo_model(points, near_side, i, reference, 3);
+      const LooModel other = loo_model(points, far_side, i, reference, 3);
+      if (!own.ok || !other.ok) continue;
+      const double score = (own.scale * own.scale * own.dof + other.scale * other.scale * other.dof) / (own.dof + other.dof);
+      if (score < best_score) {
+        best_score = score;
+        best = {own, other};
+        best.own.scale = best.other.scale = std::sqrt(score);
+        best_near = near_side;
+      }
+    }
+  }
+  // A crease is seldom straight (the dome's rim is a circle): the best straight cut is refined by
+  // giving each point to the side whose model describes it better and refitting, twice, while the
+  // pooled scale shrinks.
+  for (int round = 0; round < 2 && best.own.ok; ++round) {
+    near_side.clear(), far_side.clear();
+    for (size_t j : members) {
+      const double to_own = std::fabs(points[j].z - best.own.polynomial.at(points[j].x, points[j].y));
+      const double to_other = std::fabs(points[j].z - best.other.polynomial.at(points[j].x, points[j].y));
+      (to_own <= to_other ? near_side : far_side).push_back(j);
+    }
+    if (near_side.size() < kSplitSide || far_side.size() < kSplitSide || near_side == best_near) break;
+    const LooModel own = loo_model(points, near_side, i, reference, 3);
+    const LooModel other = loo_model(points, far_side, i, reference, 3);
+    if (!own.ok || !other.ok) break;
+    const double score = (own.scale * own.scale * own.dof + other.scale * other.scale * other.dof) / (own.dof + other.dof);
+    if (!(score < best_score)) break;
+    best_score = score;
+    best = {own, other};
+    best.own.scale = best.other.scale = std::sqrt(score);
+    best_near = near_side;
+  }
+  return best;
+}
+
+CreaseModel crease_model(const std::vector<Point3>& points, const std::vector<size_t>& hood, size_t i,
+                         const std::vector<double>& reference, const std::vector<char>& excluded,
+                         const SplitModels& start) {
+  CreaseModel best;
+  if (!start.own.ok || !start.other.ok) return best;
+  const std::vector<size_t> members = others_in(hood, i, excluded);
+  std::vector<size_t> side_a, side_b;
+  std::vector<double> squares;
+  for (bool ridge : {true, false}) {
+    auto envelope = [ridge](double a, double b) { return ridge ? std::max(a, b) : std::min(a, b); };
+    LooModel a = start.own, b = start.other;
+    bool ok = true;
+    for (int round = 0; round < 3 && ok; ++round) {
+      side_a.clear(), side_b.clear();
+      for (size_t j : members) {
+        const double za = a.polynomial.at(points[j].x, points[j].y), zb = b.polynomial.at(points[j].x, points[j].y);
+        (envelope(za, zb) == za ? side_a : side_b).push_back(j);
+      }
+      if (side_a.size() < kSplitSide || side_b.size() < kSplitSide) {
+        ok = false;
+        break;
+      }
+      a = loo_model(points, side_a, i, reference, 3);
+      b = loo_model(points, side_b, i, reference, 3);
+      ok = a.ok && b.ok;
+    }
+    if (!ok) continue;
+    squares.clear();
+    for (size_t j : members) {
+      const double r = points[j].z - envelope(a.polynomial.at(points[j].x, points[j].y), b.polynomial.at(points[j].x, points[j].y));
+      squares.push_back(r * r);
+    }
+    // 90 % kept: the suspects are out already, and a looser trim let an envelope that had settled
+    // on a wrong split of its window (a side holding both far corners) pass for one that describes
+    // it, with its 14 worst points trimmed away.
+    const size_t h = static_cast<size_t>(std::ceil(0.9 * static_cast<double>(squares.size())));
+    std::nth_element(squares.begin(), squares.begin() + static_cast<std::ptrdiff_t>(h - 1), squares.end());
+    double trimmed = 0;
+    for (size_t m = 0; m < h; ++m) trimmed += squares[m];
+    const int dof = std::max(1, static_cast<int>(h) - a.polynomial.terms() - b.polynomial.terms());
+    const double scale = std::sqrt(trimmed / dof);
+    if (best.ok && !(scale < best.scale)) continue;
+    const bool a_active = envelope(a.prediction, b.prediction) == a.prediction;
+    const std::vector<size_t> nearest = nearest_four(points, members, i);
+    best.near_worst = nearest.size() == 4 ? 0 : HUGE_VAL;
+    for (size_t j : nearest) {
+      const Point3& q = points[j];
+      best.near_worst = std::max(best.near_worst, std::fabs(q.z - envelope(a.polynomial.at(q.x, q.y), b.polynomial.at(q.x, q.y))));
+    }
+    best.ok = true;
+    best.prediction = envelope(a.prediction, b.prediction);
+    best.scale = scale;
+    best.gain = a_active ? a.gain : b.gain;
+  }
+  return best;
+}
+
+void add_line_models(const std::vector<Point3>& points, const LineSides& sides, size_t i,
+                     const std::vector<char>& suspect, double sigma, PointTest& t) {
+  for (int d = 0; d < kLines; ++d) {
+    LooModel& m = t.model[kWindows + d];
+    m = line_model(points, sides[static_cast<size_t>(d)], i, suspect, sigma);
+    if (m.ok) t.residual[kWindows + d] = points[i].z - m.prediction;
+  }
+}
+
+bool whole_judges(const PointTest& t, double sigma, double k, const std::vector<char>* suspect,
+                  const std::function<bool()>& smooth_around) {
+  const LooModel& whole = t.model[0];
+  if (!whole.ok || whole.scale > 2.5 * sigma || !std::isfinite(whole.near_worst)) return false;
+  const double bound = k * std::hypot(sigma, whole.scale);
+  int passed_over = 0;
+  for (int m = 0; m < 4; ++m) {
+    if (t.whole_misses.near_residual[m] <= bound) continue;
+    if (suspect == nullptr || !(*suspect)[t.whole_misses.near_index[m]] || ++passed_over > 1) return false;
+  }
+  if (passed_over == 0) return true;
+  // Having passed over a neighbour, the window judges only a point it finds far off (twice the
+  // bound): its verdict rests on one neighbour fewer, and a false suspect on a sliver of surface at a
+  // crease, passed over, made a rim point 9 sigma off its window's cubic an outlier.
+  if (std::fabs(t.residual[0]) <= 2 * bound || !smooth_around()) return false;
+  // Every point of the window the model misses by twice the bound must be a suspect too: at a
+  // crease the other surface's points are many and mostly not suspected. (Twice: the window's
+  // corners lie where the cubic's own error is largest; one at 2.7 sigma of noise was 5.9 off.)
+  const WindowMisses& misses = t.whole_misses;
+  if (misses.worst_residual[WindowMisses::kWorst - 1] > 2 * bound) return false;
+  for (int m = 0; m < WindowMisses::kWorst - 1; ++m) {
+    if (misses.worst_residual[m] > 2 * bound && !(*suspect)[misses.worst_index[m]]) return false;
+  }
+  return true;
+}
+
+bool vouches(const PointTest& t, int w, double sigma, double k) {
+  const LooModel& m = t.model[w];
+  // A window whose prediction has a gain beyond kWindowGainMax extrapolates too far to vouch: a
+  // cubic over a window at the scan's edge with its suspects left out reached a gain of 30 and a
+  // bound of 28 sigma, wide enough to pass an outlier of 18.
+  if (!m.ok || m.near_kept < 2 || m.scale > 2.0 * sigma || (w < kWindows && m.gain > kWindowGainMax)) return false;
+  const double bound = w < kWindows ? k * std::sqrt(sigma * sigma * (1 + m.gain) + m.scale * m.scale)
+                                     : 0.8 * k * sigma * std::sqrt(1 + m.gain);
+  return std::fabs(t.residual[w]) <= bound;
+}
+
+bool a_line_vouches(const PointTest& t, double sigma, double k) {
+  for (int w = kWindows; w < kWindows + kLines; ++w) {
+    if (vouches(t, w, sigma, k)) return true;
+  }
+  return false;
+}
+
+int verdict(const PointTest& t, double sigma, double k, const std::vector<char>* suspect,
+            const std::function<bool()>& smooth_around) {
+  if (whole_judges(t, sigma, k, suspect, smooth_around)) return std::fabs(t.residual[0]) <= k * std::hypot(sigma, t.model[0].scale) ? -1 : 0;
+  int best = -1;
+  for (int w = 0; w < kWindows + kLines; ++w) {
+    const LooModel& m = t.model[w];
+    if (!m.ok || m.near_kept < 2 || m.scale > 2.0 * sigma) continue;
+    if (vouches(t, w, sigma, k)) return -1;
+    if (w < kWindows && (best < 0 || m.scale < t.model[best].scale)) best = w;
+  }
+  // No window vouches and none that describes its neighbours keeps the point's nearest ones: they
+  // are outliers too (a cluster of them), and the first window that describes the rest judges.
+  for (int w = 0; best < 0 && w < kWindows; ++w) {
+    if (t.model[w].ok && t.model[w].scale <= 2.5 * sigma) best = w;
+  }
+  return best;
+}
+
+}  // namespace dg::host::lts

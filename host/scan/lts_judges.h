@@ -1,0 +1,117 @@
+// The LTS filter's outlier judges: a point's windows, half-planes and lines, a window cut along a
+// crease, the envelope of two surfaces, and the verdict they give together.
+#pragma once
+#include <cstddef>
+#include <functional>
+#include <vector>
+
+#include "host/geometry/point3.h"
+#include "host/scan/lts_grid.h"
+#include "host/scan/lts_models.h"
+
+namespace dg::host::lts {
+
+// The largest gain a window's prediction may have and still vouch. A whole window's cubic at a
+// corner of the scan has 9 to 11, a diagonal half-plane's quadratic there up to 39. Measured over
+// the outlier benchmark's 14 seeds: 11 missed and 35 false alarms with this limit, 14 and 34
+// without it.
+constexpr double kWindowGainMax = 24;
+
+// The outlier test. Each point is predicted without itself from its whole neighbourhood and from
+// the four half neighbourhoods on either side of it in x and in y. A point on a crease or a step,
+// or at the edge of the scan, lies on the model of at least one side; an outlier on none.
+constexpr int kWindows = 9;  // the whole neighbourhood and eight half-planes through the point
+
+struct PointTest {
+  LooModel model[kWindows + kLines];
+  double residual[kWindows + kLines] = {};
+  WindowMisses whole_misses;  // of model[0]
+};
+
+PointTest test_point(const std::vector<Point3>& points, const std::vector<size_t>& hood, size_t i,
+                     const std::vector<double>& reference, const std::vector<char>& excluded);
+
+// Some window describes its own neighbours: a trimmed scale that noise gives.
+bool some_window_describes(const PointTest& t, double sigma);
+
+// Some window of the point straddles a crease: its trimmed scale is beyond what noise gives.
+bool near_crease(const PointTest& t, double sigma);
+
+// A window cut in two by a straight line, each side with its own robust model: where a crease
+// crosses the window (the dome's rim, ringing round a corner of the scan), the whole window and
+// every half-plane through the point mix two surfaces, and the point's own surface may hold only a
+// sliver of it. Cuts at 16 directions and at 0.5 to 5 grid steps from the point are tried, each
+// side needing at least kSplitSide points; the cut whose two trimmed fits leave the smallest pooled
+// residual scale wins, chosen without looking at the point itself. Which side the point is on is
+// the open question near the cut, so both sides' models come back (the far one extrapolated to the
+// point), each with the pooled scale; not ok when no cut is possible.
+constexpr size_t kSplitSide = 6;
+// A point no window describes is condemned by a cut only beyond this many times its bound on both
+// sides: near a curved crease a straight cut leaves shape error of several sigma (measured on the
+// dome at 0.5 um: 1.5 times the bound condemned 7 more rim points than 3 times, and caught one more).
+constexpr double kSplitCondemnWiden = 3;
+struct SplitModels {
+  LooModel own, other;
+};
+SplitModels split_model(const std::vector<Point3>& points, const std::vector<size_t>& hood, size_t i,
+                     const std::vector<double>& reference, const std::vector<char>& excluded);
+
+// Two surfaces that meet in a crease make, together, the larger of the two (a ridge: the dome's
+// cap standing on its plate) or the smaller (a valley). Started from the best cut's two models, each
+// window point goes to the model that is the envelope there and both are refitted; the envelope
+// then describes the whole window, the crease's curve included, however it bends across it, and
+// predicts the point on whichever side of the crease it lies. A straight or refined cut only says
+// which side each point is on by its distances, so a point raised near the crease passes as the
+// other surface's continuation; the envelope knows where that surface ends. Not ok where either
+// side keeps fewer than kSplitSide points.
+struct CreaseModel {
+  bool ok = false;
+  double prediction = 0;  // the envelope at point i
+  double scale = 0;       // trimmed residual scale of the window's points to the envelope
+  double gain = 0;        // the active side's [(X^T X)^-1]_00 at point i
+  double near_worst = HUGE_VAL;  // the largest |residual| among point i's four nearest neighbours
+};
+CreaseModel crease_model(const std::vector<Point3>& points, const std::vector<size_t>& hood, size_t i,
+                         const std::vector<double>& reference, const std::vector<char>& excluded,
+                         const SplitModels& start);
+
+// The line models of a point the windows suspect, from neighbours they do not suspect: an outlier
+// beside it on the line would otherwise bend the quadratic towards it.
+void add_line_models(const std::vector<Point3>& points, const LineSides& sides, size_t i,
+                     const std::vector<char>& suspect, double sigma, PointTest& t);
+
+// A whole neighbourhood that is one smooth surface (noise-level scale) and describes all four of
+// the point's nearest neighbours within the bound has the point inside its surface: it alone
+// judges. Its prediction at its own centre is an interpolation; a half-plane's or a line's at its
+// edge is an extrapolation, whose shape error (tens of sigma at 0.5 um on the canister's dish)
+// would vouch for an outlier of 20 sigma.
+// One of the four that is itself suspected is passed over where the window without its suspects
+// is one smooth surface (`smooth_around`, asked only then): two outliers side by side would
+// otherwise each spoil the other's whole window and leave both to the looser half-planes and lines.
+// Near a crease a suspect may be a false one on a sliver, and passing over it condemned the rim
+// point beside it.
+bool whole_judges(const PointTest& t, double sigma, double k, const std::vector<char>* suspect = nullptr,
+                  const std::function<bool()>& smooth_around = {});
+
+// Window or line w describes its own points and predicts point i within its bound. A window's
+// prediction errs by its noise and by its model's scale; a line's by the noise its extrapolation
+// amplifies, with a tighter bound (0.8 k), since a quadratic through five points can half absorb an
+// outlier beside it that its scale then hides.
+bool vouches(const PointTest& t, int w, double sigma, double k);
+
+// Some line model vouches for the point.
+bool a_line_vouches(const PointTest& t, double sigma, double k);
+
+// The verdict on one point given the scan's noise sigma. A window vouches for the point when it
+// describes its own neighbours (trimmed scale within 2 sigma: a window that holds too many
+// outliers, or straddles a crease, does not, and its prediction is no evidence either way), keeps
+// at least two of the point's four nearest neighbours (else it models another surface than the
+// point's), and predicts the point within `k` times its noise and scale together. The point is an
+// outlier when no window vouches for it but some describe their neighbours; the best-describing
+// one's prediction replaces it. Returns that window, or -1 for an inlier.
+// `suspect`: the last classification's suspects, which the whole window may pass over where the
+// point's wider window is smooth (`smooth_around`).
+int verdict(const PointTest& t, double sigma, double k, const std::vector<char>* suspect,
+            const std::function<bool()>& smooth_around);
+
+}  // namespace dg::host::lts

@@ -1,0 +1,213 @@
+// The LTS filter's local models: a trimmed polynomial over a window, a quadratic along a line.
+#include "host/scan/lts_models.h"
+
+#include <algorithm>
+#include <utility>
+
+#include "host/scan/median.h"
+
+namespace dg::host::lts {
+
+LooModel line_model(const std::vector<Point3>& points, const std::vector<size_t>& reach, size_t i,
+                    const std::vector<char>& suspect, double sigma) {
+  LooModel out;
+  std::vector<size_t> side;
+  for (size_t j : reach) {
+    if (!suspect[j] && side.size() < static_cast<size_t>(kLinePoints)) side.push_back(j);
+  }
+  const int n = static_cast<int>(side.size());
+  if (n < 4) return out;
+  // Normal equations of z = a + b t + c t^2 in t (mm from point i), solved by Cramer's rule: the
+  // distinct t of at least four points keep them well conditioned.
+  double m[3][3] = {}, rhs[3] = {};
+  std::vector<double> ts;
+  for (size_t j : side) {
+    const double t = std::hypot(points[j].x - points[i].x, points[j].y - points[i].y);
+    ts.push_back(t);
+    const double row[3] = {1, t, t * t};
+    for (int a = 0; a < 3; ++a) {
+      rhs[a] += row[a] * points[j].z;
+      for (int b = 0; b < 3; ++b) m[a][b] += row[a] * row[b];
+    }
+  }
+  auto det3 = [](const double (&q)[3][3]) {
+    return q[0][0] * (q[1][1] * q[2][2] - q[1][2] * q[2][1]) - q[0][1] * (q[1][0] * q[2][2] - q[1][2] * q[2][0]) +
+           q[0][2] * (q[1][0] * q[2][1] - q[1][1] * q[2][0]);
+  };
+  const double det = det3(m);
+  if (!(std::fabs(det) > 1e-12)) return out;
+  double coefficient[3];
+  for (int col = 0; col < 3; ++col) {
+    double q[3][3];
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) q[a][b] = b == col ? rhs[a] : m[a][b];
+    coefficient[col] = det3(q) / det;
+  }
+  double ss = 0;
+  for (int k = 0; k < n; ++k) {
+    const double t = ts[static_cast<size_t>(k)];
+    const double r = points[side[static_cast<size_t>(k)]].z - (coefficient[0] + coefficient[1] * t + coefficient[2] * t * t);
+    ss += r * r;
+  }
+  out.prediction = coefficient[0];
+  out.scale = std::sqrt(ss / (n - 3));
+  out.near_kept = 4;
+  // [(X^T X)^-1]_00, the cofactor over the determinant. Skipped suspects push the points away and
+  // the gain up; beyond kLineGainMax the prediction is too loose to vouch for anything.
+  out.gain = (m[1][1] * m[2][2] - m[1][2] * m[2][1]) / det;
+  // [(X^T X)^-1]_22 for the quadratic term's standard error.
+  const double curvature_se = sigma * std::sqrt((m[0][0] * m[1][1] - m[0][1] * m[1][0]) / det);
+  if (std::fabs(coefficient[2]) <= 2 * curvature_se) {
+    // z = a + b t: [(X^T X)^-1]_00 = sum t^2 / (n sum t^2 - (sum t)^2).
+    const double line_det = m[0][0] * m[1][1] - m[0][1] * m[0][1];
+    const double a = (m[1][1] * rhs[0] - m[0][1] * rhs[1]) / line_det, b = (m[0][0] * rhs[1] - m[0][1] * rhs[0]) / line_det;
+    double line_ss = 0;
+    for (int k = 0; k < n; ++k) {
+      const double r = points[side[static_cast<size_t>(k)]].z - (a + b * ts[static_cast<size_t>(k)]);
+      line_ss += r * r;
+    }
+    out.prediction = a;
+    out.scale = std::sqrt(line_ss / (n - 2));
+    out.gain = m[1][1] / line_det;
+  }
+  out.ok = out.gain <= kLineGainMax;
+  return out;
+}
+
+std::vector<size_t> others_in(const std::vector<size_t>& window, size_t i, const std::vector<char>& excluded) {
+  std::vector<size_t> out;
+  for (size_t j : window) {
+    if (j != i && !excluded[j]) out.push_back(j);
+  }
+  return out;
+}
+
+std::vector<size_t> nearest_four(const std::vector<Point3>& points, const std::vector<size_t>& members, size_t i) {
+  std::vector<std::pair<double, size_t>> nearest;
+  for (size_t j : members) nearest.push_back({std::hypot(points[j].x - points[i].x, points[j].y - points[i].y), j});
+  const size_t count = std::min<size_t>(4, nearest.size());
+  std::partial_sort(nearest.begin(), nearest.begin() + static_cast<std::ptrdiff_t>(count), nearest.end());
+  std::vector<size_t> out;
+  for (size_t m = 0; m < count; ++m) out.push_back(nearest[m].second);
+  return out;
+}
+
+LooModel loo_model(const std::vector<Point3>& points, const std::vector<size_t>& window, size_t i,
+                   const std::vector<double>& reference, int max_order, double keep,
+                   WindowMisses* misses) {
+  LooModel out;
+  const int n = static_cast<int>(window.size());
+  if (n < 3) return out;
+  // A model needs as many distinct x and y positions as its order plus one; a window on one line
+  // (the half-plane beyond a point on the scan's edge) determines no surface and is no evidence.
+  std::vector<double> xs, ys;
+  for (size_t j : window) xs.push_back(points[j].x), ys.push_back(points[j].y);
+  auto distinct = [](std::vector<double>& v) {
+    std::sort(v.begin(), v.end());
+    return static_cast<int>(std::unique(v.begin(), v.end(), [](double a, double b) { return std::fabs(a - b) < 1e-6; }) - v.begin());
+  };
+  const int spread = std::min(distinct(xs), distinct(ys));
+  if (spread < 2) return out;
+  const int order = std::min(max_order, n >= 20 && spread >= 4 ? 3 : n >= 12 && spread >= 3 ? 2 : n >= 6 ? 1 : 0);
+  const int p = order == 0 ? 1 : order == 1 ? 3 : order == 2 ? 6 : 10;
+  const int h = std::min(n, std::max(n / 2 + (p + 1) / 2, static_cast<int>(std::ceil(keep * n))));
+  std::vector<std::pair<double, size_t>> by_residual;
+  for (size_t j : window) by_residual.push_back({std::fabs(points[j].z - reference[j]), j});
+  std::nth_element(by_residual.begin(), by_residual.begin() + (h - 1), by_residual.end());
+  std::vector<size_t> chosen;
+  for (int m = 0; m < h; ++m) chosen.push_back(by_residual[static_cast<size_t>(m)].second);
+  if (order == 0) {
+    double mean = 0, ss = 0;
+    for (size_t j : chosen) mean += points[j].z;
+    mean /= h;
+    for (size_t j : chosen) ss += (points[j].z - mean) * (points[j].z - mean);
+    out = LooModel{};
+    out.ok = true;
+    out.prediction = mean;
+    out.scale = std::sqrt(ss / std::max(1, h - 1));
+    out.near_kept = 4;
+    out.gain = 1.0 / h;
+    out.dof = std::max(1, h - 1);
+    out.polynomial.order = 1;
+    out.polynomial.centre = points[i];
+    out.polynomial.c[0] = mean;
+    return out;
+  }
+  // Concentration steps from a start subset; the model and the subset it keeps.
+  // A step that keeps the subset it was fitted to has converged: the next would fit the same
+  // points again and keep them again (Rousseeuw and Van Driessen's C-steps), so it is not taken.
+  std::vector<size_t> fitted_set, kept_set;
+  auto concentrate = [&](std::vector<size_t> subset, std::vector<size_t>& kept) {
+    LooModel result;
+    LocalPolynomial model;
+    for (int step = 0; step < 4 && fit_local_polynomial(points, subset, points[i], order, model); ++step) {
+      fitted_set.assign(subset.begin(), subset.end());
+      by_residual.clear();
+      for (size_t j : window) by_residual.push_back({std::fabs(points[j].z - model.at(points[j].x, points[j].y)), j});
+      std::nth_element(by_residual.begin(), by_residual.begin() + (h - 1), by_residual.end());
+      subset.clear();
+      double trimmed = 0;
+      for (int m = 0; m < h; ++m) {
+        subset.push_back(by_residual[static_cast<size_t>(m)].second);
+        trimmed += by_residual[static_cast<size_t>(m)].first * by_residual[static_cast<size_t>(m)].first;
+      }
+      result = LooModel{};
+      result.ok = true;
+      result.prediction = model.c[0];
+      result.scale = std::sqrt(trimmed / std::max(1, h - p));
+      result.gain = model.centre_gain;
+      result.dof = std::max(1, h - p);
+      result.polynomial = model;
+      kept_set.assign(subset.begin(), subset.end());
+      std::sort(fitted_set.begin(), fitted_set.end());
+      std::sort(kept_set.begin(), kept_set.end());
+      if (kept_set == fitted_set) break;
+    }
+    kept = subset;
+    return result;
+  };
+  std::vector<size_t> kept_subset;
+  out = concentrate(chosen, kept_subset);
+  {
+    // A second start, from the h heights nearest the window's median: where outliers crowd a window
+    // the filtered reference took them in too, and its start keeps them.
+    std::vector<double> heights;
+    for (size_t j : window) heights.push_back(points[j].z);
+    const double middle = median_of(heights);
+    by_residual.clear();
+    for (size_t j : window) by_residual.push_back({std::fabs(points[j].z - middle), j});
+    std::nth_element(by_residual.begin(), by_residual.begin() + (h - 1), by_residual.end());
+    std::vector<size_t> start, kept_too;
+    for (int m = 0; m < h; ++m) start.push_back(by_residual[static_cast<size_t>(m)].second);
+    const LooModel other = concentrate(start, kept_too);
+    if (other.ok && (!out.ok || other.scale < out.scale)) {
+      out = other;
+      kept_subset = kept_too;
+    }
+  }
+  chosen = kept_subset;
+  const LocalPolynomial& model = out.polynomial;
+  if (out.ok) {
+    const std::vector<size_t> nearest = nearest_four(points, window, i);
+    out.near_worst = nearest.size() == 4 ? 0 : HUGE_VAL;
+    if (misses != nullptr) {
+      *misses = WindowMisses{};
+      std::vector<std::pair<double, size_t>> worst;
+      for (size_t j : window) worst.push_back({std::fabs(points[j].z - model.at(points[j].x, points[j].y)), j});
+      const size_t kept = std::min<size_t>(WindowMisses::kWorst, worst.size());
+      std::partial_sort(worst.begin(), worst.begin() + static_cast<std::ptrdiff_t>(kept), worst.end(),
+                        [](const auto& a, const auto& b) { return a.first > b.first; });
+      for (size_t m = 0; m < kept; ++m) misses->worst_residual[m] = worst[m].first, misses->worst_index[m] = worst[m].second;
+    }
+    for (size_t m = 0; m < nearest.size(); ++m) {
+      const size_t j = nearest[m];
+      if (std::find(chosen.begin(), chosen.end(), j) != chosen.end()) ++out.near_kept;
+      const double residual = std::fabs(points[j].z - model.at(points[j].x, points[j].y));
+      if (misses != nullptr) misses->near_index[m] = j, misses->near_residual[m] = residual;
+      out.near_worst = std::max(out.near_worst, residual);
+    }
+  }
+  return out;
+}
+
+}  // namespace dg::host::lts

@@ -1,0 +1,73 @@
+// The LTS filter's local models of a point's neighbours, each fitted without the point itself: a
+// robust polynomial over a window and a quadratic along a line.
+#pragma once
+#include <cmath>
+#include <cstddef>
+#include <vector>
+
+#include "host/geometry/point3.h"
+#include "host/scan/local_polynomial.h"
+
+namespace dg::host::lts {
+
+// The largest extrapolation gain a line may have and still vouch: 4.6 for five points at 1..5
+// steps, 7.75 for four at 1..4, 15.8 for five from the second step on.
+constexpr double kLineGainMax = 8;
+// A line model uses the first kLinePoints neighbours on its side that are not suspected outliers.
+constexpr int kLinePoints = 5;
+
+// A robust local model fitted without point i: least trimmed squares by concentration steps from
+// two starts, the h neighbours nearest to the filter's reference and the h nearest to the window's
+// median height, the smaller trimmed scale kept. h is 70 % of the window (at least the maximal
+// breakdown [n/2] + [(p+1)/2]): two or three outliers in one window stay out, and the trimmed
+// scale stays a usable measure of how well the model describes the rest.
+struct LooModel {
+  bool ok = false;
+  double prediction = 0;  // the model's height at point i
+  double scale = 0;       // its trimmed residual scale
+  // How many of point i's four nearest neighbours in the window the model kept: a model that trims
+  // them describes another surface than the one i is on (across a crease from it).
+  int near_kept = 0;
+  // The largest |residual| to the model among those four neighbours.
+  double near_worst = HUGE_VAL;
+  // The prediction's variance in units of the noise variance: the line's extrapolation gain, and
+  // for a window's model [(X^T X)^-1]_00 of its trimmed subset (the verdict bounds a window by its
+  // scale instead; the split judge, whose point lies at its side's edge, uses it).
+  double gain = 0;
+  int dof = 1;  // the trimmed residuals' degrees of freedom, h - p (at least 1)
+  LocalPolynomial polynomial;  // the model itself (a window's; a constant as a flat plane)
+};
+
+// A quadratic in the distance along a line through the points on one side of point i,
+// extrapolated to i; ok only with at least four points (one degree of freedom left to measure
+// how well the quadratic describes them) and a gain of at most kLineGainMax. Where the scan's noise
+// `sigma` explains the quadratic term (|c| within two standard errors), a straight line stands in:
+// on a flat sliver whose nearest neighbour is an outlier, the quadratic through the next five
+// points extrapolates with a gain of 15.8 and may not vouch, the straight line with 1.8.
+LooModel line_model(const std::vector<Point3>& points, const std::vector<size_t>& reach, size_t i,
+                    const std::vector<char>& suspect, double sigma);
+
+// The window's points other than i and those `excluded` marks.
+std::vector<size_t> others_in(const std::vector<size_t>& window, size_t i, const std::vector<char>& excluded);
+
+// Up to four of `members`, the nearest to point i in XY, nearest first.
+std::vector<size_t> nearest_four(const std::vector<Point3>& points, const std::vector<size_t>& members, size_t i);
+
+// Which of a window's points its model misses, for the whole window's model only (kept apart from
+// LooModel, of which every point holds seventeen): the judge may pass over a suspected neighbour,
+// but not a surface beyond a crease.
+struct WindowMisses {
+  size_t near_index[4] = {};  // point i's four nearest neighbours in the window
+  double near_residual[4] = {};  // and their |residuals|
+  static constexpr int kWorst = 5;
+  size_t worst_index[kWorst] = {};  // the window's points with the largest |residuals|, largest first
+  double worst_residual[kWorst] = {};
+};
+
+// A window's robust model (see LooModel) of at most `max_order`, keeping `keep` of its points;
+// `misses`, for the whole window, receives which of its points the model misses.
+LooModel loo_model(const std::vector<Point3>& points, const std::vector<size_t>& window, size_t i,
+                   const std::vector<double>& reference, int max_order, double keep = 0.7,
+                   WindowMisses* misses = nullptr);
+
+}  // namespace dg::host::lts
