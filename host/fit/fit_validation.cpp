@@ -12,6 +12,7 @@
 #include "host/geometry/closest_point.h"
 #include "host/parallel/parallel_for.h"
 #include "host/scan/neighbours.h"
+#include "host/scan/sorted_lines.h"
 
 namespace dg::host {
 
@@ -131,19 +132,10 @@ void check_neighbours(const BSplineSurface& surface, const PointCloud& cloud, co
   if (cloud.line) {
     const std::vector<std::vector<size_t>> lines = lines_of(cloud);
     // Each line's points by their parameter along the line, to pair a point with the nearest one
-    // on a neighbouring line.
-    std::vector<std::vector<size_t>> sorted = lines;
-    for (auto& line : sorted) {
-      std::sort(line.begin(), line.end(), [&](size_t a, size_t b) { return params.uv[a].u < params.uv[b].u; });
-    }
-    auto nearest_on = [&](size_t l, size_t i) {
-      const std::vector<size_t>& other = sorted[l];
-      auto it = std::lower_bound(other.begin(), other.end(), params.uv[i].u,
-                                 [&](size_t a, double u) { return params.uv[a].u < u; });
-      if (it == other.end()) return other.back();
-      if (it != other.begin() && params.uv[i].u - params.uv[*(it - 1)].u < params.uv[*it].u - params.uv[i].u) return *(it - 1);
-      return *it;
-    };
+    // on a neighbouring line (asked only of lines that hold points).
+    auto along = [&](size_t i) { return params.uv[i].u; };
+    const SortedLines<decltype(along)> sorted(lines, along);
+    auto nearest_on = [&](size_t l, size_t i) { return static_cast<size_t>(sorted.nearest_on(l, i)); };
     // The bulge a smooth surface may have over its samples' box: a parabola through three
     // neighbours rises |second difference| / 8 above its chord between two of them.
     std::vector<double> bulge_along(cloud.points.size(), 0.0), bulge_across(cloud.points.size(), 0.0);

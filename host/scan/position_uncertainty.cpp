@@ -6,6 +6,8 @@
 #include <cmath>
 #include <map>
 
+#include "host/scan/sorted_lines.h"
+
 namespace dg::host {
 
 double TablePosition::u_x_mm(double x_mm, double y_mm) const {
@@ -36,7 +38,7 @@ std::vector<std::pair<double, double>> scan_slopes(const ScanData& scan) {
   // Each line's points in scan order, and sorted along the line for the nearest-point search.
   std::map<uint32_t, std::vector<size_t>> by_line;
   for (size_t i = 0; i < p.size(); ++i) by_line[p[i].line].push_back(i);
-  std::vector<std::vector<size_t>> lines, sorted;
+  std::vector<std::vector<size_t>> lines;
   for (auto& [id, members] : by_line) lines.push_back(std::move(members));
   // The lines' direction: the first line with two points that differ tells (x for a raster).
   bool along_x = true;
@@ -48,25 +50,13 @@ std::vector<std::pair<double, double>> scan_slopes(const ScanData& scan) {
     break;
   }
   auto along = [&](size_t i) { return along_x ? double(p[i].x_nm) : double(p[i].y_nm); };
-  for (const auto& line : lines) {
-    std::vector<size_t> s = line;
-    std::sort(s.begin(), s.end(), [&](size_t a, size_t b) { return along(a) < along(b); });
-    sorted.push_back(std::move(s));
-  }
-  auto nearest_on = [&](size_t l, size_t i) -> long {
-    const std::vector<size_t>& other = sorted[l];
-    if (other.empty()) return -1;
-    auto it = std::lower_bound(other.begin(), other.end(), along(i), [&](size_t a, double t) { return along(a) < t; });
-    if (it == other.end()) return static_cast<long>(other.back());
-    if (it != other.begin() && along(i) - along(*(it - 1)) < along(*it) - along(i)) return static_cast<long>(*(it - 1));
-    return static_cast<long>(*it);
-  };
+  const SortedLines<decltype(along)> sorted(std::move(lines), along);
   for (size_t l = 0; l < sorted.size(); ++l) {
-    const std::vector<size_t>& line = sorted[l];
+    const std::vector<size_t>& line = sorted.line(l);
     for (size_t k = 0; k < line.size(); ++k) {
       const size_t i = line[k];
       long neighbour[4] = {k > 0 ? static_cast<long>(line[k - 1]) : -1, k + 1 < line.size() ? static_cast<long>(line[k + 1]) : -1,
-                           l > 0 ? nearest_on(l - 1, i) : -1, l + 1 < sorted.size() ? nearest_on(l + 1, i) : -1};
+                           l > 0 ? sorted.nearest_on(l - 1, i) : -1, l + 1 < sorted.size() ? sorted.nearest_on(l + 1, i) : -1};
       // Least squares for the gradient g over the differences: sum (dz - g . d)^2, in mm.
       double a11 = 0, a12 = 0, a22 = 0, b1 = 0, b2 = 0;
       for (long n : neighbour) {
