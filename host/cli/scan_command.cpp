@@ -252,8 +252,10 @@ int run_scan(const ScanArgs& a) {
   }
   // The calibration is checked before the table moves: a scan it does not cover could not be corrected.
   std::string calibration_json;
+  std::string calibration_device;  // the device the calibration was measured on, checked once connected
   if (!a.resume && !a.calibration.empty() && a.calibration != "none") {
     const TableCalibration c = read_calibration_file(a.calibration, &calibration_json);
+    calibration_device = c.device_id;
     const double x0 = request.x.min_nm * 1e-6, x1 = request.x.max_nm * 1e-6, y0 = request.y.min_nm * 1e-6, y1 = request.y.max_nm * 1e-6;
     if (!c.covers(x0, y0) || !c.covers(x1, y1)) {
       char text[200];
@@ -269,6 +271,11 @@ int run_scan(const ScanArgs& a) {
   auto transport = open_transport(a.device);
   Session session(*transport);
   const digitizer_Hello device = session.hello(5000, required);
+  if (!calibration_json.empty()) {
+    TableCalibration measured_on;
+    measured_on.device_id = calibration_device;
+    check_calibration_device(measured_on, a.calibration, device.device_id);
+  }
   // The gauge the device has wired (its capabilities say which).
   if (!stored) {
     const bool caliper_only = (device.capabilities & digitizer_Capability_CAP_CALIPER_24BIT) != 0 &&

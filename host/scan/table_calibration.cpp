@@ -176,6 +176,12 @@ TableCalibration calibration_from_json(const std::string& text, const std::strin
   return c;
 }
 
+void check_calibration_device(const TableCalibration& c, const std::string& path, const std::string& device_id) {
+  if (c.device_id.empty() || device_id.empty() || c.device_id == device_id) return;
+  throw CalibrationError(path + ": measured on device " + c.device_id + ", and these points come from device " + device_id +
+                         ": a table's errors are its own; calibrate this device, or use --calibration none");
+}
+
 TableCalibration read_calibration_file(const std::string& path, std::string* text) {
   std::string bytes;
   if (!read_whole_file(path, &bytes)) throw CalibrationError(path + ": cannot open: " + std::strerror(errno));

@@ -58,6 +58,12 @@ TableCalibration calibration_from_json(const std::string& text, const std::strin
 // `text`, when given, gets the file's text as read (for a scan file's calibration record).
 TableCalibration read_calibration_file(const std::string& path, std::string* text = nullptr);
 
+// A table's errors are its own: a calibration measured on one device corrects no other. Throws a
+// CalibrationError naming both devices when the calibration at `path` says which device it was
+// measured on and `device_id` (the device a scan comes from) is another. Either unknown (""): no
+// check, since there is nothing to compare.
+void check_calibration_device(const TableCalibration& c, const std::string& path, const std::string& device_id);
+
 // Subtracts the travel's error from every point's z, moves its (x, y) by the axes' errors where
 // they were measured, and adds the map's uncertainty to each point's sigma, where the cloud has one. A point outside the calibrated travel is an error that names it:
 // its correction is unknown, and an uncorrected point among corrected ones would be a false number.

@@ -181,6 +181,33 @@ TEST(SimCalibration, AScanBeyondTheCalibratedTravelIsRefusedBeforeTheTableMoves)
   std::remove((cal + ".flat.scan").c_str());
 }
 
+// A calibration says which device it was measured on. A scan from another device is refused once
+// the device has answered, before the table moves and before a file appears; re-correcting a
+// stored scan from another device is refused too, and the scan keeps its points as they were.
+TEST(SimCalibration, AnotherDevicesCalibrationIsRefusedForAScanAndARecorrection) {
+  const std::string cal = calibrate(temp_path("own.cal.json")), part = temp_path("other.scan");
+  CHECK(read_calibration_file(cal).device_id == "SIM-0001");
+  ScanArgs s = dome_scan(cal, part);
+  s.device += ",id=SIM-0002";
+  try {
+    run_scan(s);
+    FAIL("a scan from another device was corrected by this one's calibration");
+  } catch (const CalibrationError& error) {
+    STRCMP_CONTAINS("measured on device SIM-0001, and these points come from device SIM-0002", error.what());
+  }
+  CHECK(access(part.c_str(), F_OK) != 0);
+  s.calibration = "none";
+  LONGS_EQUAL(0, run_scan(s));
+  const size_t points = read_scan_file(part).points.size();
+  RecorrectArgs r;
+  r.scan = part;
+  r.calibration = cal;
+  CHECK_THROWS(CalibrationError, run_recorrect(r));
+  CHECK(!read_scan_file(part).calibration_json);
+  LONGS_EQUAL(points, read_scan_file(part).points.size());
+  for (const std::string& f : {part, cal, cal + ".flat.scan"}) std::remove(f.c_str());
+}
+
 TEST(SimCalibration, AStoredScanIsRecorrectedByANewerCalibrationAndKeepsItsRawPoints) {
   const std::string cal = calibrate(temp_path("old.cal.json")), part = temp_path("plain.scan");
   LONGS_EQUAL(0, run_scan(dome_scan("none", part)));
