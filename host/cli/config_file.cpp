@@ -32,6 +32,15 @@ std::string known_keys() {
   return out;
 }
 
+// Whether `name` is one of the space-separated words of `list`.
+bool names(const char* list, const std::string& name) {
+  std::istringstream words(list);
+  for (std::string word; words >> word;) {
+    if (word == name) return true;
+  }
+  return false;
+}
+
 bool given(const CLI::App& command, const std::string& long_name) {
   const CLI::Option* o = command.get_option_no_throw(long_name);
   return o != nullptr && o->count() > 0;
@@ -50,7 +59,8 @@ const std::vector<ConfigSetting>& config_settings() {
       {"approach", "scan", "--approach", "", "overshoot so every point is reached moving towards +x/+y, mm"},
       {"reference_every", "scan", "--reference-every", "", "read the first point again after every N lines, to remove drift"},
       {"repeatability", "scan", "--repeatability", "", "readings of the first point before a scan, for each point's uncertainty"},
-      {"calibration", "scan", "--calibration", "", "the table calibration every scan is corrected by (digitizer calibrate); none: no correction"},
+      {"calibration", "scan", "--calibration", "", "the table calibration every scan is corrected by (digitizer calibrate); none: no correction",
+       "status"},
       {"tolerance", "inspect", "--tolerance", "--upper --lower", "the part's profile tolerance +-MM that inspect decides"},
       {"bands", "inspect", "--band", "", "deviations inspect counts the points within, mm (a list)"},
       {"operator", "inspect", "--operator", "", "who measures, for the report"},
@@ -87,7 +97,7 @@ void apply_config(CLI::App& app, const std::string& path) {
   for (CLI::App* command : app.get_subcommands()) {
     for (const ConfigEntry& e : entries) {
       const ConfigSetting& s = *find_setting(e.key);
-      if (command->get_name() != s.command) continue;
+      if (command->get_name() != s.command && !names(s.also, command->get_name())) continue;
       if (given(*command, s.option)) continue;
       std::istringstream others(s.overridden_by);
       bool overridden = false;

@@ -17,6 +17,7 @@ struct ConfigSetting {
   const char* option;       // that option's long name, e.g. "--feed"
   const char* overridden_by;  // options of that command that replace it when given ("" none), space separated
   const char* meaning;
+  const char* also = "";    // other subcommands with the same option that it fills too, space separated
 };
 
 // Every setting, in the order `config show` prints them.

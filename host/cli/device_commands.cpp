@@ -9,6 +9,7 @@
 #include "host/cli/units.h"
 #include "host/device/repeatability.h"
 #include "host/device/request.h"
+#include "host/scan/table_calibration.h"
 #include "host/transport/transport.h"
 #include "host/transport/usb_transport.h"
 
@@ -52,6 +53,39 @@ digitizer_Envelope command(Session& session, digitizer_CommandKind kind, const D
   return request(session, message, 5000);
 }
 
+// What the status says of the table calibration scans use: when and on which device it was
+// measured, and whether that is this device (a scan from another is refused). A file that cannot be
+// read is reported, not fatal: the device's own status stands.
+nlohmann::json calibration_status(const std::string& path, const char* device_id) {
+  nlohmann::json j = {{"file", path}};
+  try {
+    const TableCalibration c = read_calibration_file(path);
+    j["created_utc"] = c.created_utc;
+    j["device_id"] = c.device_id;
+    j["this_device"] = c.device_id.empty() || c.device_id == device_id;
+    j["travel_mm"] = {{"x", {c.x0_mm, c.x1_mm()}}, {"y", {c.y0_mm, c.y1_mm()}}};
+    if (c.has_axes) j["axes_created_utc"] = c.axes_created_utc;
+  } catch (const CalibrationError& e) {
+    j["problem"] = e.what();
+  }
+  return j;
+}
+
+void print_calibration_status(const nlohmann::json& j) {
+  const std::string file = j["file"].get<std::string>();
+  if (j.contains("problem")) {
+    std::printf("calibration: %s\n", j["problem"].get<std::string>().c_str());
+    return;
+  }
+  const std::string created = j["created_utc"].get<std::string>(), measured_on = j["device_id"].get<std::string>();
+  std::printf("calibration: %s, travel measured %s%s%s", file.c_str(), created.empty() ? "at an unknown time" : created.c_str(),
+              measured_on.empty() ? "" : " on ", measured_on.c_str());
+  std::printf(" over x %.3f..%.3f, y %.3f..%.3f mm", j["travel_mm"]["x"][0].get<double>(), j["travel_mm"]["x"][1].get<double>(),
+              j["travel_mm"]["y"][0].get<double>(), j["travel_mm"]["y"][1].get<double>());
+  if (j.contains("axes_created_utc")) std::printf(", axes %s", j["axes_created_utc"].get<std::string>().c_str());
+  std::printf("%s\n", j["this_device"].get<bool>() ? "" : ": another device's; scans from this one with it are refused");
+}
+
 int run_status(const DeviceArgs& a) {
   auto transport = open_transport(a.device);
   Session session(*transport);
@@ -71,6 +105,7 @@ int run_status(const DeviceArgs& a) {
     if (s.stack_size_bytes > 0) j["stack"] = {{"used_bytes", s.stack_used_bytes}, {"size_bytes", s.stack_size_bytes}};
     static const char* const kResetKeys[] = {"unknown", "power-on", "pin", "watchdog", "software", "brown-out"};
     if (s.reset_cause >= 0 && s.reset_cause <= digitizer_ResetCause_RESET_BROWN_OUT) j["last_reset"] = kResetKeys[s.reset_cause];
+    if (!a.calibration.empty() && a.calibration != "none") j["calibration"] = calibration_status(a.calibration, hello.device_id);
     std::printf("%s\n", j.dump(1).c_str());
     return 0;
   }
@@ -86,6 +121,7 @@ int run_status(const DeviceArgs& a) {
     std::printf("stack: at most %u of %u bytes used since reset%s\n", s.stack_used_bytes, s.stack_size_bytes,
                 s.stack_used_bytes >= s.stack_size_bytes ? " (all of it: it may have overflowed)" : "");
   }
+  if (!a.calibration.empty() && a.calibration != "none") print_calibration_status(calibration_status(a.calibration, hello.device_id));
   return 0;
 }
 
@@ -179,7 +215,11 @@ void add_device_commands(CLI::App& app, DeviceArgs& a) {
     cmd->add_option("--device", a.device, "device URI: usb:, sim:part=dome, unix:PATH, tcp:HOST:PORT (else DIGITIZER_DEVICE or the config file)");
     return cmd;
   };
-  with_device(app.add_subcommand("status", "the device's state, position and scan"))->add_flag("--json", a.json, "as JSON");
+  CLI::App* status = with_device(app.add_subcommand("status", "the device's state, position and scan"));
+  status->add_flag("--json", a.json, "as JSON");
+  status->add_option("--calibration", a.calibration,
+                     "the table calibration scans are corrected by (the config file's, by default): say when it was "
+                     "measured and whether on this device (none: say nothing)");
   with_device(app.add_subcommand("home", "home both axes"));
   with_device(app.add_subcommand("unlock", "clear an alarm"));
   with_device(app.add_subcommand("abort", "stop a scan or a move"));

@@ -11,6 +11,7 @@ struct DeviceArgs {
   double dx_mm = 0, dy_mm = 0;  // jog
   double feed_mm_s = 0;       // jog: 0 = the device's default
   unsigned count = 10;        // repeatability: readings
+  std::string calibration;    // status: the table calibration scans use (the config's), to say whose and when
 };
 
 // Adds the subcommands; `run_device_command` runs whichever was given, or returns -1.

@@ -3,13 +3,18 @@
 // the calibrated travel is refused before the table moves, and a stored scan is re-corrected.
 #include <CppUTest/TestHarness.h>
 
+#include <fcntl.h>
 #include <unistd.h>
 
+#include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <sstream>
 #include <string>
 
 #include "host/cli/calibrate_command.h"
+#include "host/cli/device_commands.h"
 #include "host/cli/scan_command.h"
 #include "host/cli/verify_command.h"
 #include "host/scan/point_reader.h"
@@ -206,6 +211,48 @@ TEST(SimCalibration, AnotherDevicesCalibrationIsRefusedForAScanAndARecorrection)
   CHECK(!read_scan_file(part).calibration_json);
   LONGS_EQUAL(points, read_scan_file(part).points.size());
   for (const std::string& f : {part, cal, cal + ".flat.scan"}) std::remove(f.c_str());
+}
+
+namespace {
+
+// What `digitizer ARGS...` (a device command) prints on standard output.
+std::string device_command_output(std::vector<std::string> words, const std::string& capture) {
+  CLI::App app{"test", "digitizer"};
+  DeviceArgs a;
+  add_device_commands(app, a);
+  std::vector<const char*> argv{"digitizer"};
+  for (const std::string& w : words) argv.push_back(w.c_str());
+  app.parse(static_cast<int>(argv.size()), argv.data());
+  std::fflush(stdout);
+  const int saved = dup(1), file = open(capture.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  dup2(file, 1);
+  const int status = run_device_command(app, a);
+  std::fflush(stdout);
+  dup2(saved, 1);
+  close(saved), close(file);
+  LONGS_EQUAL(0, status);
+  std::ifstream in(capture);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::remove(capture.c_str());
+  return text.str();
+}
+
+}  // namespace
+
+// `status` says when the calibration scans use was measured and on which device, and flags one
+// measured on another device.
+TEST(SimCalibration, StatusSaysWhenAndOnWhichDeviceTheCalibrationWasMeasured) {
+  const std::string cal = calibrate(temp_path("status.cal.json")), out = temp_path("status.txt");
+  const TableCalibration c = read_calibration_file(cal);
+  const std::string own = device_command_output({"status", "--device", "sim:part=dome", "--calibration", cal}, out);
+  STRCMP_CONTAINS(("calibration: " + cal + ", travel measured " + c.created_utc + " on SIM-0001 over x 0.000..60.000, "
+                   "y 0.000..40.000 mm\n").c_str(), own.c_str());
+  const std::string other = device_command_output({"status", "--device", "sim:part=dome,id=SIM-0002", "--calibration", cal}, out);
+  STRCMP_CONTAINS("another device's; scans from this one with it are refused", other.c_str());
+  const std::string json = device_command_output({"status", "--device", "sim:part=dome", "--calibration", cal, "--json"}, out);
+  STRCMP_CONTAINS("\"this_device\": true", json.c_str());
+  for (const std::string& f : {cal, cal + ".flat.scan"}) std::remove(f.c_str());
 }
 
 TEST(SimCalibration, AStoredScanIsRecorrectedByANewerCalibrationAndKeepsItsRawPoints) {

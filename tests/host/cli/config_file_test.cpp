@@ -71,6 +71,19 @@ TEST(ConfigFile, ASettingOfAnotherCommandIsLeftAlone) {
   DOUBLES_EQUAL(0.02, tolerance, 0);
 }
 
+// The calibration every scan is corrected by is the one `status` reports on: the one key fills
+// both commands' --calibration, and a command line's own still wins.
+TEST(ConfigFile, TheCalibrationFillsScanAndStatus) {
+  std::string scan_calibration, status_calibration;
+  app.get_subcommand("scan")->add_option("--calibration", scan_calibration);
+  app.add_subcommand("status")->add_option("--calibration", status_calibration);
+  write("calibration = table.cal.json\n");
+  parse({"status"});
+  CHECK_EQUAL(std::string("table.cal.json"), status_calibration);
+  parse({"scan", "--calibration", "none"});
+  CHECK_EQUAL(std::string("none"), scan_calibration);
+}
+
 TEST(ConfigFile, UpperAndLowerOnTheCommandLineReplaceTheConfiguredTolerance) {
   write("tolerance = 0.02\n");
   parse({"inspect", "--upper", "0.01", "--lower", "-0.03"});
