@@ -3,12 +3,16 @@
 
 namespace dg {
 
-void CobsWriter::close_block() {
+void CobsWriter::place_code() {
   if (code_index_ < capacity_) {
     out_[code_index_] = code_;
   } else {
     overflow_ = true;
   }
+}
+
+void CobsWriter::close_block() {
+  place_code();
   code_index_ = write_++;
   code_ = 1;
 }
@@ -30,11 +34,7 @@ void CobsWriter::put(const uint8_t* in, size_t size) {
 }
 
 Status CobsWriter::finish(size_t* out_size) {
-  if (code_index_ < capacity_) {
-    out_[code_index_] = code_;
-  } else {
-    overflow_ = true;
-  }
+  place_code();
   if (overflow_) return Status::kOverflow;
   *out_size = write_;
   return Status::kOk;

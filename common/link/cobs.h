@@ -21,6 +21,9 @@ class CobsWriter {
   Status finish(size_t* out_size);
 
  private:
+  // Writes the open block's code byte in its place (or notes the overflow); close_block() then
+  // opens the next block.
+  void place_code();
   void close_block();
   uint8_t* out_;
   size_t capacity_;

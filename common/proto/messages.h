@@ -9,30 +9,26 @@
 
 namespace dg {
 
-// The largest Envelope a host sends: its request id (a tag and a 5-byte varint) and the largest of
-// the bodies a host sends, with their tag and a length of up to two bytes. A device's frame reader
-// needs room for no more.
-constexpr size_t kHostEnvelopeMaxSize = [] {
+// The most bytes an Envelope can take whose body is at most the largest of `bodies` (nanopb's
+// _size figures): its request id (a tag and a 5-byte varint), and the body with its tag and a
+// length of up to two bytes.
+constexpr size_t largest_envelope(std::initializer_list<size_t> bodies) {
   size_t body = 0;
-  for (size_t size : {size_t{digitizer_HostHello_size}, size_t{digitizer_ScanRequest_size}, size_t{digitizer_Command_size},
-                      size_t{digitizer_PointAck_size}, size_t{digitizer_ResumeScan_size}}) {
-    body = size > body ? size : body;
-  }
+  for (size_t size : bodies) body = size > body ? size : body;
   return 6 + 3 + body;
-}();
+}
 
-// The largest Envelope a device sends other than a point batch (Hello, Status, FitResult, Fault,
-// and the rest), counted as kHostEnvelopeMaxSize is: a device's frames must have room for it.
-constexpr size_t kDeviceReplyMaxSize = [] {
-  size_t body = 0;
-  for (size_t size : {size_t{digitizer_Hello_size}, size_t{digitizer_Status_size}, size_t{digitizer_FitResult_size},
-                      size_t{digitizer_Fault_size}, size_t{digitizer_Accepted_size}, size_t{digitizer_LineDone_size},
-                      size_t{digitizer_ScanDone_size}, size_t{digitizer_Repeatability_size},
-                      size_t{digitizer_TouchResult_size}}) {
-    body = size > body ? size : body;
-  }
-  return 6 + 3 + body;
-}();
+// The largest Envelope a host sends: a device's frame reader needs room for no more.
+constexpr size_t kHostEnvelopeMaxSize =
+    largest_envelope({digitizer_HostHello_size, digitizer_ScanRequest_size, digitizer_Command_size,
+                      digitizer_PointAck_size, digitizer_ResumeScan_size});
+
+// The largest Envelope a device sends other than a point batch: a device's frames must have room
+// for it.
+constexpr size_t kDeviceReplyMaxSize =
+    largest_envelope({digitizer_Hello_size, digitizer_Status_size, digitizer_FitResult_size, digitizer_Fault_size,
+                      digitizer_Accepted_size, digitizer_LineDone_size, digitizer_ScanDone_size,
+                      digitizer_Repeatability_size, digitizer_TouchResult_size});
 
 // Encodes `envelope`; kOverflow if it does not fit in `capacity` bytes.
 Status encode_envelope(const digitizer_Envelope& envelope, uint8_t* out, size_t capacity,

@@ -176,7 +176,7 @@ int calibrate_ball_plate(const CalibrateArgs& a) {
   // centre by the ball's radius times that slope (3.6 um for 30 um over 50 mm): the map comes out
   // first. An earlier ball plate's axes do not apply: they are what is measured again.
   const ScanData plate_raw = read_scan_file(plate_scan);
-  if (plate_raw.device) check_calibration_device(c, a.output, plate_raw.device->device_id);
+  if (plate_raw.device) check_calibration_device(c.device_id, a.output, plate_raw.device->device_id);
   PointCloud plate = raw_points(plate_scan);
   TableCalibration map_only = c;
   map_only.has_axes = false;
@@ -209,7 +209,7 @@ int run_recorrect(const RecorrectArgs& a) {
   std::string json;
   const TableCalibration c = read_calibration_file(a.calibration, &json);
   const ScanData scan = read_scan_file(a.scan);
-  if (scan.device) check_calibration_device(c, a.calibration, scan.device->device_id);
+  if (scan.device) check_calibration_device(c.device_id, a.calibration, scan.device->device_id);
   ScanData check = scan;
   check.calibration_json = json;
   correct_by_record(check, nullptr, a.scan);  // throws, naming the point, if the map does not cover the scan

@@ -271,11 +271,7 @@ int run_scan(const ScanArgs& a) {
   auto transport = open_transport(a.device);
   Session session(*transport);
   const digitizer_Hello device = session.hello(5000, required);
-  if (!calibration_json.empty()) {
-    TableCalibration measured_on;
-    measured_on.device_id = calibration_device;
-    check_calibration_device(measured_on, a.calibration, device.device_id);
-  }
+  if (!calibration_json.empty()) check_calibration_device(calibration_device, a.calibration, device.device_id);
   // The gauge the device has wired (its capabilities say which).
   if (!stored) {
     const bool caliper_only = (device.capabilities & digitizer_Capability_CAP_CALIPER_24BIT) != 0 &&

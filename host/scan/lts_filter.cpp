@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <optional>
 #include <stdexcept>
 
 #include "host/parallel/parallel_for.h"
@@ -312,8 +313,16 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
     // first over the point's own window, then over the wider one where the own one holds too
     // little of one side.
     bool crease_judged = false;
+    // Each window's best cut (0: the point's own window, 1: the wider one), made once: the envelope
+    // starts from it and the cut's own judgement below reads it again.
+    std::optional<SplitModels> cuts[2];
+    auto cut_of = [&](int w) -> const SplitModels& {
+      if (!cuts[w]) cuts[w] = split_model(points, w == 0 ? hood[i] : wide[i], i, reference, suspect);
+      return *cuts[w];
+    };
     if (result.gridded && near_crease(tests[i], sigma) && !whole_judges(tests[i], sigma, options.outlier_sigmas)) {
-      for (const std::vector<size_t>* around : {&hood[i], &wide[i]}) {
+      for (int w : {0, 1}) {
+        const std::vector<size_t>* around = w == 0 ? &hood[i] : &wide[i];
         // Only a window that is not one smooth surface: where outliers crowd a smooth one, the
         // larger or smaller of two fits to the same surface is biased by their noise. A smooth
         // cubic that keeps fewer than two of the point's four nearest neighbours models another
@@ -322,8 +331,7 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
         // where the cap continued past its rim would dip, passed as the cap's.
         const LooModel single = loo_model(points, others_in(*around, i, suspect), i, reference, 3);
         if (single.ok && single.scale <= 2.5 * sigma && single.near_kept >= 2) continue;
-        const SplitModels split = split_model(points, *around, i, reference, suspect);
-        const CreaseModel crease = crease_model(points, *around, i, reference, suspect, split);
+        const CreaseModel crease = crease_model(points, *around, i, reference, suspect, cut_of(w));
         // A scale up to 2.5 sigma, as for any window that describes its points: the envelope of two
         // cubics bends less sharply than a sphere meeting its plate, and a clean rim point 0.14 mm
         // above the plate (the dome's (3, 26) of seed 4 at 0.5 um) was left to the plate's
@@ -350,7 +358,7 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
       }
     }
     if (!crease_judged && result.gridded && near_crease(tests[i], sigma) && (outlier || undescribed)) {
-      const SplitModels split = split_model(points, wide[i], i, reference, suspect);
+      const SplitModels& split = cut_of(1);
       if (split.own.ok && split.own.scale <= 2.0 * sigma && split.other.ok) {
         auto predicts = [&](const LooModel& m, double widen) {
           const double bound = options.outlier_sigmas * std::sqrt(sigma * sigma * (1 + m.gain) + m.scale * m.scale);
@@ -364,7 +372,7 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
         // of many, and a side holding two outliers beside the point (the canister's edge) predicted
         // the third to 6 sigma.
         if (outlier) {
-          const SplitModels own_window = split_model(points, hood[i], i, reference, suspect);
+          const SplitModels& own_window = cut_of(0);
           if (own_window.own.ok && own_window.own.scale <= 2.0 * sigma && own_window.other.ok &&
               predicts(own_window.own, 0.5)) {
             outlier = false;

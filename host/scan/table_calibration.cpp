@@ -176,9 +176,9 @@ TableCalibration calibration_from_json(const std::string& text, const std::strin
   return c;
 }
 
-void check_calibration_device(const TableCalibration& c, const std::string& path, const std::string& device_id) {
-  if (c.device_id.empty() || device_id.empty() || c.device_id == device_id) return;
-  throw CalibrationError(path + ": measured on device " + c.device_id + ", and these points come from device " + device_id +
+void check_calibration_device(const std::string& measured_on, const std::string& path, const std::string& device_id) {
+  if (measured_on.empty() || device_id.empty() || measured_on == device_id) return;
+  throw CalibrationError(path + ": measured on device " + measured_on + ", and these points come from device " + device_id +
                          ": a table's errors are its own; calibrate this device, or use --calibration none");
 }
 

@@ -59,10 +59,10 @@ TableCalibration calibration_from_json(const std::string& text, const std::strin
 TableCalibration read_calibration_file(const std::string& path, std::string* text = nullptr);
 
 // A table's errors are its own: a calibration measured on one device corrects no other. Throws a
-// CalibrationError naming both devices when the calibration at `path` says which device it was
-// measured on and `device_id` (the device a scan comes from) is another. Either unknown (""): no
-// check, since there is nothing to compare.
-void check_calibration_device(const TableCalibration& c, const std::string& path, const std::string& device_id);
+// CalibrationError naming both devices when the calibration at `path` was measured on
+// `measured_on` (its device_id) and `device_id` (the device a scan comes from) is another. Either
+// unknown (""): no check, since there is nothing to compare.
+void check_calibration_device(const std::string& measured_on, const std::string& path, const std::string& device_id);
 
 // Subtracts the travel's error from every point's z, moves its (x, y) by the axes' errors where
 // they were measured, and adds the map's uncertainty to each point's sigma, where the cloud has one. A point outside the calibrated travel is an error that names it:

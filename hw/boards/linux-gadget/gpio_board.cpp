@@ -191,10 +191,12 @@ bool GpioBoard::wait(uint64_t deadline_us) {
     const uint64_t now = now_ns();
     if (deadline_ns != kNever && deadline_ns <= now) return true;
     const uint64_t next = timer_due_ns_ < deadline_ns ? timer_due_ns_ : deadline_ns;
-    pollfd fds[1 + sizeof(edge_pins) / sizeof(edge_pins[0])];
+    // The link's wake-up first, then each requested edge line; polled_pin[n] is fds[n]'s pin.
+    constexpr size_t kFds = 1 + sizeof(edge_pins) / sizeof(edge_pins[0]);
+    pollfd fds[kFds];
     int count = 0;
     fds[count++] = {link_.wake_fd(), POLLIN, 0};
-    int polled_pin[1 + sizeof(edge_pins) / sizeof(edge_pins[0])] = {-1, -1, -1, -1};
+    int polled_pin[kFds] = {};
     for (int pin : edge_pins) {
       if (lines_[pin].requested()) {
         polled_pin[count] = pin;
