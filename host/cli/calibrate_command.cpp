@@ -8,12 +8,14 @@
 #include <cstdio>
 #include <ctime>
 #include <iostream>
+#include <sstream>
 #include <stdexcept>
 
 #include "host/cli/scan_command.h"
 #include "host/io/atomic_file.h"
 #include "host/scan/ball_plate_calibration.h"
 #include "host/scan/flat_calibration.h"
+#include "host/scan/gauge_tilt_calibration.h"
 #include "host/scan/scan_file.h"
 #include "host/scan/table_calibration.h"
 
@@ -36,10 +38,13 @@ CLI::App* add_calibrate_command(CLI::App& app, CalibrateArgs& a) {
   CLI::App* cmd = app.add_subcommand("calibrate", "measure the table's travel error on a reference flat and write a calibration file");
   cmd->add_option("--artefact", a.artefact,
                   "flat (an optical flat or a surface plate: the travel's height error), or ballplate (balls at certified "
-                  "centres: the axes' scale and squareness, added to the flat's calibration in -o)")
-      ->capture_default_str()->check(CLI::IsMember({"flat", "ballplate"}));
+                  "centres: the axes' scale and squareness), or sphere (a reference sphere of certified diameter: the gauge's "
+                  "tilt); the ball plate and the sphere are added to the flat's calibration in -o")
+      ->capture_default_str()->check(CLI::IsMember({"flat", "ballplate", "sphere"}));
   cmd->add_option("--certificate", a.certificate, "ballplate: the certified ball centres, CSV x_mm,y_mm")->check(CLI::ExistingFile);
-  cmd->add_option("--ball-step", a.ball_step_mm, "ballplate: grid step of the plate's scan, mm")
+  cmd->add_option("--diameter-mm", a.diameter_mm, "sphere: its certified diameter, mm")->check(CLI::Range(1.0, 200.0));
+  cmd->add_option("--sphere-at", a.sphere_at, "sphere: where its top stands on the table, X,Y in mm (within 3 mm)");
+  cmd->add_option("--ball-step", a.ball_step_mm, "ballplate and sphere: grid step of the artefact's scan, mm")
       ->capture_default_str()->check(CLI::Range(0.05, 2.0));
   cmd->add_option("--device", a.device, "device URI (else DIGITIZER_DEVICE or the config file)");
   cmd->add_option("--x", a.x, "the travel to calibrate, x range MIN:MAX in mm (cover every scan's area)")->capture_default_str();
@@ -152,36 +157,59 @@ int calibrate_flat(const CalibrateArgs& a) {
   return 0;
 }
 
+// An artefact's readings for the ball plate or the sphere: scanned raw at --ball-step over x, y
+// (kept in --scan-output, else OUTPUT + suffix) unless --from names a scan, from the device the
+// calibration was measured on, corrected by `correct_by`. exit_code is run_scan's when the scan
+// did not finish.
+struct ArtefactPoints {
+  int exit_code = 0;
+  std::string scan;
+  PointCloud points;
+};
+
+ArtefactPoints artefact_points(const CalibrateArgs& a, const TableCalibration& correct_by, const std::string& x,
+                               const std::string& y, const char* suffix, const std::string& prompt) {
+  ArtefactPoints out;
+  out.scan = a.from;
+  if (out.scan.empty()) {
+    out.scan = a.scan_output.empty() ? a.output + suffix : a.scan_output;
+    out.exit_code = scan_artefact(raw_scan_of(a, x, y, a.ball_step_mm, out.scan), prompt);
+    if (out.exit_code != 0) return out;
+  }
+  const ScanData raw = read_scan_file(out.scan);
+  if (raw.device) check_calibration_device(correct_by.device_id, a.output, raw.device->device_id);
+  out.points = raw_points(out.scan);
+  apply_calibration(correct_by, out.points, out.scan);
+  return out;
+}
+
+// The calibration the ball plate or the sphere adds to: the flat's, in -o.
+TableCalibration existing_calibration(const CalibrateArgs& a, const char* adds) {
+  struct stat existing {};
+  if (::stat(a.output.c_str(), &existing) != 0) {
+    throw CalibrationError(a.output + ": no calibration there; calibrate on a flat first (-o the same file): the " + a.artefact +
+                           " adds " + adds + " to the travel's map");
+  }
+  return read_calibration_file(a.output);
+}
+
 int calibrate_ball_plate(const CalibrateArgs& a) {
   if (a.certificate.empty()) throw std::invalid_argument("--artefact ballplate needs --certificate, the balls' certified centres");
   // The axes are added to the travel's map: the flat comes first, and its file is -o.
-  struct stat existing {};
-  if (::stat(a.output.c_str(), &existing) != 0) {
-    throw CalibrationError(a.output + ": no calibration there; calibrate on a flat first (-o the same file): the ball plate "
-                           "adds the axes' scale and squareness to the travel's map");
-  }
-  TableCalibration c = read_calibration_file(a.output);
+  TableCalibration c = existing_calibration(a, "the axes' scale and squareness");
   const std::vector<Point2> certified = read_ball_certificate(a.certificate);
-  std::string plate_scan = a.from;
-  if (plate_scan.empty()) {
-    std::string x, y;
-    ranges_around(certified, 9.0, &x, &y);  // each ball's footprint and the plate's placement error
-    plate_scan = a.scan_output.empty() ? a.output + ".ballplate.scan" : a.scan_output;
-    const int scanned = scan_artefact(raw_scan_of(a, x, y, a.ball_step_mm, plate_scan),
-                                      "Calibrating on a ball plate, laid with its frame on the table's (its first ball "
-                                      "within 2 mm of its certified place, its rows along x), the gauge over it");
-    if (scanned != 0) return scanned;
-  }
+  std::string x, y;
+  ranges_around(certified, 9.0, &x, &y);  // each ball's footprint and the plate's placement error
   // The travel's height error tilts each ball's cap by the map's local slope and shifts its fitted
   // centre by the ball's radius times that slope (3.6 um for 30 um over 50 mm): the map comes out
   // first. An earlier ball plate's axes do not apply: they are what is measured again.
-  const ScanData plate_raw = read_scan_file(plate_scan);
-  if (plate_raw.device) check_calibration_device(c.device_id, a.output, plate_raw.device->device_id);
-  PointCloud plate = raw_points(plate_scan);
-  TableCalibration map_only = c;
-  map_only.has_axes = false;
-  apply_calibration(map_only, plate, plate_scan);
-  const AxisCalibration axes = calibrate_from_ball_plate(plate, certified, plate_scan);
+  TableCalibration without_axes = c;
+  without_axes.has_axes = false;
+  const ArtefactPoints plate = artefact_points(a, without_axes, x, y, ".ballplate.scan",
+                                               "Calibrating on a ball plate, laid with its frame on the table's (its first ball "
+                                               "within 2 mm of its certified place, its rows along x), the gauge over it");
+  if (plate.exit_code != 0) return plate.exit_code;
+  const AxisCalibration axes = calibrate_from_ball_plate(plate.points, certified, plate.scan);
   c.has_axes = true;
   c.scale_x_ppm = axes.scale_x_ppm, c.scale_y_ppm = axes.scale_y_ppm, c.squareness_urad = axes.squareness_urad;
   c.u_scale_x_ppm = axes.u_scale_x_ppm, c.u_scale_y_ppm = axes.u_scale_y_ppm, c.u_squareness_urad = axes.u_squareness_urad;
@@ -201,9 +229,61 @@ int calibrate_ball_plate(const CalibrateArgs& a) {
   return 0;
 }
 
+Point2 sphere_position(const std::string& text) {
+  Point2 at{};
+  char comma = 0, extra = 0;
+  std::istringstream fields(text);
+  if (!(fields >> at.x >> comma >> at.y) || comma != ',' || (fields >> extra) || !std::isfinite(at.x) || !std::isfinite(at.y)) {
+    throw std::invalid_argument("--sphere-at must be X,Y in mm (where the sphere's top stands), got '" + text + "'");
+  }
+  return at;
+}
+
+int calibrate_sphere(const CalibrateArgs& a) {
+  if (!(a.diameter_mm > 0)) throw std::invalid_argument("--artefact sphere needs --diameter-mm, the sphere's certified diameter");
+  if (a.sphere_at.empty()) throw std::invalid_argument("--artefact sphere needs --sphere-at X,Y, where the sphere's top stands");
+  const Point2 at = sphere_position(a.sphere_at);
+  TableCalibration c = existing_calibration(a, "the gauge's tilt");
+  // The cap the fit uses (55 degrees from the top) and 3 mm for where the sphere was said to be.
+  std::string x, y;
+  ranges_around({at}, a.diameter_mm / 2 * std::sin(55 * 3.14159265358979323846 / 180) + 3.0, &x, &y);
+  // The map and the axes come out first: the travel's slope under the sphere tilts its cap as the
+  // gauge's lean would, and the axes' scale stretches it. An earlier tilt does not apply: it is
+  // what is measured again.
+  TableCalibration without_tilt = c;
+  without_tilt.has_gauge_tilt = false;
+  const ArtefactPoints sphere = artefact_points(a, without_tilt, x, y, ".sphere.scan",
+                                                "Calibrating the gauge's tilt on a reference sphere, fixed on its stem with its "
+                                                "top under the gauge at the given place, the gauge clamped as it will measure");
+  if (sphere.exit_code != 0) return sphere.exit_code;
+  const GaugeTilt tilt = calibrate_gauge_tilt(sphere.points, a.diameter_mm, sphere.scan);
+  c.has_gauge_tilt = true;
+  c.gauge_tilt_x_urad = tilt.tilt_x_urad, c.gauge_tilt_y_urad = tilt.tilt_y_urad;
+  c.u_gauge_tilt_x_urad = tilt.u_tilt_x_urad, c.u_gauge_tilt_y_urad = tilt.u_tilt_y_urad;
+  c.sphere_diameter_mm = a.diameter_mm;
+  c.sphere_points = tilt.points;
+  c.sphere_rms_mm = tilt.residual_rms_mm;
+  c.gauge_created_utc = utc_now();
+  write_file_atomically(a.output, calibration_to_json(c));
+  if (!a.quiet) {
+    const double lean_urad = std::hypot(tilt.tilt_x_urad, tilt.tilt_y_urad);
+    std::printf("%zu readings on the sphere's cap fitted within %.4f mm RMS (its readings alone give %.4f mm across; certified "
+                "%.4f)\n", tilt.points, tilt.residual_rms_mm, tilt.free_diameter_mm, a.diameter_mm);
+    std::printf("gauge tilt x %+.0f urad (u %.0f), y %+.0f urad (u %.0f): it leans %.3f degrees, so a reading 10 mm up lies "
+                "%.1f um to the side\n", tilt.tilt_x_urad, tilt.u_tilt_x_urad, tilt.tilt_y_urad, tilt.u_tilt_y_urad,
+                lean_urad * 1e-6 * 57.29577951308232, lean_urad * 1e-6 * 10 * 1e3);
+    std::printf("added to %s: scans corrected by it now have the gauge's lean taken out\n", a.output.c_str());
+  }
+  return 0;
+}
+
 }  // namespace
 
-int run_calibrate(const CalibrateArgs& a) { return a.artefact == "ballplate" ? calibrate_ball_plate(a) : calibrate_flat(a); }
+int run_calibrate(const CalibrateArgs& a) {
+  if (a.artefact == "ballplate") return calibrate_ball_plate(a);
+  if (a.artefact == "sphere") return calibrate_sphere(a);
+  return calibrate_flat(a);
+}
 
 int run_recorrect(const RecorrectArgs& a) {
   std::string json;

@@ -17,9 +17,11 @@ struct CalibrateArgs {
   unsigned samples = 1;
   double flatness_um = 0;  // the flat's certified flatness, peak to valley
   std::string certificate; // ball plate: its certified ball centres (CSV x_mm,y_mm)
-  double ball_step_mm = 1.0;  // ball plate: grid step of its scan
+  double ball_step_mm = 1.0;  // ball plate and sphere: grid step of its scan
+  double diameter_mm = 0;  // sphere: its certified diameter
+  std::string sphere_at;   // sphere: where its top stands on the table, "X,Y" in mm
   std::string from;        // an existing scan of the artefact instead of scanning
-  std::string scan_output; // where the artefact's scan is kept (default OUTPUT.flat.scan, OUTPUT.ballplate.scan)
+  std::string scan_output; // where the artefact's scan is kept (default OUTPUT.flat.scan, OUTPUT.ballplate.scan, OUTPUT.sphere.scan)
   std::string output;      // the calibration file
   bool force = false;
   bool quiet = false;

@@ -9,6 +9,8 @@
 #include <sstream>
 
 #include "host/io/whole_file.h"
+#include "host/scan/small_solve.h"
+#include "host/scan/sphere_fit.h"
 #include "host/scan/table_calibration.h"
 
 namespace dg::host {
@@ -20,51 +22,6 @@ constexpr double kCapMm = 4.5;      // readings this far from a ball's top in XY
 constexpr double kCapDepthMm = 3.5; // and less than this below the top (the plate stays out)
 constexpr size_t kMinCapPoints = 12;
 constexpr double kMinBallRiseMm = 1.0;
-
-// Solves the n x n system a x = b (n <= 4) by Gaussian elimination with partial pivoting; false
-// when it is singular.
-bool solve(int n, double a[4][4], double b[4], double x[4]) {
-  for (int col = 0; col < n; ++col) {
-    int pivot = col;
-    for (int r = col + 1; r < n; ++r) {
-      if (std::fabs(a[r][col]) > std::fabs(a[pivot][col])) pivot = r;
-    }
-    if (!(std::fabs(a[pivot][col]) > 1e-12)) return false;
-    std::swap(a[col], a[pivot]);
-    std::swap(b[col], b[pivot]);
-    for (int r = col + 1; r < n; ++r) {
-      const double f = a[r][col] / a[col][col];
-      for (int c = col; c < n; ++c) a[r][c] -= f * a[col][c];
-      b[r] -= f * b[col];
-    }
-  }
-  for (int r = n - 1; r >= 0; --r) {
-    double s = b[r];
-    for (int c = r + 1; c < n; ++c) s -= a[r][c] * x[c];
-    x[r] = s / a[r][r];
-  }
-  return true;
-}
-
-// x^2 + y^2 + z^2 = 2 a x + 2 b y + 2 c z + d, in coordinates relative to `origin` (conditioning);
-// the centre is (a, b, c) + origin.
-bool fit_sphere(const std::vector<Point3>& cap, const Point3& origin, Point3& centre, double& radius) {
-  double n[4][4] = {}, rhs[4] = {};
-  for (const Point3& p : cap) {
-    const double x = p.x - origin.x, y = p.y - origin.y, z = p.z - origin.z;
-    const double row[4] = {2 * x, 2 * y, 2 * z, 1};
-    const double w = x * x + y * y + z * z;
-    for (int i = 0; i < 4; ++i) {
-      rhs[i] += row[i] * w;
-      for (int j = 0; j < 4; ++j) n[i][j] += row[i] * row[j];
-    }
-  }
-  double s[4];
-  if (!solve(4, n, rhs, s)) return false;
-  centre = {s[0] + origin.x, s[1] + origin.y, s[2] + origin.z};
-  radius = std::sqrt(std::fmax(0.0, s[3] + s[0] * s[0] + s[1] * s[1] + s[2] * s[2]));
-  return std::isfinite(centre.x) && std::isfinite(centre.y) && std::isfinite(centre.z) && std::isfinite(radius);
-}
 
 }  // namespace
 
@@ -94,7 +51,7 @@ std::vector<Point3> fit_ball_centres(const PointCloud& scan, const std::vector<P
     }
     Point3 centre;
     double radius = 0;
-    if (cap.size() < kMinCapPoints || !fit_sphere(cap, *top, centre, radius) || radius < 0.5 || radius > 100) {
+    if (cap.size() < kMinCapPoints || !fit_sphere_algebraic(cap, *top, centre, radius) || radius < 0.5 || radius > 100) {
       throw CalibrationError(name + ": " + where + ": " + std::to_string(cap.size()) +
                              " readings on its cap do not determine a sphere; scan the plate at 1 mm or finer");
     }
@@ -116,20 +73,12 @@ AxisCalibration calibrate_from_ball_plate(const PointCloud& scan, const std::vec
       for (int j = 0; j < 3; ++j) n[i][j] += row[i] * row[j];
     }
   }
-  double ax[4] = {}, ay[4] = {}, inverse_diagonal[3] = {};
+  double ax[4] = {}, ay[4] = {}, variance_factor[4] = {};
   {
     double n1[4][4], n2[4][4];
     std::memcpy(n1, n, sizeof n), std::memcpy(n2, n, sizeof n);
-    if (!solve(3, n1, bx, ax) || !solve(3, n2, by, ay)) {
+    if (!solve_small(3, n1, bx, ax) || !solve_small(3, n2, by, ay) || !inverse_diagonal(3, n, variance_factor)) {
       throw CalibrationError(name + ": the balls' centres lie on one line; the plate needs balls spread in x and y");
-    }
-    for (int i = 0; i < 3; ++i) {
-      double unit[4] = {0, 0, 0, 0}, column[4];
-      unit[i] = 1;
-      double n3[4][4];
-      std::memcpy(n3, n, sizeof n);
-      solve(3, n3, unit, column);
-      inverse_diagonal[i] = column[i];
     }
   }
   double ss = 0;
@@ -153,9 +102,9 @@ AxisCalibration calibrate_from_ball_plate(const PointCloud& scan, const std::vec
   out.scale_y_ppm = (u11 / std::cos(squareness) - 1) * 1e6;
   // Each entry's variance is sigma^2 [(D^T D)^-1] on its own diagonal; the rotation by a plate laid
   // within a few degrees mixes the entries little, which this neglects.
-  out.u_scale_x_ppm = std::sqrt(sigma2 * inverse_diagonal[0]) * 1e6;
-  out.u_squareness_urad = std::sqrt(sigma2 * inverse_diagonal[1]) * 1e6;
-  out.u_scale_y_ppm = std::sqrt(sigma2 * inverse_diagonal[1]) * 1e6;
+  out.u_scale_x_ppm = std::sqrt(sigma2 * variance_factor[0]) * 1e6;
+  out.u_squareness_urad = std::sqrt(sigma2 * variance_factor[1]) * 1e6;
+  out.u_scale_y_ppm = std::sqrt(sigma2 * variance_factor[1]) * 1e6;
   return out;
 }
 

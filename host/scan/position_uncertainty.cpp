@@ -10,15 +10,15 @@
 
 namespace dg::host {
 
-double TablePosition::u_x_mm(double x_mm, double y_mm) const {
+double TablePosition::u_x_mm(double x_mm, double y_mm, double z_mm) const {
   const double step_sq = step_mm * step_mm / 12.0;
-  const double scale = x_mm * u_scale_x, square = y_mm * u_squareness_rad;
-  return std::sqrt(step_sq + scale * scale + square * square);
+  const double scale = x_mm * u_scale_x, square = y_mm * u_squareness_rad, tilt = z_mm * u_tilt_x_rad;
+  return std::sqrt(step_sq + scale * scale + square * square + tilt * tilt);
 }
 
-double TablePosition::u_y_mm(double y_mm) const {
-  const double scale = y_mm * u_scale_y;
-  return std::sqrt(step_mm * step_mm / 12.0 + scale * scale);
+double TablePosition::u_y_mm(double y_mm, double z_mm) const {
+  const double scale = y_mm * u_scale_y, tilt = z_mm * u_tilt_y_rad;
+  return std::sqrt(step_mm * step_mm / 12.0 + scale * scale + tilt * tilt);
 }
 
 TablePosition table_position(const ScanData& scan, const std::optional<TableCalibration>& calibration) {
@@ -28,6 +28,10 @@ TablePosition table_position(const ScanData& scan, const std::optional<TableCali
     t.u_scale_x = calibration->u_scale_x_ppm * 1e-6;
     t.u_scale_y = calibration->u_scale_y_ppm * 1e-6;
     t.u_squareness_rad = calibration->u_squareness_urad * 1e-6;
+  }
+  if (calibration && calibration->has_gauge_tilt) {
+    t.u_tilt_x_rad = calibration->u_gauge_tilt_x_urad * 1e-6;
+    t.u_tilt_y_rad = calibration->u_gauge_tilt_y_urad * 1e-6;
   }
   return t;
 }
@@ -81,12 +85,15 @@ std::vector<std::pair<double, double>> scan_slopes(const ScanData& scan) {
 
 double add_position_uncertainty(const ScanData& scan, const TablePosition& table, std::vector<double>& sigma_mm) {
   if (sigma_mm.size() != scan.points.size()) return 0;
-  if (!(table.step_mm > 0) && !(table.u_scale_x > 0) && !(table.u_scale_y > 0) && !(table.u_squareness_rad > 0)) return 0;
+  if (!(table.step_mm > 0) && !(table.u_scale_x > 0) && !(table.u_scale_y > 0) && !(table.u_squareness_rad > 0) &&
+      !(table.u_tilt_x_rad > 0) && !(table.u_tilt_y_rad > 0)) {
+    return 0;
+  }
   const std::vector<std::pair<double, double>> slope = scan_slopes(scan);
   double largest = 0;
   for (size_t i = 0; i < sigma_mm.size(); ++i) {
-    const double x = scan.points[i].x_nm * 1e-6, y = scan.points[i].y_nm * 1e-6;
-    const double ux = slope[i].first * table.u_x_mm(x, y), uy = slope[i].second * table.u_y_mm(y);
+    const double x = scan.points[i].x_nm * 1e-6, y = scan.points[i].y_nm * 1e-6, z = scan.points[i].z_nm * 1e-6;
+    const double ux = slope[i].first * table.u_x_mm(x, y, z), uy = slope[i].second * table.u_y_mm(y, z);
     const double added_sq = ux * ux + uy * uy;
     if (!std::isfinite(added_sq)) continue;
     sigma_mm[i] = std::sqrt(sigma_mm[i] * sigma_mm[i] + added_sq);

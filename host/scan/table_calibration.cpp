@@ -63,7 +63,7 @@ double TableCalibration::u_at(double x_mm, double y_mm) const {
 std::string calibration_to_json(const TableCalibration& c) {
   nlohmann::ordered_json j;
   j["format"] = "digitizer table calibration";
-  j["version"] = TableCalibration::kVersion;
+  j["version"] = c.has_gauge_tilt ? TableCalibration::kVersion : TableCalibration::kVersionWithoutTilt;
   j["created_utc"] = c.created_utc;
   j["device_id"] = c.device_id;
   j["artefact"] = {{"kind", c.artefact}, {"flatness_mm", c.artefact_flatness_mm}};
@@ -82,6 +82,17 @@ std::string calibration_to_json(const TableCalibration& c) {
                  {"u_squareness_urad", c.u_squareness_urad},
                  {"balls", c.balls},
                  {"centre_rms_mm", c.ball_centre_rms_mm}};
+  }
+  if (c.has_gauge_tilt) {
+    j["gauge"] = {{"artefact", "reference sphere"},
+                  {"created_utc", c.gauge_created_utc},
+                  {"diameter_mm", c.sphere_diameter_mm},
+                  {"tilt_x_urad", c.gauge_tilt_x_urad},
+                  {"tilt_y_urad", c.gauge_tilt_y_urad},
+                  {"u_tilt_x_urad", c.u_gauge_tilt_x_urad},
+                  {"u_tilt_y_urad", c.u_gauge_tilt_y_urad},
+                  {"points", c.sphere_points},
+                  {"residual_rms_mm", c.sphere_rms_mm}};
   }
   j["fit"] = {{"points", c.points},
               {"noise_mm", c.noise_mm},
@@ -106,9 +117,10 @@ TableCalibration calibration_from_json(const std::string& text, const std::strin
     throw CalibrationError(name + ": not a digitizer table calibration (\"format\" is missing or different)");
   }
   const double version = number(j, "version", "");
-  if (version != TableCalibration::kVersion) {
+  if (version != TableCalibration::kVersion && version != TableCalibration::kVersionWithoutTilt) {
     char words[96];  // %g: the file's number may be anything finite
-    std::snprintf(words, sizeof words, ": calibration version %g; this digitizer reads version %d", version, TableCalibration::kVersion);
+    std::snprintf(words, sizeof words, ": calibration version %g; this digitizer reads versions %d and %d", version,
+                  TableCalibration::kVersionWithoutTilt, TableCalibration::kVersion);
     throw CalibrationError(name + words);
   }
   TableCalibration c;
@@ -162,6 +174,23 @@ TableCalibration calibration_from_json(const std::string& text, const std::strin
     if (axes.contains("balls") && axes["balls"].is_number_unsigned()) c.balls = axes["balls"].get<size_t>();
     if (axes.contains("centre_rms_mm") && axes["centre_rms_mm"].is_number()) c.ball_centre_rms_mm = axes["centre_rms_mm"].get<double>();
   }
+  if (j.contains("gauge")) {
+    if (version == TableCalibration::kVersionWithoutTilt) {
+      throw CalibrationError(name + ": a gauge tilt in a version 1 file (the tilt came with version 2): the file was edited or is damaged");
+    }
+    const nlohmann::json& gauge = j["gauge"];
+    c.has_gauge_tilt = true;
+    c.gauge_tilt_x_urad = number(gauge, "tilt_x_urad", "gauge."), c.gauge_tilt_y_urad = number(gauge, "tilt_y_urad", "gauge.");
+    c.u_gauge_tilt_x_urad = number(gauge, "u_tilt_x_urad", "gauge."), c.u_gauge_tilt_y_urad = number(gauge, "u_tilt_y_urad", "gauge.");
+    c.sphere_diameter_mm = number(gauge, "diameter_mm", "gauge.");
+    // What calibrate_gauge_tilt accepts: beyond 50 mrad the plunger binds.
+    if (std::hypot(c.gauge_tilt_x_urad, c.gauge_tilt_y_urad) > 50000 || c.u_gauge_tilt_x_urad < 0 || c.u_gauge_tilt_y_urad < 0) {
+      throw CalibrationError(name + ": gauge: a tilt beyond 50000 urad or a negative uncertainty");
+    }
+    if (gauge.contains("created_utc") && gauge["created_utc"].is_string()) c.gauge_created_utc = gauge["created_utc"].get<std::string>();
+    if (gauge.contains("points") && gauge["points"].is_number_unsigned()) c.sphere_points = gauge["points"].get<size_t>();
+    if (gauge.contains("residual_rms_mm") && gauge["residual_rms_mm"].is_number()) c.sphere_rms_mm = gauge["residual_rms_mm"].get<double>();
+  }
   if (j.contains("fit") && j["fit"].is_object()) {
     const nlohmann::json& fit = j["fit"];
     if (fit.contains("noise_mm") && fit["noise_mm"].is_number()) c.noise_mm = fit["noise_mm"].get<double>();
@@ -212,6 +241,12 @@ void apply_calibration(const TableCalibration& c, PointCloud& cloud, const std::
       const double x = p.x * (1 + c.scale_x_ppm * 1e-6) + p.y * std::sin(q);
       p.y = p.y * (1 + c.scale_y_ppm * 1e-6) * std::cos(q);
       p.x = x;
+    }
+    if (c.has_gauge_tilt) {
+      // The reading's own height shears it: measured from the gauge's zero, as the tilt was fitted.
+      const double sx = std::sin(c.gauge_tilt_x_urad * 1e-6), sy = std::sin(c.gauge_tilt_y_urad * 1e-6);
+      p.x += p.z * sx, p.y += p.z * sy;
+      p.z *= std::sqrt(1 - sx * sx - sy * sy);
     }
   }
 }

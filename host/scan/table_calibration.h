@@ -19,7 +19,10 @@ class CalibrationError : public std::runtime_error {
 };
 
 struct TableCalibration {
-  static constexpr int kVersion = 1;
+  // Version 2 adds the gauge's tilt; a file without it is written as version 1, which readers
+  // that know no tilt still read correctly. A version-1 reader given a tilt would ignore it.
+  static constexpr int kVersion = 2;
+  static constexpr int kVersionWithoutTilt = 1;
   std::string created_utc;  // ISO 8601, when it was measured
   std::string device_id;    // the device it was measured on ("" when the scan did not say)
   std::string artefact = "flat";
@@ -42,6 +45,14 @@ struct TableCalibration {
   size_t balls = 0;
   double ball_centre_rms_mm = 0;
   std::string axes_created_utc;
+  // The gauge's tilt from a reference sphere (gauge_tilt_calibration.h), when measured: after the
+  // map and the axes, a point read z high moves to (x + z sin(tilt_x), y + z sin(tilt_y)), z cos(tilt).
+  bool has_gauge_tilt = false;
+  double gauge_tilt_x_urad = 0, gauge_tilt_y_urad = 0, u_gauge_tilt_x_urad = 0, u_gauge_tilt_y_urad = 0;
+  double sphere_diameter_mm = 0;  // the certificate's
+  size_t sphere_points = 0;
+  double sphere_rms_mm = 0;
+  std::string gauge_created_utc;
 
   double x1_mm() const { return x0_mm + step_x_mm * static_cast<double>(nx - 1); }
   double y1_mm() const { return y0_mm + step_y_mm * static_cast<double>(ny - 1); }
@@ -64,8 +75,8 @@ TableCalibration read_calibration_file(const std::string& path, std::string* tex
 // unknown (""): no check, since there is nothing to compare.
 void check_calibration_device(const std::string& measured_on, const std::string& path, const std::string& device_id);
 
-// Subtracts the travel's error from every point's z, moves its (x, y) by the axes' errors where
-// they were measured, and adds the map's uncertainty to each point's sigma, where the cloud has one. A point outside the calibrated travel is an error that names it:
+// Subtracts the travel's error from every point's z, moves its (x, y) by the axes' errors and
+// the gauge's tilt where they were measured, and adds the map's uncertainty to each point's sigma, where the cloud has one. A point outside the calibrated travel is an error that names it:
 // its correction is unknown, and an uncorrected point among corrected ones would be a false number.
 void apply_calibration(const TableCalibration& c, PointCloud& cloud, const std::string& name);
 

@@ -1,5 +1,6 @@
 // The simulated machine's own errors: what a hobby XY table and its gauge stand do to every reading.
 #pragma once
+#include <cmath>
 #include <cstdint>
 
 namespace dg::sim {
@@ -18,11 +19,15 @@ struct MachineErrors {
   // a stand's temperature takes after the room or the motors change it, which no straight line follows.
   double warmup_um = 0;
   double warmup_min = 20;
+  // The gauge's plunger is not vertical: its axis leans towards +x by gauge_tilt_x_urad and towards
+  // +y by gauge_tilt_y_urad. A reading r (the plunger's travel from the gauge's zero, at the
+  // table's height) touches the part at (x + r sin(tilt_x), y + r sin(tilt_y)), r cos(tilt) high.
+  double gauge_tilt_x_urad = 0, gauge_tilt_y_urad = 0;
   uint64_t map_seed = 1;       // picks the flatness map's modes (the machine's, not the scan's)
 
   bool any() const {
     return squareness_urad != 0 || scale_x_ppm != 0 || scale_y_ppm != 0 || flatness_um != 0 || drift_um_per_h != 0 ||
-           warmup_um != 0;
+           warmup_um != 0 || gauge_tilt_x_urad != 0 || gauge_tilt_y_urad != 0;
   }
 };
 
@@ -32,6 +37,25 @@ void actual_table_xy(const MachineErrors& e, double x_mm, double y_mm, double* a
 double flatness_map_peak(uint64_t map_seed);
 // The travel's height error at a commanded position (mm), without drift.
 double travel_z_error_mm(const MachineErrors& e, double map_peak, double x_mm, double y_mm);
+// The reading of the leaning gauge over a surface: `height_mm(dx, dy)` is the height the tip meets
+// when it stands (dx, dy) mm from where a vertical gauge would, travel error and drift included.
+// The reading r solves r cos(tilt) = height(r sin(tilt_x), r sin(tilt_y)), by fixed-point
+// iteration from the vertical reading (it contracts by slope x tilt: a few steps on any part whose
+// slope is not near vertical; at a cliff it stops after kTiltIterations).
+template <typename Height>
+double tilted_reading_mm(const MachineErrors& e, Height height_mm) {
+  constexpr int kTiltIterations = 40;
+  const double sx = std::sin(e.gauge_tilt_x_urad * 1e-6), sy = std::sin(e.gauge_tilt_y_urad * 1e-6);
+  const double cos_tilt = std::sqrt(1 - sx * sx - sy * sy);
+  double r = height_mm(0.0, 0.0) / cos_tilt;
+  for (int k = 0; k < kTiltIterations; ++k) {
+    const double next = height_mm(r * sx, r * sy) / cos_tilt;
+    if (std::fabs(next - r) < 1e-10) return next;
+    r = next;
+  }
+  return r;
+}
+
 // The drift after `t_ns` of virtual time (mm).
 double drift_mm(const MachineErrors& e, uint64_t t_ns);
 

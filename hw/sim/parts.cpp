@@ -50,6 +50,11 @@ double shape_height_mm(PartKind kind, double x_mm, double y_mm) {
       }
       return z;
     }
+    case PartKind::kSphere: {
+      const double d2 = (x_mm - kSphereXMm) * (x_mm - kSphereXMm) + (y_mm - kSphereYMm) * (y_mm - kSphereYMm);
+      const double r2 = kSphereRadiusMm * kSphereRadiusMm;
+      return d2 < r2 ? kSphereCentreZMm + std::sqrt(r2 - d2) : 2.0;
+    }
   }
   return 0.0;
 }
@@ -67,7 +72,8 @@ bool parse_part(const char* name, PartKind* kind) {
                 {"saddle", PartKind::kSaddle},
                 {"canister", PartKind::kCanister},
                 {"flat", PartKind::kFlat},
-                {"ballplate", PartKind::kBallPlate}};
+                {"ballplate", PartKind::kBallPlate},
+                {"sphere", PartKind::kSphere}};
   for (const auto& p : kParts) {
     if (std::strcmp(p.name, name) == 0) {
       *kind = p.kind;
@@ -84,6 +90,7 @@ const char* part_name(PartKind kind) {
     case PartKind::kCanister: return "canister";
     case PartKind::kFlat: return "flat";
     case PartKind::kBallPlate: return "ballplate";
+    case PartKind::kSphere: return "sphere";
   }
   return "?";
 }

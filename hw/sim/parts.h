@@ -3,7 +3,7 @@
 
 namespace dg::sim {
 
-enum class PartKind { kDome, kSaddle, kCanister, kFlat, kBallPlate };
+enum class PartKind { kDome, kSaddle, kCanister, kFlat, kBallPlate, kSphere };
 
 struct Part {
   PartKind kind = PartKind::kDome;
@@ -28,6 +28,12 @@ const char* part_name(PartKind kind);
 constexpr int kBallPlateBalls = 9;
 constexpr double kBallRadiusMm = 6.0;
 void ball_plate_centre(int ball, double* x_mm, double* y_mm);
+
+// The reference sphere, for the gauge's tilt: a ball kSphereRadiusMm in radius (25.4 mm across, the
+// usual size of a reference sphere) on a stem, its centre kSphereCentreZMm above the table at
+// (kSphereXMm, kSphereYMm); around the stem a 2 mm base. Its certificate is the diameter alone.
+constexpr double kSphereRadiusMm = 12.7;
+constexpr double kSphereXMm = 20.0, kSphereYMm = 15.0, kSphereCentreZMm = 8.0;
 
 // The saddle's coefficients (z = a + b x + c y + d x y), exposed for tests.
 struct SaddleCoefficients {

@@ -9,7 +9,7 @@ namespace dg::sim {
 
 const char kSimOptionsHelp[] =
     "Simulated device settings (key=value):\n"
-    "  part=dome|saddle|canister|flat|ballplate  seed=N  noise_um=X  outliers=RATE\n"
+    "  part=dome|saddle|canister|flat|ballplate|sphere  seed=N  noise_um=X  outliers=RATE\n"
     "  outlier_mm=X  inch=0|1  gauge_delay_us=N  mute=0|1  drop_edge=BIT  id=NAME\n"
     "  host_silence_s=N (virtual s, 0 never)  on_host_silence=pause|continue|abort\n"
     "  start_x_mm=X start_y_mm=Y (the table's start)  estop_at_ms=T estop_ms=D\n"
@@ -22,7 +22,8 @@ const char kSimOptionsHelp[] =
     "  the machine's errors (each 0 by default): squareness_urad=X scale_x_ppm=X scale_y_ppm=X\n"
     "  flatness_um=X (the travel's height error at its largest) drift_um_per_h=X machine_seed=N\n"
     "  warmup_um=X warmup_min=T (the stand settles: Z grows by X (1 - exp(-t / T)))\n"
-    "  machine=typical (500 urad, 200 and -150 ppm, 30 um, no drift)\n"
+    "  gauge_tilt_x_urad=X gauge_tilt_y_urad=Y (the gauge's axis leans towards +x, +y)\n"
+    "  machine=typical (500 urad, 200 and -150 ppm, 30 um, gauge tilt 3000 and -2000 urad, no drift)\n"
     "  part_x_mm=X part_y_mm=Y part_angle_deg=A (where the part's own frame lies on the table)\n";
 namespace {
 
@@ -58,7 +59,7 @@ std::string apply_sim_option(const std::string& pair, SimOptions* options) {
   uint64_t u = 0;
   if (key == "part") {
     if (!parse_part(value.c_str(), &c.part.kind)) {
-      return "unknown part '" + value + "' (dome, saddle, canister, flat, ballplate)";
+      return "unknown part '" + value + "' (dome, saddle, canister, flat, ballplate, sphere)";
     }
   } else if (key == "seed") {
     if (!parse_u64(value, &u)) return "seed must be a whole number, got '" + value + "'";
@@ -131,6 +132,10 @@ std::string apply_sim_option(const std::string& pair, SimOptions* options) {
   } else if (key == "squareness_urad" || key == "scale_x_ppm" || key == "scale_y_ppm") {
     if (!parse_double(value, &d) || std::fabs(d) > 20000) return key + " must be -20000..20000, got '" + value + "'";
     (key == "squareness_urad" ? c.machine.squareness_urad : key == "scale_x_ppm" ? c.machine.scale_x_ppm : c.machine.scale_y_ppm) = d;
+  } else if (key == "gauge_tilt_x_urad" || key == "gauge_tilt_y_urad") {
+    // Beyond 50 mrad (2.9 degrees) a plunger binds: the stand is broken, not out of true.
+    if (!parse_double(value, &d) || std::fabs(d) > 50000) return key + " must be -50000..50000, got '" + value + "'";
+    (key == "gauge_tilt_x_urad" ? c.machine.gauge_tilt_x_urad : c.machine.gauge_tilt_y_urad) = d;
   } else if (key == "flatness_um" || key == "drift_um_per_h" || key == "warmup_um") {
     if (!parse_double(value, &d) || std::fabs(d) > 1000) return key + " must be -1000..1000, got '" + value + "'";
     (key == "flatness_um" ? c.machine.flatness_um : key == "warmup_um" ? c.machine.warmup_um : c.machine.drift_um_per_h) = d;
@@ -151,6 +156,7 @@ std::string apply_sim_option(const std::string& pair, SimOptions* options) {
     if (value == "typical") {
       c.machine.squareness_urad = 500, c.machine.scale_x_ppm = 200, c.machine.scale_y_ppm = -150;
       c.machine.flatness_um = 30;
+      c.machine.gauge_tilt_x_urad = 3000, c.machine.gauge_tilt_y_urad = -2000;
     }
   } else if (key == "require_homing") {
     if (value != "0" && value != "1") return "require_homing is 0 or 1, got '" + value + "'";

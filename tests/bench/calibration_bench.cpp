@@ -1,5 +1,6 @@
 // The table calibration on the simulator: a table with the typical errors (travel 30 um out of flat,
-// 500 urad out of square, 200 and -150 ppm of scale), calibrated on a flat and a ball plate, then
+// 500 urad out of square, 200 and -150 ppm of scale, the gauge leaning 3 and -2 mrad), calibrated on a
+// flat, a ball plate and a reference sphere, then
 // each part scanned later (another seed) and compared with its true shape, uncorrected and corrected;
 // and a drifting gauge stand, its drift removed by reading the first point again every N lines.
 #include <unistd.h>
@@ -42,6 +43,13 @@ int main() {
     std::fclose(f);
   }
   if (dg::host::run_calibrate(plate) != 0) return 1;
+  dg::host::CalibrateArgs sphere = a;
+  sphere.artefact = "sphere";
+  sphere.device = std::string("sim:part=sphere,seed=25,") + machine;
+  sphere.diameter_mm = 2 * dg::sim::kSphereRadiusMm;
+  sphere.sphere_at = "20,15";
+  sphere.ball_step_mm = 0.5;
+  if (dg::host::run_calibrate(sphere) != 0) return 1;
   const double calibrate_s = std::chrono::duration<double>(Clock::now() - start).count();
   const dg::host::TableCalibration c = dg::host::read_calibration_file(cal);
   double u_max = 0, map_max = 0;
@@ -49,8 +57,11 @@ int main() {
   std::printf("flat 100 x 100 mm at 5 mm (441 readings, 1 um noise): travel error up to %.1f um found, map u <= %.2f um, "
               "noise %.2f um\n", map_max * 1e3, u_max * 1e3, c.noise_mm * 1e3);
   std::printf("ball plate, 9 balls at 1 mm (7,921 readings): scale x %+.1f ppm (u %.1f, true +200), scale y %+.1f ppm (u %.1f, "
-              "true -150), squareness %+.1f urad (u %.1f, true +500); both artefacts %.2f s\n",
-              c.scale_x_ppm, c.u_scale_x_ppm, c.scale_y_ppm, c.u_scale_y_ppm, c.squareness_urad, c.u_squareness_urad, calibrate_s);
+              "true -150), squareness %+.1f urad (u %.1f, true +500)\n",
+              c.scale_x_ppm, c.u_scale_x_ppm, c.scale_y_ppm, c.u_scale_y_ppm, c.squareness_urad, c.u_squareness_urad);
+  std::printf("reference sphere, 25.4 mm at 0.5 mm (%zu readings on its cap): gauge tilt x %+.0f urad (u %.0f, true +3000), "
+              "y %+.0f urad (u %.0f, true -2000); the three artefacts %.2f s\n",
+              c.sphere_points, c.gauge_tilt_x_urad, c.u_gauge_tilt_x_urad, c.gauge_tilt_y_urad, c.u_gauge_tilt_y_urad, calibrate_s);
   std::printf("%-9s %22s %22s\n", "part", "uncorrected max/RMS um", "corrected max/RMS um");
   // What one flat cannot tell: the plane taken out of the map, less the flat's own 5 mm.
   auto plane = [&](double x, double y) { return c.plane_mm[0] - 5.0 + c.plane_mm[1] * x + c.plane_mm[2] * y; };
@@ -117,6 +128,7 @@ int main() {
   std::remove(cal.c_str());
   std::remove((cal + ".flat.scan").c_str());
   std::remove((cal + ".ballplate.scan").c_str());
+  std::remove((cal + ".sphere.scan").c_str());
   std::remove((dir + ".plate.csv").c_str());
   return 0;
 }

@@ -12,6 +12,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <utility>
 
 #include "host/cli/calibrate_command.h"
 #include "host/cli/device_commands.h"
@@ -33,7 +34,8 @@ std::string temp_path(const std::string& name) {
 
 std::string certificate(const std::string& path) { return dg::test::write_ball_plate_certificate(path); }
 
-// A typical table calibrated over x, y (MIN:MAX) on the simulated flat and ball plate into `cal`.
+// A typical table calibrated over x, y (MIN:MAX) on the simulated flat, ball plate and reference
+// sphere into `cal`.
 TableCalibration calibrate_typical(const char* machine, const std::string& cal, const char* x, const char* y, int seed,
                                    const std::string& plate_csv) {
   CalibrateArgs flat;
@@ -48,7 +50,18 @@ TableCalibration calibrate_typical(const char* machine, const std::string& cal, 
   plate.device = std::string("sim:part=ballplate,seed=") + std::to_string(seed + 1) + "," + machine;
   plate.certificate = certificate(plate_csv);
   LONGS_EQUAL(0, run_calibrate(plate));
+  CalibrateArgs sphere = flat;
+  sphere.artefact = "sphere";
+  sphere.device = std::string("sim:part=sphere,seed=") + std::to_string(seed + 2) + "," + machine;
+  sphere.diameter_mm = 2 * dg::sim::kSphereRadiusMm;
+  sphere.sphere_at = "20,15";
+  sphere.ball_step_mm = 0.5;
+  LONGS_EQUAL(0, run_calibrate(sphere));
   return read_calibration_file(cal);
+}
+
+void remove_calibration(const std::string& cal) {
+  for (const char* scan : {"", ".flat.scan", ".ballplate.scan", ".sphere.scan"}) std::remove((cal + scan).c_str());
 }
 
 constexpr const char* kMachine = "flatness_um=30,noise_um=0.5";
@@ -73,6 +86,46 @@ ScanArgs dome_scan(const std::string& calibration, const std::string& output) {
   s.force = true;
   s.quiet = true;
   return s;
+}
+
+// The worst error of a calibrated dome scan off the true dome, corrected and as measured: each
+// point at the (x, y) the calibration moved it to, the raw one where the table was told to go, both
+// less the plane one flat cannot tell (the map's plane less the flat's own 5 mm).
+std::pair<double, double> dome_errors(const TableCalibration& c, const std::string& part) {
+  const PointCloud corrected = read_points(part);
+  const ScanData raw = read_scan_file(part);
+  double worst = 0, worst_raw = 0;
+  for (size_t k = 0; k < corrected.points.size(); ++k) {
+    const Point3& p = corrected.points[k];
+    const double rx = raw.points[k].x_nm * 1e-6, ry = raw.points[k].y_nm * 1e-6;
+    const double plane = c.plane_mm[0] - 5.0 + c.plane_mm[1] * rx + c.plane_mm[2] * ry;
+    worst = std::fmax(worst, std::fabs(p.z - dg::sim::shape_height_mm(dg::sim::PartKind::kDome, p.x, p.y) - plane));
+    worst_raw = std::fmax(worst_raw, std::fabs(raw.points[k].z_nm * 1e-6 - dg::sim::shape_height_mm(dg::sim::PartKind::kDome, rx, ry) - plane));
+  }
+  return {worst, worst_raw};
+}
+
+// What `digitizer ARGS...` (a device command) prints on standard output.
+std::string device_command_output(std::vector<std::string> words, const std::string& capture) {
+  CLI::App app{"test", "digitizer"};
+  DeviceArgs a;
+  add_device_commands(app, a);
+  std::vector<const char*> argv{"digitizer"};
+  for (const std::string& w : words) argv.push_back(w.c_str());
+  app.parse(static_cast<int>(argv.size()), argv.data());
+  std::fflush(stdout);
+  const int saved = dup(1), file = open(capture.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  dup2(file, 1);
+  const int status = run_device_command(app, a);
+  std::fflush(stdout);
+  dup2(saved, 1);
+  close(saved), close(file);
+  LONGS_EQUAL(0, status);
+  std::ifstream in(capture);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::remove(capture.c_str());
+  return text.str();
 }
 
 }  // namespace
@@ -109,9 +162,10 @@ TEST(SimCalibration, ADomeScannedLaterIsCorrectedToItsTrueShapeWithinTwoMicromet
   std::remove((cal + ".flat.scan").c_str());
 }
 
-// A typical table: 30 um out of flat, 500 urad out of square, 200 and -150 ppm of scale. The flat
-// gives the map, the ball plate the axes; the dome then lies where the calibration moves its points.
-TEST(SimCalibration, OnATypicalTableAFlatAndABallPlateBringADomeWithinTwoMicrometresAndTheNoise) {
+// A typical table: 30 um out of flat, 500 urad out of square, 200 and -150 ppm of scale, the gauge
+// leaning 3 mrad towards +x and 2 towards -y. The flat gives the map, the ball plate the axes, the
+// sphere the gauge's lean; the dome then lies where the calibration moves its points.
+TEST(SimCalibration, OnATypicalTableAFlatABallPlateAndASphereBringADomeWithinTwoMicrometresAndTheNoise) {
   const char* machine = "machine=typical,noise_um=0.5";
   const std::string cal = temp_path("typical.cal.json"), part = temp_path("typical-dome.scan"), plate_csv = temp_path("plate.csv");
   const TableCalibration c = calibrate_typical(machine, cal, "0:100", "0:100", 31, plate_csv);
@@ -119,23 +173,79 @@ TEST(SimCalibration, OnATypicalTableAFlatAndABallPlateBringADomeWithinTwoMicrome
   DOUBLES_EQUAL(200, c.scale_x_ppm, 4 * c.u_scale_x_ppm);
   DOUBLES_EQUAL(-150, c.scale_y_ppm, 4 * c.u_scale_y_ppm);
   DOUBLES_EQUAL(500, c.squareness_urad, 4 * c.u_squareness_urad);
+  CHECK(c.has_gauge_tilt);
+  DOUBLES_EQUAL(3000, c.gauge_tilt_x_urad, 4 * c.u_gauge_tilt_x_urad);
+  DOUBLES_EQUAL(-2000, c.gauge_tilt_y_urad, 4 * c.u_gauge_tilt_y_urad);
+  CHECK(c.u_gauge_tilt_x_urad < 100 && c.u_gauge_tilt_y_urad < 100);
   ScanArgs s = dome_scan(cal, part);
   s.device = std::string("sim:part=dome,seed=33,") + machine;
   LONGS_EQUAL(0, run_scan(s));
-  const PointCloud corrected = read_points(part);
-  const ScanData raw = read_scan_file(part);
-  double worst = 0, worst_raw = 0;
-  for (size_t k = 0; k < corrected.points.size(); ++k) {
-    const Point3& p = corrected.points[k];
-    const double rx = raw.points[k].x_nm * 1e-6, ry = raw.points[k].y_nm * 1e-6;
-    const double plane = c.plane_mm[0] - 5.0 + c.plane_mm[1] * rx + c.plane_mm[2] * ry;
-    worst = std::fmax(worst, std::fabs(p.z - dg::sim::shape_height_mm(dg::sim::PartKind::kDome, p.x, p.y) - plane));
-    worst_raw = std::fmax(worst_raw, std::fabs(raw.points[k].z_nm * 1e-6 - dg::sim::shape_height_mm(dg::sim::PartKind::kDome, rx, ry) - plane));
-  }
+  const auto [worst, worst_raw] = dome_errors(c, part);
   std::printf("\n  typical table, dome after calibration: worst %.2f um (uncorrected %.1f um)", worst * 1e3, worst_raw * 1e3);
   CHECK(worst_raw > 0.008);
   CHECK(worst <= 0.002 + 3.5 * 0.00058);
-  for (const std::string& f : {part, cal, cal + ".flat.scan", cal + ".ballplate.scan", plate_csv}) std::remove(f.c_str());
+  for (const std::string& f : {part, plate_csv}) std::remove(f.c_str());
+  remove_calibration(cal);
+}
+
+// The gauge alone out of true, leaning 8 mrad towards +x and 5 towards +y: on the dome's flanks a
+// reading lands up to 80 um to the side of where the table stood. A flat (the gauge zero's
+// height) and the reference sphere measure the lean; a dome scanned later comes back within
+// 2 um and the noise of its true shape.
+TEST(SimCalibration, ALeaningGaugeIsMeasuredOnASphereAndTakenOutOfADomeScannedLater) {
+  const std::string machine = "gauge_tilt_x_urad=8000,gauge_tilt_y_urad=5000,noise_um=0.5";
+  const std::string cal = temp_path("tilt.cal.json"), part = temp_path("tilt-dome.scan");
+  CalibrateArgs flat;
+  flat.device = "sim:part=flat,seed=51," + machine;
+  flat.x = "0:60", flat.y = "0:40";
+  flat.output = cal;
+  flat.force = flat.quiet = true;
+  LONGS_EQUAL(0, run_calibrate(flat));
+  CalibrateArgs sphere = flat;
+  sphere.artefact = "sphere";
+  sphere.device = "sim:part=sphere,seed=52," + machine;
+  sphere.diameter_mm = 2 * dg::sim::kSphereRadiusMm;
+  sphere.sphere_at = "20.5,14";  // where the user thinks it is, not where it is
+  sphere.ball_step_mm = 0.5;
+  LONGS_EQUAL(0, run_calibrate(sphere));
+  const TableCalibration c = read_calibration_file(cal);
+  std::printf("\n  gauge tilt x %.0f (u %.0f, true 8000), y %.0f (u %.0f, true 5000) urad", c.gauge_tilt_x_urad,
+              c.u_gauge_tilt_x_urad, c.gauge_tilt_y_urad, c.u_gauge_tilt_y_urad);
+  DOUBLES_EQUAL(8000, c.gauge_tilt_x_urad, 4 * c.u_gauge_tilt_x_urad);
+  DOUBLES_EQUAL(5000, c.gauge_tilt_y_urad, 4 * c.u_gauge_tilt_y_urad);
+  ScanArgs s = dome_scan(cal, part);
+  s.device = "sim:part=dome,seed=53," + machine;
+  LONGS_EQUAL(0, run_scan(s));
+  const auto [worst, worst_raw] = dome_errors(c, part);
+  const std::string status = device_command_output({"status", "--device", "sim:part=dome", "--calibration", cal}, temp_path("tilt-status.txt"));
+  STRCMP_CONTAINS((", gauge tilt " + c.gauge_created_utc).c_str(), status.c_str());
+  std::printf("\n  leaning gauge, dome after calibration: worst %.2f um (uncorrected %.1f um)", worst * 1e3, worst_raw * 1e3);
+  CHECK(worst_raw > 0.02);
+  CHECK(worst <= 0.002 + 3.5 * 0.00058);
+  std::remove(part.c_str());
+  remove_calibration(cal);
+}
+
+// A sphere of another diameter than the certificate's is refused with both diameters, and the
+// calibration file keeps what it had.
+TEST(SimCalibration, ASphereOfAnotherDiameterThanItsCertificateIsRefused) {
+  const std::string cal = calibrate(temp_path("wrong-sphere.cal.json"));
+  CalibrateArgs sphere;
+  sphere.artefact = "sphere";
+  sphere.device = std::string("sim:part=sphere,seed=54,") + kMachine;
+  sphere.diameter_mm = 20;
+  sphere.sphere_at = "20,15";
+  sphere.output = cal;
+  sphere.force = sphere.quiet = true;
+  try {
+    run_calibrate(sphere);
+    FAIL("a sphere of 25.4 mm was taken for one of 20 mm");
+  } catch (const CalibrationError& error) {
+    STRCMP_CONTAINS("the readings give a sphere 25.", error.what());
+    STRCMP_CONTAINS("the certificate says 20.000 mm", error.what());
+  }
+  CHECK(!read_calibration_file(cal).has_gauge_tilt);
+  remove_calibration(cal);
 }
 
 // ISO 10360-2 asks for lengths in several positions and orientations: the plate is laid square,
@@ -168,7 +278,8 @@ TEST(SimCalibration, AVerifiedTypicalTablePassesInThreePlacementsAndFailsUncalib
       std::remove((v.output + ".scan").c_str());
     }
   }
-  for (const std::string& f : {cal, cal + ".flat.scan", cal + ".ballplate.scan", plate_csv}) std::remove(f.c_str());
+  std::remove(plate_csv.c_str());
+  remove_calibration(cal);
 }
 
 TEST(SimCalibration, AScanBeyondTheCalibratedTravelIsRefusedBeforeTheTableMoves) {
@@ -213,32 +324,6 @@ TEST(SimCalibration, AnotherDevicesCalibrationIsRefusedForAScanAndARecorrection)
   for (const std::string& f : {part, cal, cal + ".flat.scan"}) std::remove(f.c_str());
 }
 
-namespace {
-
-// What `digitizer ARGS...` (a device command) prints on standard output.
-std::string device_command_output(std::vector<std::string> words, const std::string& capture) {
-  CLI::App app{"test", "digitizer"};
-  DeviceArgs a;
-  add_device_commands(app, a);
-  std::vector<const char*> argv{"digitizer"};
-  for (const std::string& w : words) argv.push_back(w.c_str());
-  app.parse(static_cast<int>(argv.size()), argv.data());
-  std::fflush(stdout);
-  const int saved = dup(1), file = open(capture.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  dup2(file, 1);
-  const int status = run_device_command(app, a);
-  std::fflush(stdout);
-  dup2(saved, 1);
-  close(saved), close(file);
-  LONGS_EQUAL(0, status);
-  std::ifstream in(capture);
-  std::stringstream text;
-  text << in.rdbuf();
-  std::remove(capture.c_str());
-  return text.str();
-}
-
-}  // namespace
 
 // `status` says when the calibration scans use was measured and on which device, and flags one
 // measured on another device.

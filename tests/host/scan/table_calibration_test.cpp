@@ -78,6 +78,37 @@ TEST(TableCalibration, EachPointLosesTheTravelsErrorAndItsSigmaGainsTheMapsUncer
   DOUBLES_EQUAL(std::hypot(4e-4, 3e-4), (*cloud.sigma)[0], 1e-15);  // (5, 10)'s cell reaches the 3e-4 node
 }
 
+// The gauge's lean shears a point by its own corrected height: x + z sin(tx), y + z sin(ty), and
+// z cos(tilt); the file then says version 2, and a version-1 file that claims a tilt is refused.
+TEST(TableCalibration, AGaugeTiltMovesEachPointByItsHeightAndTheFileSaysVersionTwo) {
+  TableCalibration c = three_by_two();
+  c.has_gauge_tilt = true;
+  c.gauge_tilt_x_urad = 3000, c.gauge_tilt_y_urad = -2000, c.u_gauge_tilt_x_urad = 40, c.u_gauge_tilt_y_urad = 41;
+  c.sphere_diameter_mm = 25.4, c.sphere_points = 1200, c.sphere_rms_mm = 3e-4;
+  const std::string json = calibration_to_json(c);
+  STRCMP_CONTAINS("\"version\": 2", json.c_str());
+  STRCMP_CONTAINS("\"version\": 1", calibration_to_json(three_by_two()).c_str());  // no tilt: readable as before
+  const TableCalibration back = calibration_from_json(json, "table.cal.json");
+  CHECK(back.has_gauge_tilt);
+  DOUBLES_EQUAL(3000, back.gauge_tilt_x_urad, 0);
+  DOUBLES_EQUAL(41, back.u_gauge_tilt_y_urad, 0);
+  DOUBLES_EQUAL(25.4, back.sphere_diameter_mm, 0);
+  PointCloud cloud;
+  cloud.points = {{5, 10, 10.002}};  // the map's 2 um there comes out first: 10 mm high
+  apply_calibration(back, cloud, "part.scan");
+  const double sx = std::sin(3e-3), sy = std::sin(-2e-3);
+  DOUBLES_EQUAL(5 + 10 * sx, cloud.points[0].x, 1e-12);  // 30 um towards +x
+  DOUBLES_EQUAL(10 + 10 * sy, cloud.points[0].y, 1e-12);
+  DOUBLES_EQUAL(10 * std::sqrt(1 - sx * sx - sy * sy), cloud.points[0].z, 1e-12);
+  std::string old = json;
+  old.replace(old.find("\"version\": 2"), 12, "\"version\": 1");
+  STRCMP_CONTAINS("a gauge tilt in a version 1 file", refusal(old).c_str());
+  std::string far = json;
+  const size_t at = far.find("\"tilt_x_urad\": 3000");
+  far.replace(at, far.find(',', at) - at, "\"tilt_x_urad\": 9e4");
+  STRCMP_CONTAINS("a tilt beyond 50000 urad", refusal(far).c_str());
+}
+
 TEST(TableCalibration, AFileWithAnythingWrongIsRefusedWithWhat) {
   const std::string good = calibration_to_json(three_by_two());
   STRCMP_EQUAL("", refusal(good).c_str());
@@ -89,7 +120,7 @@ TEST(TableCalibration, AFileWithAnythingWrongIsRefusedWithWhat) {
     CHECK(at != std::string::npos);
     return text.replace(at, from.size(), to);
   };
-  STRCMP_CONTAINS("version 2", refusal(edited("\"version\": 1", "\"version\": 2")).c_str());
+  STRCMP_CONTAINS("version 3", refusal(edited("\"version\": 1", "\"version\": 3")).c_str());
   // Found by the fuzzer: a version no integer holds.
   STRCMP_CONTAINS("version 1e+300", refusal(edited("\"version\": 1", "\"version\": 1e300")).c_str());
   STRCMP_CONTAINS("z_error_mm must hold nx * ny = 8", refusal(edited("\"nx\": 3", "\"nx\": 4")).c_str());

@@ -2,8 +2,10 @@
 #include <CppUTest/TestHarness.h>
 
 #include <cmath>
+#include <string>
 
 #include "hw/sim/machine_errors.h"
+#include "hw/sim/parts.h"
 #include "hw/sim/sim_board.h"
 #include "hw/sim/sim_options.h"
 
@@ -63,6 +65,38 @@ TEST(MachineErrors, TheGaugeReadsThePartWhereTheTableReallyIsPlusTheTravelsError
   DOUBLES_EQUAL(0.180, drift_mm(e, 1800000000000ull), 1e-12);  // 360 um an hour, for half an hour
   // The saddle's slope turns the table's 35 um offset in x into a height error of its own.
   CHECK(std::fabs(o.config.part.height_mm(x, y) - o.config.part.height_mm(30, 20)) > 0.004);
+}
+
+// A leaning gauge reads along its own axis: where the plunger meets the part, r along that axis
+// from the gauge's zero. On a plane z = a + b x the reading has a closed form: r cos = a + b (x +
+// r sin_x), r = (a + b x) / (cos - b sin_x); on the sphere it is the upper root of the line's
+// intersection with the ball.
+TEST(MachineErrors, ALeaningGaugeReadsAlongItsAxisWhereThePlungerMeetsThePart) {
+  const double tx = 4e-3, ty = -2.5e-3;
+  const double sx = std::sin(tx), sy = std::sin(ty), cos_tilt = std::sqrt(1 - sx * sx - sy * sy);
+  for (const char* part : {"part=flat", "part=sphere"}) {
+    SimOptions o;
+    for (const char* pair : {part, "gauge_tilt_x_urad=4000", "gauge_tilt_y_urad=-2500"}) STRCMP_EQUAL("", apply_sim_option(pair, &o).c_str());
+    CHECK(o.config.machine.any());
+    o.config.start_x_steps = 24 * 400;  // (24, 17) mm, on the sphere's flank
+    o.config.start_y_steps = 17 * 400;
+    SimBoard board(o.config, nullptr);
+    double expected = 0;
+    if (std::string(part) == "part=flat") {
+      expected = 5.0 / cos_tilt;  // the flat's 5 mm, read along the axis
+    } else {
+      // |(24 + r sx - 20, 17 + r sy - 15, r cos - zc)|^2 = R^2, the larger root.
+      const double px = 24 - dg::sim::kSphereXMm, py = 17 - dg::sim::kSphereYMm, pz = -dg::sim::kSphereCentreZMm;
+      const double b = px * sx + py * sy + pz * cos_tilt;
+      const double c = px * px + py * py + pz * pz - dg::sim::kSphereRadiusMm * dg::sim::kSphereRadiusMm;
+      expected = -b + std::sqrt(b * b - c);
+      // On the sphere's flank the lean moves the reading by micrometres from a vertical gauge's.
+      CHECK(std::fabs(expected - o.config.part.height_mm(24, 17)) > 0.005);
+    }
+    DOUBLES_EQUAL(expected, board.height_under_probe_mm(), 1e-9);
+  }
+  SimOptions o;
+  STRCMP_CONTAINS("gauge_tilt_x_urad must be", apply_sim_option("gauge_tilt_x_urad=60000", &o).c_str());
 }
 
 // The stand's warm-up settles as a first-order lag: 63 % of it after one time constant, and on

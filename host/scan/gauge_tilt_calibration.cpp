@@ -1,0 +1,168 @@
+// The gauge's tilt from a reference sphere: a Gauss-Newton fit of the sphere's cap with the
+// plunger's lean among the unknowns.
+#include "host/scan/gauge_tilt_calibration.h"
+
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "host/scan/small_solve.h"
+#include "host/scan/sphere_fit.h"
+#include "host/scan/table_calibration.h"
+
+namespace dg::host {
+
+namespace {
+
+constexpr double kCapAngleRad = 55 * 3.14159265358979323846 / 180;  // steeper, a plunger drags sideways
+constexpr size_t kMinCapPoints = 50;
+constexpr double kMaxRmsMm = 0.010;
+constexpr double kMaxTiltRad = 0.05;  // a stand leaning more than 2.9 degrees is broken, not out of true
+constexpr int kUnknowns = 5;          // the centre (x, y, z) and the tilt's sin x, sin y
+
+// The cap in coordinates relative to its highest reading, for conditioning. A point's reading
+// height z enters the shear only by differences: its offset from the top moves the centre.
+struct CapPoint {
+  double x, y, z;
+};
+
+// Each reading's distance from the sphere less the radius, and its gradient in the unknowns.
+// q = (cx, cy, cz, sx, sy); the reading touches (x + z sx, y + z sy, z cos) (docs/calibration.md).
+double residual(const CapPoint& p, const double (&q)[kUnknowns], double radius_mm, double (*gradient)[kUnknowns]) {
+  const double cos_tilt = std::sqrt(1 - q[3] * q[3] - q[4] * q[4]);
+  const double ux = p.x + p.z * q[3] - q[0], uy = p.y + p.z * q[4] - q[1], uz = p.z * cos_tilt - q[2];
+  const double d = std::sqrt(ux * ux + uy * uy + uz * uz);
+  if (gradient != nullptr) {
+    (*gradient)[0] = -ux / d, (*gradient)[1] = -uy / d, (*gradient)[2] = -uz / d;
+    (*gradient)[3] = p.z * (ux - uz * q[3] / cos_tilt) / d;
+    (*gradient)[4] = p.z * (uy - uz * q[4] / cos_tilt) / d;
+  }
+  return d - radius_mm;
+}
+
+double sum_of_squares(const std::vector<CapPoint>& cap, const double (&q)[kUnknowns], double radius_mm) {
+  double ss = 0;
+  for (const CapPoint& p : cap) {
+    const double r = residual(p, q, radius_mm, nullptr);
+    ss += r * r;
+  }
+  return ss;
+}
+
+// J^T J and J^T f at q.
+void normal_equations(const std::vector<CapPoint>& cap, const double (&q)[kUnknowns], double radius_mm,
+                      double (&jtj)[kUnknowns][kUnknowns], double (&jtf)[kUnknowns]) {
+  for (int i = 0; i < kUnknowns; ++i) {
+    jtf[i] = 0;
+    for (int j = 0; j < kUnknowns; ++j) jtj[i][j] = 0;
+  }
+  double g[kUnknowns];
+  for (const CapPoint& p : cap) {
+    const double f = residual(p, q, radius_mm, &g);
+    for (int i = 0; i < kUnknowns; ++i) {
+      jtf[i] += g[i] * f;
+      for (int j = 0; j < kUnknowns; ++j) jtj[i][j] += g[i] * g[j];
+    }
+  }
+}
+
+}  // namespace
+
+GaugeTilt calibrate_gauge_tilt(const PointCloud& scan, double diameter_mm, const std::string& name) {
+  if (!(diameter_mm > 1 && diameter_mm < 200)) {
+    throw CalibrationError(name + ": a reference sphere's diameter must lie between 1 and 200 mm");
+  }
+  const double radius_mm = diameter_mm / 2;
+  const Point3* top = nullptr;
+  for (const Point3& p : scan.points) {
+    if (top == nullptr || p.z > top->z) top = &p;
+  }
+  if (top == nullptr) throw CalibrationError(name + ": no readings");
+  // The cap: within the cap angle of the top, sideways and in depth (the stem and the base below
+  // the sphere's equator stay out).
+  const double reach_mm = radius_mm * std::sin(kCapAngleRad), depth_mm = radius_mm * (1 - std::cos(kCapAngleRad));
+  std::vector<CapPoint> cap;
+  std::vector<Point3> cap_points;
+  double lowest = 0;
+  for (const Point3& p : scan.points) {
+    if (std::hypot(p.x - top->x, p.y - top->y) > reach_mm || p.z < top->z - depth_mm - 0.5) continue;
+    cap.push_back({p.x - top->x, p.y - top->y, p.z - top->z});
+    cap_points.push_back(p);
+    lowest = std::fmin(lowest, p.z - top->z);
+  }
+  char words[256];
+  if (cap.size() < kMinCapPoints) {
+    std::snprintf(words, sizeof words, ": %zu readings lie on the sphere's cap (within %.1f mm of its top at (%.3f, %.3f)); "
+                  "the tilt needs %zu: scan the whole sphere at 1 mm or finer", cap.size(), reach_mm, top->x, top->y, kMinCapPoints);
+    throw CalibrationError(name + words);
+  }
+  if (std::fabs(lowest) < 0.25 * radius_mm) {
+    std::snprintf(words, sizeof words, ": the readings around the top reach only %.2f mm below it; a %.1f mm sphere's cap goes "
+                  "%.2f mm down: is the sphere under the gauge, and the whole of it scanned?", std::fabs(lowest), diameter_mm, depth_mm);
+    throw CalibrationError(name + words);
+  }
+  Point3 centre;
+  double free_radius = 0;
+  if (!fit_sphere_algebraic(cap_points, *top, centre, free_radius) || std::fabs(2 * free_radius - diameter_mm) > 0.02 * diameter_mm) {
+    std::snprintf(words, sizeof words, ": the readings give a sphere %.3f mm across, the certificate says %.3f mm: is this the "
+                  "certified sphere, clean, and the right diameter given?", 2 * free_radius, diameter_mm);
+    throw CalibrationError(name + words);
+  }
+  double q[kUnknowns] = {centre.x - top->x, centre.y - top->y, centre.z - top->z, 0, 0};
+  double ss = sum_of_squares(cap, q, radius_mm);
+  bool converged = false;
+  for (int iteration = 0; iteration < 100 && !converged; ++iteration) {
+    double jtj[kUnknowns][kUnknowns], jtf[kUnknowns], step[kUnknowns];
+    normal_equations(cap, q, radius_mm, jtj, jtf);
+    for (double& v : jtf) v = -v;
+    if (!solve_small(kUnknowns, jtj, jtf, step)) break;
+    // Halve the step until it lowers the misfit (Gauss-Newton overshoots far from the minimum). A
+    // Gauss-Newton step is downhill, so none lowering it means the misfit is at its minimum to rounding.
+    converged = true;
+    for (double scale = 1; scale > 1e-6; scale /= 2) {
+      double trial[kUnknowns];
+      for (int i = 0; i < kUnknowns; ++i) trial[i] = q[i] + scale * step[i];
+      if (trial[3] * trial[3] + trial[4] * trial[4] >= 1) continue;
+      const double trial_ss = sum_of_squares(cap, trial, radius_mm);
+      if (trial_ss <= ss) {
+        for (int i = 0; i < kUnknowns; ++i) q[i] = trial[i];
+        converged = trial_ss >= ss * (1 - 1e-12) || (std::fabs(scale * step[3]) < 1e-10 && std::fabs(scale * step[4]) < 1e-10 &&
+                                                      std::fabs(scale * step[0]) + std::fabs(scale * step[1]) + std::fabs(scale * step[2]) < 1e-9);
+        ss = trial_ss;
+        break;
+      }
+    }
+  }
+  GaugeTilt out;
+  out.points = cap.size();
+  out.free_diameter_mm = 2 * free_radius;
+  out.residual_rms_mm = std::sqrt(ss / static_cast<double>(cap.size()));
+  double jtj[kUnknowns][kUnknowns], jtf[kUnknowns], variance_factor[kUnknowns] = {};
+  normal_equations(cap, q, radius_mm, jtj, jtf);
+  if (!converged || !inverse_diagonal(kUnknowns, jtj, variance_factor) || !std::isfinite(ss)) {
+    throw CalibrationError(name + ": the sphere's fit did not settle; scan the sphere again, the whole of its top");
+  }
+  if (out.residual_rms_mm > kMaxRmsMm) {
+    std::snprintf(words, sizeof words, ": the readings lie %.4f mm RMS off a %.3f mm sphere even with the tilt fitted (more "
+                  "than %.3f mm): is the sphere clean, the stand firm, the diameter right?", out.residual_rms_mm, diameter_mm, kMaxRmsMm);
+    throw CalibrationError(name + words);
+  }
+  if (std::hypot(q[3], q[4]) > kMaxTiltRad) {
+    std::snprintf(words, sizeof words, ": the gauge leans %.1f mrad (%.2f degrees): a stand this far out of true binds the "
+                  "plunger; set it upright and calibrate again", std::hypot(q[3], q[4]) * 1e3, std::asin(std::hypot(q[3], q[4])) * 57.29578);
+    throw CalibrationError(name + words);
+  }
+  const double sigma2 = ss / static_cast<double>(cap.size() - kUnknowns);
+  out.tilt_x_urad = std::asin(q[3]) * 1e6, out.tilt_y_urad = std::asin(q[4]) * 1e6;
+  // d asin(s) / ds = 1 / cos: 1 within 1e-3 for any tilt accepted.
+  out.u_tilt_x_urad = std::sqrt(sigma2 * variance_factor[3]) / std::sqrt(1 - q[3] * q[3]) * 1e6;
+  out.u_tilt_y_urad = std::sqrt(sigma2 * variance_factor[4]) / std::sqrt(1 - q[4] * q[4]) * 1e6;
+  // Back to the scan's frame: the top's offsets, with the shear of its own height (see CapPoint).
+  const double cos_tilt = std::sqrt(1 - q[3] * q[3] - q[4] * q[4]);
+  out.centre_mm[0] = q[0] + top->x + top->z * q[3];
+  out.centre_mm[1] = q[1] + top->y + top->z * q[4];
+  out.centre_mm[2] = q[2] + top->z * cos_tilt;
+  return out;
+}
+
+}  // namespace dg::host

@@ -1,0 +1,31 @@
+// The gauge's tilt measured on a reference sphere: a leaning plunger shears every scan (a reading r
+// high touches the part r times the lean off to the side), which a sphere of certified diameter shows.
+#pragma once
+#include <cstddef>
+#include <string>
+
+#include "host/scan/point_reader.h"
+
+namespace dg::host {
+
+struct GaugeTilt {
+  // The plunger's axis leans towards +x and +y by these angles: a point read r high lies at
+  // (x + r sin(tilt_x), y + r sin(tilt_y)) and r cos(tilt) high.
+  double tilt_x_urad = 0, tilt_y_urad = 0;
+  double u_tilt_x_urad = 0, u_tilt_y_urad = 0;  // standard uncertainties (k = 1)
+  double centre_mm[3] = {};   // the sphere's fitted centre (corrected coordinates)
+  double free_diameter_mm = 0;  // what the readings give alone (an algebraic fit; the check on the certificate)
+  double residual_rms_mm = 0;   // of the readings' distances from the fitted sphere
+  size_t points = 0;            // readings on the cap that were fitted
+};
+
+// `scan`: a sphere of certified `diameter_mm` scanned from above, its readings corrected by the
+// table's map and axes already. The cap within 55 degrees of the sphere's top (the highest reading)
+// is fitted by least squares on the geometric distance: centre and the two tilt components, the
+// radius held at the certificate's, by Gauss-Newton from an algebraic sphere. Throws
+// CalibrationError, saying why, when the readings hold no such sphere, too few of them lie on its
+// cap, the diameter they give disagrees with the certificate by more than 2 %, or the fit's RMS
+// exceeds 10 um (a dirty ball, another diameter, a slipping stand).
+GaugeTilt calibrate_gauge_tilt(const PointCloud& scan, double diameter_mm, const std::string& name);
+
+}  // namespace dg::host
