@@ -256,7 +256,7 @@ int calibrate_sphere(const CalibrateArgs& a) {
                                                 "Calibrating the gauge's tilt on a reference sphere, fixed on its stem with its "
                                                 "top under the gauge at the given place, the gauge clamped as it will measure");
   if (sphere.exit_code != 0) return sphere.exit_code;
-  const GaugeTilt tilt = calibrate_gauge_tilt(sphere.points, a.diameter_mm, sphere.scan);
+  const GaugeTilt tilt = calibrate_gauge_tilt(sphere.points, a.diameter_mm, sphere.scan, &c);
   c.has_gauge_tilt = true;
   c.gauge_tilt_x_urad = tilt.tilt_x_urad, c.gauge_tilt_y_urad = tilt.tilt_y_urad;
   c.u_gauge_tilt_x_urad = tilt.u_tilt_x_urad, c.u_gauge_tilt_y_urad = tilt.u_tilt_y_urad;
@@ -272,6 +272,8 @@ int calibrate_sphere(const CalibrateArgs& a) {
     std::printf("gauge tilt x %+.0f urad (u %.0f), y %+.0f urad (u %.0f): it leans %.3f degrees, so a reading 10 mm up lies "
                 "%.1f um to the side\n", tilt.tilt_x_urad, tilt.u_tilt_x_urad, tilt.tilt_y_urad, tilt.u_tilt_y_urad,
                 lean_urad * 1e-6 * 57.29577951308232, lean_urad * 1e-6 * 10 * 1e3);
+    std::printf("  of u: the readings' scatter %.0f and %.0f urad, the travel map's uncertainty under the sphere %.0f and %.0f urad\n",
+                tilt.u_noise_x_urad, tilt.u_noise_y_urad, tilt.u_map_x_urad, tilt.u_map_y_urad);
     std::printf("added to %s: scans corrected by it now have the gauge's lean taken out\n", a.output.c_str());
   }
   return 0;

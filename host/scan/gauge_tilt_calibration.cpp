@@ -4,11 +4,11 @@
 
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <vector>
 
 #include "host/scan/small_solve.h"
 #include "host/scan/sphere_fit.h"
-#include "host/scan/table_calibration.h"
 
 namespace dg::host {
 
@@ -66,9 +66,42 @@ void normal_equations(const std::vector<CapPoint>& cap, const double (&q)[kUnkno
   }
 }
 
+// The variance the map's node uncertainties give unknown `which` of the fit at q. A node's error
+// e_k moves every reading over its cells by -w_ik e_k (its bilinear weight), each residual by
+// df_i/dz_i times that, and the fit by -(J^T J)^-1 J^T of those: a sensitivity s_k per node, and
+// a variance sum_k (s_k u_k)^2.
+double tilt_variance_from_map(const std::vector<CapPoint>& cap, const std::vector<Point3>& at, const double (&q)[kUnknowns],
+                              double radius_mm, const double (&jtj)[kUnknowns][kUnknowns], const TableCalibration& map, int which) {
+  // Row `which` of (J^T J)^-1 (symmetric: its column).
+  double a[kUnknowns][kUnknowns], unit[kUnknowns] = {}, row[kUnknowns] = {};
+  for (int i = 0; i < kUnknowns; ++i)
+    for (int j = 0; j < kUnknowns; ++j) a[i][j] = jtj[i][j];
+  unit[which] = 1;
+  if (!solve_small(kUnknowns, a, unit, row)) return 0;
+  std::map<size_t, double> sensitivity;
+  const double cos_tilt = std::sqrt(1 - q[3] * q[3] - q[4] * q[4]);
+  double g[kUnknowns];
+  for (size_t i = 0; i < cap.size(); ++i) {
+    const CapPoint& p = cap[i];
+    residual(p, q, radius_mm, &g);
+    const double ux = p.x + p.z * q[3] - q[0], uy = p.y + p.z * q[4] - q[1], uz = p.z * cos_tilt - q[2];
+    const double df_dz = (ux * q[3] + uy * q[4] + uz * cos_tilt) / std::sqrt(ux * ux + uy * uy + uz * uz);
+    double row_dot_g = 0;
+    for (int k = 0; k < kUnknowns; ++k) row_dot_g += row[k] * g[k];
+    size_t node[4];
+    double weight[4];
+    map.node_weights(at[i].x, at[i].y, node, weight);
+    // dq = -(J^T J)^-1 g_i df_i and df_i = df_dz (-w e): the two signs cancel.
+    for (int k = 0; k < 4; ++k) sensitivity[node[k]] += row_dot_g * df_dz * weight[k];
+  }
+  double variance = 0;
+  for (const auto& [node, s] : sensitivity) variance += s * s * map.u_mm[node] * map.u_mm[node];
+  return variance;
+}
+
 }  // namespace
 
-GaugeTilt calibrate_gauge_tilt(const PointCloud& scan, double diameter_mm, const std::string& name) {
+GaugeTilt calibrate_gauge_tilt(const PointCloud& scan, double diameter_mm, const std::string& name, const TableCalibration* map) {
   if (!(diameter_mm > 1 && diameter_mm < 200)) {
     throw CalibrationError(name + ": a reference sphere's diameter must lie between 1 and 200 mm");
   }
@@ -155,8 +188,16 @@ GaugeTilt calibrate_gauge_tilt(const PointCloud& scan, double diameter_mm, const
   const double sigma2 = ss / static_cast<double>(cap.size() - kUnknowns);
   out.tilt_x_urad = std::asin(q[3]) * 1e6, out.tilt_y_urad = std::asin(q[4]) * 1e6;
   // d asin(s) / ds = 1 / cos: 1 within 1e-3 for any tilt accepted.
-  out.u_tilt_x_urad = std::sqrt(sigma2 * variance_factor[3]) / std::sqrt(1 - q[3] * q[3]) * 1e6;
-  out.u_tilt_y_urad = std::sqrt(sigma2 * variance_factor[4]) / std::sqrt(1 - q[4] * q[4]) * 1e6;
+  const double to_urad[2] = {1e6 / std::sqrt(1 - q[3] * q[3]), 1e6 / std::sqrt(1 - q[4] * q[4])};
+  out.u_noise_x_urad = std::sqrt(sigma2 * variance_factor[3]) * to_urad[0];
+  out.u_noise_y_urad = std::sqrt(sigma2 * variance_factor[4]) * to_urad[1];
+  if (map != nullptr) {
+    const double u_map_sq[2] = {tilt_variance_from_map(cap, cap_points, q, radius_mm, jtj, *map, 3),
+                                tilt_variance_from_map(cap, cap_points, q, radius_mm, jtj, *map, 4)};
+    out.u_map_x_urad = std::sqrt(u_map_sq[0]) * to_urad[0], out.u_map_y_urad = std::sqrt(u_map_sq[1]) * to_urad[1];
+  }
+  out.u_tilt_x_urad = std::hypot(out.u_noise_x_urad, out.u_map_x_urad);
+  out.u_tilt_y_urad = std::hypot(out.u_noise_y_urad, out.u_map_y_urad);
   // Back to the scan's frame: the top's offsets, with the shear of its own height (see CapPoint).
   const double cos_tilt = std::sqrt(1 - q[3] * q[3] - q[4] * q[4]);
   out.centre_mm[0] = q[0] + top->x + top->z * q[3];

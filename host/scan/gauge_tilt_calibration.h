@@ -5,6 +5,7 @@
 #include <string>
 
 #include "host/scan/point_reader.h"
+#include "host/scan/table_calibration.h"
 
 namespace dg::host {
 
@@ -12,7 +13,10 @@ struct GaugeTilt {
   // The plunger's axis leans towards +x and +y by these angles: a point read r high lies at
   // (x + r sin(tilt_x), y + r sin(tilt_y)) and r cos(tilt) high.
   double tilt_x_urad = 0, tilt_y_urad = 0;
-  double u_tilt_x_urad = 0, u_tilt_y_urad = 0;  // standard uncertainties (k = 1)
+  double u_tilt_x_urad = 0, u_tilt_y_urad = 0;  // standard uncertainties (k = 1), all of the below
+  // Their parts: the readings' scatter about the fit, and the map's uncertainty under the sphere
+  // (a slope of the map's error there shapes the cap as a lean does).
+  double u_noise_x_urad = 0, u_noise_y_urad = 0, u_map_x_urad = 0, u_map_y_urad = 0;
   double centre_mm[3] = {};   // the sphere's fitted centre (corrected coordinates)
   double free_diameter_mm = 0;  // what the readings give alone (an algebraic fit; the check on the certificate)
   double residual_rms_mm = 0;   // of the readings' distances from the fitted sphere
@@ -26,6 +30,9 @@ struct GaugeTilt {
 // CalibrationError, saying why, when the readings hold no such sphere, too few of them lie on its
 // cap, the diameter they give disagrees with the certificate by more than 2 %, or the fit's RMS
 // exceeds 10 um (a dirty ball, another diameter, a slipping stand).
-GaugeTilt calibrate_gauge_tilt(const PointCloud& scan, double diameter_mm, const std::string& name);
+// `map`, when the readings were corrected by a travel map: its nodes' uncertainties are carried
+// into the tilt's by the fit's sensitivity to each node (GUM 5.1.2, the nodes taken as independent).
+GaugeTilt calibrate_gauge_tilt(const PointCloud& scan, double diameter_mm, const std::string& name,
+                               const TableCalibration* map = nullptr);
 
 }  // namespace dg::host

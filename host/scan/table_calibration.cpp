@@ -35,10 +35,22 @@ Cell cell_of(const TableCalibration& c, double x_mm, double y_mm) {
   return {i, j, fx >= 0 ? std::min(fx, 1.0) : 0.0, fy >= 0 ? std::min(fy, 1.0) : 0.0};
 }
 
-double bilinear(const TableCalibration& c, const std::vector<double>& node, double x_mm, double y_mm) {
-  const Cell k = cell_of(c, x_mm, y_mm);
-  const size_t a = k.j * c.nx + k.i;
-  return (1 - k.fy) * ((1 - k.fx) * node[a] + k.fx * node[a + 1]) + k.fy * ((1 - k.fx) * node[a + c.nx] + k.fx * node[a + c.nx + 1]);
+}  // namespace
+
+void TableCalibration::node_weights(double x_mm, double y_mm, size_t (&node)[4], double (&weight)[4]) const {
+  const Cell k = cell_of(*this, x_mm, y_mm);
+  const size_t a = k.j * nx + k.i;
+  node[0] = a, node[1] = a + 1, node[2] = a + nx, node[3] = a + nx + 1;
+  weight[0] = (1 - k.fx) * (1 - k.fy), weight[1] = k.fx * (1 - k.fy), weight[2] = (1 - k.fx) * k.fy, weight[3] = k.fx * k.fy;
+}
+
+namespace {
+
+double bilinear(const TableCalibration& c, const std::vector<double>& values, double x_mm, double y_mm) {
+  size_t node[4];
+  double weight[4];
+  c.node_weights(x_mm, y_mm, node, weight);
+  return weight[0] * values[node[0]] + weight[1] * values[node[1]] + weight[2] * values[node[2]] + weight[3] * values[node[3]];
 }
 
 }  // namespace

@@ -59,6 +59,8 @@ struct TableCalibration {
   bool covers(double x_mm, double y_mm) const;
   // Bilinear between the nodes; only where covers().
   double z_error_at(double x_mm, double y_mm) const;
+  // The four nodes around (x, y) and their bilinear weights (summing to 1).
+  void node_weights(double x_mm, double y_mm, size_t (&node)[4], double (&weight)[4]) const;
   double u_at(double x_mm, double y_mm) const;
 };
 
