@@ -140,23 +140,31 @@ class HeightFieldFit {
       line_open_ = false;
       return;
     }
+    // The v products, full (bvv[j][l] == bvv[l][j]), so an entry's four l are one contiguous run.
     Unit bvv[4][4];
     for (int j = 0; j < 4; ++j) {
-      for (int l = 0; l <= j; ++l) bvv[j][l] = line_bv_[j] * line_bv_[l];
+      for (int l = 0; l <= j; ++l) bvv[j][l] = bvv[l][j] = line_bv_[j] * line_bv_[l];
     }
+    // Row (i, j) of the packed matrix holds columns (k, l) for k < i at k kSide + span + l, four
+    // in a row; for k == i only l <= j.
     for (int i = 0; i < kSide; ++i) {
-      for (int k = 0; k <= i; ++k) {
-        const Accum sum = line_matrix_[packed_index(i, k)];
-        if (sum == Accum{}) continue;  // outside the band of a net
-        for (int j = 0; j < 4; ++j) {
-          for (int l = 0; l < 4; ++l) {
-            if (i == k && l > j) continue;
-            const int row = i * kSide + line_span_v_ + j, column = k * kSide + line_span_v_ + l;
-            equations_.matrix_sum(row, column) += Policy::scale(sum, i == k || j >= l ? bvv[j][l] : bvv[l][j]);
-          }
+      for (int j = 0; j < 4; ++j) {
+        const int row = i * kSide + line_span_v_ + j;
+        Accum* row_sums = &equations_.matrix_sum(row, 0);
+        const Unit* v = bvv[j];
+        for (int k = 0; k < i; ++k) {
+          const Accum sum = line_matrix_[packed_index(i, k)];
+          if (sum == Accum{}) continue;  // outside the band of a net
+          Accum* out = row_sums + k * kSide + line_span_v_;
+          for (int l = 0; l < 4; ++l) out[l] += Policy::scale(sum, v[l]);
         }
+        const Accum diagonal = line_matrix_[packed_index(i, i)];
+        if (diagonal != Accum{}) {
+          Accum* out = row_sums + i * kSide + line_span_v_;
+          for (int l = 0; l <= j; ++l) out[l] += Policy::scale(diagonal, v[l]);
+        }
+        equations_.rhs_sum(0, row) += Policy::scale(line_rhs_[i], line_bv_[j]);
       }
-      for (int j = 0; j < 4; ++j) equations_.rhs_sum(0, i * kSide + line_span_v_ + j) += Policy::scale(line_rhs_[i], line_bv_[j]);
     }
     equations_.add_count(line_count_);
     clear_line();
