@@ -16,6 +16,7 @@
 #include "host/scan/ball_plate_calibration.h"
 #include "host/scan/flat_calibration.h"
 #include "host/scan/gauge_tilt_calibration.h"
+#include "host/scan/step_gauge_calibration.h"
 #include "host/scan/scan_file.h"
 #include "host/scan/table_calibration.h"
 
@@ -38,13 +39,17 @@ CLI::App* add_calibrate_command(CLI::App& app, CalibrateArgs& a) {
   CLI::App* cmd = app.add_subcommand("calibrate", "measure the table's travel error on a reference flat and write a calibration file");
   cmd->add_option("--artefact", a.artefact,
                   "flat (an optical flat or a surface plate: the travel's height error), or ballplate (balls at certified "
-                  "centres: the axes' scale and squareness), or sphere (a reference sphere of certified diameter: the gauge's "
-                  "tilt); the ball plate and the sphere are added to the flat's calibration in -o")
-      ->capture_default_str()->check(CLI::IsMember({"flat", "ballplate", "sphere"}));
-  cmd->add_option("--certificate", a.certificate, "ballplate: the certified ball centres, CSV x_mm,y_mm")->check(CLI::ExistingFile);
+                  "centres: the axes' scale and squareness), stepgauge (steps of certified heights: the gauge's scale), or "
+                  "sphere (a reference sphere of certified diameter: the gauge's tilt); each after the flat, added to its "
+                  "calibration in -o")
+      ->capture_default_str()->check(CLI::IsMember({"flat", "ballplate", "stepgauge", "sphere"}));
+  cmd->add_option("--certificate", a.certificate,
+                  "ballplate: the certified ball centres, CSV x_mm,y_mm; stepgauge: the steps' certified heights, one a line "
+                  "in mm, in their order along +x")
+      ->check(CLI::ExistingFile);
   cmd->add_option("--diameter-mm", a.diameter_mm, "sphere: its certified diameter, mm")->check(CLI::Range(1.0, 200.0));
   cmd->add_option("--sphere-at", a.sphere_at, "sphere: where its top stands on the table, X,Y in mm (within 3 mm)");
-  cmd->add_option("--ball-step", a.ball_step_mm, "ballplate and sphere: grid step of the artefact's scan, mm")
+  cmd->add_option("--ball-step", a.ball_step_mm, "ballplate, stepgauge and sphere: grid step of the artefact's scan, mm")
       ->capture_default_str()->check(CLI::Range(0.05, 2.0));
   cmd->add_option("--device", a.device, "device URI (else DIGITIZER_DEVICE or the config file)");
   cmd->add_option("--x", a.x, "the travel to calibrate, x range MIN:MAX in mm (cover every scan's area)")->capture_default_str();
@@ -279,10 +284,43 @@ int calibrate_sphere(const CalibrateArgs& a) {
   return 0;
 }
 
+int calibrate_step_gauge(const CalibrateArgs& a) {
+  if (a.certificate.empty()) throw std::invalid_argument("--artefact stepgauge needs --certificate, the steps' certified heights");
+  const std::vector<double> certified = read_step_certificate(a.certificate);
+  TableCalibration c = existing_calibration(a, "the gauge's scale");
+  // Everything else comes out first (the map's slope would tilt a top); an earlier scale does not
+  // apply: it is what is measured again.
+  TableCalibration without_scale = c;
+  without_scale.has_gauge_scale = false;
+  const ArtefactPoints steps = artefact_points(a, without_scale, a.x, a.y, ".stepgauge.scan",
+                                               "Calibrating the gauge's scale on a step gauge, its steps along +x in the "
+                                               "certificate's order, the scan (--x, --y) on their tops only");
+  if (steps.exit_code != 0) return steps.exit_code;
+  const GaugeScale scale = calibrate_gauge_scale(steps.points, certified, steps.scan, &c);
+  c.has_gauge_scale = true;
+  c.gauge_scale_ppm = scale.scale_ppm, c.u_gauge_scale_ppm = scale.u_scale_ppm;
+  c.scale_steps = scale.steps.size();
+  c.scale_rms_mm = scale.residual_rms_mm;
+  c.scale_created_utc = utc_now();
+  write_file_atomically(a.output, calibration_to_json(c));
+  if (!a.quiet) {
+    for (size_t k = 0; k < scale.steps.size(); ++k) {
+      std::printf("step %zu at x %.2f mm: %.4f mm read (u %.4f, %zu readings), certified %.4f\n", k + 1, scale.steps[k].x_mm,
+                  scale.steps[k].height_mm, scale.steps[k].u_mm, scale.steps[k].points, certified[k]);
+    }
+    const double span = std::fabs(certified.back() - certified.front());
+    std::printf("gauge scale %+.0f ppm (u %.0f): over the steps' %.1f mm it reads %+.2f um; heights off the line %.4f mm RMS\n",
+                scale.scale_ppm, scale.u_scale_ppm, span, scale.scale_ppm * 1e-6 * span * 1e3, scale.residual_rms_mm);
+    std::printf("added to %s: scans corrected by it now have their heights rescaled\n", a.output.c_str());
+  }
+  return 0;
+}
+
 }  // namespace
 
 int run_calibrate(const CalibrateArgs& a) {
   if (a.artefact == "ballplate") return calibrate_ball_plate(a);
+  if (a.artefact == "stepgauge") return calibrate_step_gauge(a);
   if (a.artefact == "sphere") return calibrate_sphere(a);
   return calibrate_flat(a);
 }

@@ -21,7 +21,7 @@ struct CalibrateArgs {
   double diameter_mm = 0;  // sphere: its certified diameter
   std::string sphere_at;   // sphere: where its top stands on the table, "X,Y" in mm
   std::string from;        // an existing scan of the artefact instead of scanning
-  std::string scan_output; // where the artefact's scan is kept (default OUTPUT.flat.scan, OUTPUT.ballplate.scan, OUTPUT.sphere.scan)
+  std::string scan_output; // where the artefact's scan is kept (default OUTPUT.flat.scan, OUTPUT.ballplate.scan, OUTPUT.stepgauge.scan, OUTPUT.sphere.scan)
   std::string output;      // the calibration file
   bool force = false;
   bool quiet = false;

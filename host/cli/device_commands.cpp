@@ -66,6 +66,7 @@ nlohmann::json calibration_status(const std::string& path, const char* device_id
     j["travel_mm"] = {{"x", {c.x0_mm, c.x1_mm()}}, {"y", {c.y0_mm, c.y1_mm()}}};
     if (c.has_axes) j["axes_created_utc"] = c.axes_created_utc;
     if (c.has_gauge_tilt) j["gauge_tilt_created_utc"] = c.gauge_created_utc;
+    if (c.has_gauge_scale) j["gauge_scale_created_utc"] = c.scale_created_utc;
   } catch (const CalibrationError& e) {
     j["problem"] = e.what();
   }
@@ -85,6 +86,7 @@ void print_calibration_status(const nlohmann::json& j) {
               j["travel_mm"]["y"][0].get<double>(), j["travel_mm"]["y"][1].get<double>());
   if (j.contains("axes_created_utc")) std::printf(", axes %s", j["axes_created_utc"].get<std::string>().c_str());
   if (j.contains("gauge_tilt_created_utc")) std::printf(", gauge tilt %s", j["gauge_tilt_created_utc"].get<std::string>().c_str());
+  if (j.contains("gauge_scale_created_utc")) std::printf(", gauge scale %s", j["gauge_scale_created_utc"].get<std::string>().c_str());
   std::printf("%s\n", j["this_device"].get<bool>() ? "" : ": another device's; scans from this one with it are refused");
 }
 

@@ -75,7 +75,7 @@ double TableCalibration::u_at(double x_mm, double y_mm) const {
 std::string calibration_to_json(const TableCalibration& c) {
   nlohmann::ordered_json j;
   j["format"] = "digitizer table calibration";
-  j["version"] = c.has_gauge_tilt ? TableCalibration::kVersion : TableCalibration::kVersionWithoutTilt;
+  j["version"] = c.has_version_2_parts() ? TableCalibration::kVersion : TableCalibration::kVersionWithoutTilt;
   j["created_utc"] = c.created_utc;
   j["device_id"] = c.device_id;
   j["artefact"] = {{"kind", c.artefact}, {"flatness_mm", c.artefact_flatness_mm}};
@@ -105,6 +105,14 @@ std::string calibration_to_json(const TableCalibration& c) {
                   {"u_tilt_y_urad", c.u_gauge_tilt_y_urad},
                   {"points", c.sphere_points},
                   {"residual_rms_mm", c.sphere_rms_mm}};
+  }
+  if (c.has_gauge_scale) {
+    j["gauge_scale"] = {{"artefact", "step gauge"},
+                        {"created_utc", c.scale_created_utc},
+                        {"scale_ppm", c.gauge_scale_ppm},
+                        {"u_scale_ppm", c.u_gauge_scale_ppm},
+                        {"steps", c.scale_steps},
+                        {"residual_rms_mm", c.scale_rms_mm}};
   }
   j["fit"] = {{"points", c.points},
               {"noise_mm", c.noise_mm},
@@ -203,6 +211,21 @@ TableCalibration calibration_from_json(const std::string& text, const std::strin
     if (gauge.contains("points") && gauge["points"].is_number_unsigned()) c.sphere_points = gauge["points"].get<size_t>();
     if (gauge.contains("residual_rms_mm") && gauge["residual_rms_mm"].is_number()) c.sphere_rms_mm = gauge["residual_rms_mm"].get<double>();
   }
+  if (j.contains("gauge_scale")) {
+    if (version == TableCalibration::kVersionWithoutTilt) {
+      throw CalibrationError(name + ": a gauge scale in a version 1 file (the scale came with version 2): the file was edited or is damaged");
+    }
+    const nlohmann::json& scale = j["gauge_scale"];
+    c.has_gauge_scale = true;
+    c.gauge_scale_ppm = number(scale, "scale_ppm", "gauge_scale."), c.u_gauge_scale_ppm = number(scale, "u_scale_ppm", "gauge_scale.");
+    // What calibrate_gauge_scale accepts: a gauge 2 % off is broken.
+    if (std::fabs(c.gauge_scale_ppm) > 20000 || c.u_gauge_scale_ppm < 0) {
+      throw CalibrationError(name + ": gauge_scale: a scale beyond 20000 ppm or a negative uncertainty");
+    }
+    if (scale.contains("created_utc") && scale["created_utc"].is_string()) c.scale_created_utc = scale["created_utc"].get<std::string>();
+    if (scale.contains("steps") && scale["steps"].is_number_unsigned()) c.scale_steps = scale["steps"].get<size_t>();
+    if (scale.contains("residual_rms_mm") && scale["residual_rms_mm"].is_number()) c.scale_rms_mm = scale["residual_rms_mm"].get<double>();
+  }
   if (j.contains("fit") && j["fit"].is_object()) {
     const nlohmann::json& fit = j["fit"];
     if (fit.contains("noise_mm") && fit["noise_mm"].is_number()) c.noise_mm = fit["noise_mm"].get<double>();
@@ -259,6 +282,10 @@ void apply_calibration(const TableCalibration& c, PointCloud& cloud, const std::
       const double sx = std::sin(c.gauge_tilt_x_urad * 1e-6), sy = std::sin(c.gauge_tilt_y_urad * 1e-6);
       p.x += p.z * sx, p.y += p.z * sy;
       p.z *= std::sqrt(1 - sx * sx - sy * sy);
+    }
+    if (c.has_gauge_scale) {
+      p.z /= 1 + c.gauge_scale_ppm * 1e-6;
+      if (cloud.sigma) (*cloud.sigma)[k] = std::hypot((*cloud.sigma)[k], p.z * c.u_gauge_scale_ppm * 1e-6);
     }
   }
 }

@@ -19,8 +19,8 @@ class CalibrationError : public std::runtime_error {
 };
 
 struct TableCalibration {
-  // Version 2 adds the gauge's tilt; a file without it is written as version 1, which readers
-  // that know no tilt still read correctly. A version-1 reader given a tilt would ignore it.
+  // Version 2 adds the gauge's tilt and scale; a file without them is written as version 1, which
+  // readers that know neither still read correctly. A version-1 reader would ignore them.
   static constexpr int kVersion = 2;
   static constexpr int kVersionWithoutTilt = 1;
   std::string created_utc;  // ISO 8601, when it was measured
@@ -53,6 +53,14 @@ struct TableCalibration {
   size_t sphere_points = 0;
   double sphere_rms_mm = 0;
   std::string gauge_created_utc;
+  // The gauge's scale from a step gauge (step_gauge_calibration.h), when measured: last of all, a
+  // point's z becomes z / (1 + scale), and its sigma gains z u_scale.
+  bool has_gauge_scale = false;
+  double gauge_scale_ppm = 0, u_gauge_scale_ppm = 0;
+  size_t scale_steps = 0;
+  double scale_rms_mm = 0;
+  std::string scale_created_utc;
+  bool has_version_2_parts() const { return has_gauge_tilt || has_gauge_scale; }
 
   double x1_mm() const { return x0_mm + step_x_mm * static_cast<double>(nx - 1); }
   double y1_mm() const { return y0_mm + step_y_mm * static_cast<double>(ny - 1); }
@@ -78,7 +86,7 @@ TableCalibration read_calibration_file(const std::string& path, std::string* tex
 void check_calibration_device(const std::string& measured_on, const std::string& path, const std::string& device_id);
 
 // Subtracts the travel's error from every point's z, moves its (x, y) by the axes' errors and
-// the gauge's tilt where they were measured, and adds the map's uncertainty to each point's sigma, where the cloud has one. A point outside the calibrated travel is an error that names it:
+// the gauge's tilt and scales its z by the gauge's scale where they were measured, and adds the map's uncertainty to each point's sigma, where the cloud has one. A point outside the calibrated travel is an error that names it:
 // its correction is unknown, and an uncorrected point among corrected ones would be a false number.
 void apply_calibration(const TableCalibration& c, PointCloud& cloud, const std::string& name);
 

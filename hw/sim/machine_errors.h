@@ -23,11 +23,14 @@ struct MachineErrors {
   // +y by gauge_tilt_y_urad. A reading r (the plunger's travel from the gauge's zero, at the
   // table's height) touches the part at (x + r sin(tilt_x), y + r sin(tilt_y)), r cos(tilt) high.
   double gauge_tilt_x_urad = 0, gauge_tilt_y_urad = 0;
+  // The gauge's scale: it reads (1 + gauge_scale_ppm 1e-6) times its plunger's travel from its zero.
+  double gauge_scale_ppm = 0;
   uint64_t map_seed = 1;       // picks the flatness map's modes (the machine's, not the scan's)
 
   bool any() const {
     return squareness_urad != 0 || scale_x_ppm != 0 || scale_y_ppm != 0 || flatness_um != 0 || drift_um_per_h != 0 ||
-           warmup_um != 0 || gauge_tilt_x_urad != 0 || gauge_tilt_y_urad != 0;
+           warmup_um != 0 || gauge_tilt_x_urad != 0 || gauge_tilt_y_urad != 0 ||
+           gauge_scale_ppm != 0;
   }
 };
 

@@ -50,6 +50,11 @@ double shape_height_mm(PartKind kind, double x_mm, double y_mm) {
       }
       return z;
     }
+    case PartKind::kStepGauge: {
+      const double k = std::floor((x_mm - kStepX0Mm) / kStepWidthMm);
+      if (k < 0 || k >= kSteps || y_mm < kStepY0Mm || y_mm >= kStepY0Mm + kStepDepthMm) return 1.0;
+      return step_height_mm(static_cast<int>(k));
+    }
     case PartKind::kSphere: {
       const double d2 = (x_mm - kSphereXMm) * (x_mm - kSphereXMm) + (y_mm - kSphereYMm) * (y_mm - kSphereYMm);
       const double r2 = kSphereRadiusMm * kSphereRadiusMm;
@@ -58,6 +63,8 @@ double shape_height_mm(PartKind kind, double x_mm, double y_mm) {
   }
   return 0.0;
 }
+
+double step_height_mm(int step) { return 2.0 + 2.0 * step; }
 
 void ball_plate_centre(int ball, double* x_mm, double* y_mm) {
   *x_mm = 15.0 + 35.0 * (ball % 3);
@@ -73,7 +80,8 @@ bool parse_part(const char* name, PartKind* kind) {
                 {"canister", PartKind::kCanister},
                 {"flat", PartKind::kFlat},
                 {"ballplate", PartKind::kBallPlate},
-                {"sphere", PartKind::kSphere}};
+                {"sphere", PartKind::kSphere},
+                {"stepgauge", PartKind::kStepGauge}};
   for (const auto& p : kParts) {
     if (std::strcmp(p.name, name) == 0) {
       *kind = p.kind;
@@ -91,6 +99,7 @@ const char* part_name(PartKind kind) {
     case PartKind::kFlat: return "flat";
     case PartKind::kBallPlate: return "ballplate";
     case PartKind::kSphere: return "sphere";
+    case PartKind::kStepGauge: return "stepgauge";
   }
   return "?";
 }

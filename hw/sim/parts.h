@@ -3,7 +3,7 @@
 
 namespace dg::sim {
 
-enum class PartKind { kDome, kSaddle, kCanister, kFlat, kBallPlate, kSphere };
+enum class PartKind { kDome, kSaddle, kCanister, kFlat, kBallPlate, kSphere, kStepGauge };
 
 struct Part {
   PartKind kind = PartKind::kDome;
@@ -34,6 +34,14 @@ void ball_plate_centre(int ball, double* x_mm, double* y_mm);
 // (kSphereXMm, kSphereYMm); around the stem a 2 mm base. Its certificate is the diameter alone.
 constexpr double kSphereRadiusMm = 12.7;
 constexpr double kSphereXMm = 20.0, kSphereYMm = 15.0, kSphereCentreZMm = 8.0;
+
+// The step gauge, for the gauge's scale: kSteps blocks kStepWidthMm wide along x from
+// kStepX0Mm, each kStepDepthMm deep in y from kStepY0Mm, standing on a 1 mm plate, the first 2 mm
+// high and each next 2 mm higher (its certificate: docs/step-gauge-sim.csv, the tops above the
+// plate's top plus its 1 mm). Beyond y0 + depth the plate shows beside every block.
+constexpr int kSteps = 6;
+constexpr double kStepX0Mm = 5.0, kStepWidthMm = 6.0, kStepY0Mm = 5.0, kStepDepthMm = 10.0;
+double step_height_mm(int step);
 
 // The saddle's coefficients (z = a + b x + c y + d x y), exposed for tests.
 struct SaddleCoefficients {

@@ -32,8 +32,10 @@ double SimBoard::height_under_probe_mm() const {
   actual_table_xy(e, table_x_mm(), table_y_mm(), &x_mm, &y_mm);
   // The carriage's height error and the stand's drift raise the whole part under the tip.
   const double raised_mm = travel_z_error_mm(e, flatness_peak_, table_x_mm(), table_y_mm()) + drift_mm(e, now_ns_);
-  if (e.gauge_tilt_x_urad == 0 && e.gauge_tilt_y_urad == 0) return config_.part.height_mm(x_mm, y_mm) + raised_mm;
-  return tilted_reading_mm(e, [&](double dx_mm, double dy_mm) { return config_.part.height_mm(x_mm + dx_mm, y_mm + dy_mm) + raised_mm; });
+  const double gauge_scale = 1 + e.gauge_scale_ppm * 1e-6;
+  if (e.gauge_tilt_x_urad == 0 && e.gauge_tilt_y_urad == 0) return (config_.part.height_mm(x_mm, y_mm) + raised_mm) * gauge_scale;
+  return gauge_scale *
+         tilted_reading_mm(e, [&](double dx_mm, double dy_mm) { return config_.part.height_mm(x_mm + dx_mm, y_mm + dy_mm) + raised_mm; });
 }
 
 void SimBoard::step_axis(int axis) {

@@ -9,8 +9,8 @@ namespace dg::sim {
 
 const char kSimOptionsHelp[] =
     "Simulated device settings (key=value):\n"
-    "  part=dome|saddle|canister|flat|ballplate|sphere  seed=N  noise_um=X  outliers=RATE\n"
-    "  outlier_mm=X  inch=0|1  gauge_delay_us=N  mute=0|1  drop_edge=BIT  id=NAME\n"
+    "  part=dome|saddle|canister|flat|ballplate|sphere|stepgauge  seed=N  noise_um=X\n"
+    "  outliers=RATE  outlier_mm=X  inch=0|1  gauge_delay_us=N  mute=0|1  drop_edge=BIT  id=NAME\n"
     "  host_silence_s=N (virtual s, 0 never)  on_host_silence=pause|continue|abort\n"
     "  start_x_mm=X start_y_mm=Y (the table's start)  estop_at_ms=T estop_ms=D\n"
     "  watchdog_ms=T (the firmware's watchdog)  hang_at_ms=T (the firmware's main loop hangs then)\n"
@@ -23,7 +23,9 @@ const char kSimOptionsHelp[] =
     "  flatness_um=X (the travel's height error at its largest) drift_um_per_h=X machine_seed=N\n"
     "  warmup_um=X warmup_min=T (the stand settles: Z grows by X (1 - exp(-t / T)))\n"
     "  gauge_tilt_x_urad=X gauge_tilt_y_urad=Y (the gauge's axis leans towards +x, +y)\n"
-    "  machine=typical (500 urad, 200 and -150 ppm, 30 um, gauge tilt 3000 and -2000 urad, no drift)\n"
+    "  gauge_scale_ppm=X (the gauge reads its travel this much long)\n"
+    "  machine=typical (500 urad, 200 and -150 ppm, 30 um, gauge tilt 3000 and -2000 urad,\n"
+    "  gauge scale 400 ppm, no drift)\n"
     "  part_x_mm=X part_y_mm=Y part_angle_deg=A (where the part's own frame lies on the table)\n";
 namespace {
 
@@ -59,7 +61,7 @@ std::string apply_sim_option(const std::string& pair, SimOptions* options) {
   uint64_t u = 0;
   if (key == "part") {
     if (!parse_part(value.c_str(), &c.part.kind)) {
-      return "unknown part '" + value + "' (dome, saddle, canister, flat, ballplate, sphere)";
+      return "unknown part '" + value + "' (dome, saddle, canister, flat, ballplate, sphere, stepgauge)";
     }
   } else if (key == "seed") {
     if (!parse_u64(value, &u)) return "seed must be a whole number, got '" + value + "'";
@@ -132,6 +134,9 @@ std::string apply_sim_option(const std::string& pair, SimOptions* options) {
   } else if (key == "squareness_urad" || key == "scale_x_ppm" || key == "scale_y_ppm") {
     if (!parse_double(value, &d) || std::fabs(d) > 20000) return key + " must be -20000..20000, got '" + value + "'";
     (key == "squareness_urad" ? c.machine.squareness_urad : key == "scale_x_ppm" ? c.machine.scale_x_ppm : c.machine.scale_y_ppm) = d;
+  } else if (key == "gauge_scale_ppm") {
+    if (!parse_double(value, &d) || std::fabs(d) > 20000) return key + " must be -20000..20000, got '" + value + "'";
+    c.machine.gauge_scale_ppm = d;
   } else if (key == "gauge_tilt_x_urad" || key == "gauge_tilt_y_urad") {
     // Beyond 50 mrad (2.9 degrees) a plunger binds: the stand is broken, not out of true.
     if (!parse_double(value, &d) || std::fabs(d) > 50000) return key + " must be -50000..50000, got '" + value + "'";
@@ -157,6 +162,7 @@ std::string apply_sim_option(const std::string& pair, SimOptions* options) {
       c.machine.squareness_urad = 500, c.machine.scale_x_ppm = 200, c.machine.scale_y_ppm = -150;
       c.machine.flatness_um = 30;
       c.machine.gauge_tilt_x_urad = 3000, c.machine.gauge_tilt_y_urad = -2000;
+      c.machine.gauge_scale_ppm = 400;
     }
   } else if (key == "require_homing") {
     if (value != "0" && value != "1") return "require_homing is 0 or 1, got '" + value + "'";

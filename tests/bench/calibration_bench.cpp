@@ -1,6 +1,6 @@
 // The table calibration on the simulator: a table with the typical errors (travel 30 um out of flat,
-// 500 urad out of square, 200 and -150 ppm of scale, the gauge leaning 3 and -2 mrad), calibrated on a
-// flat, a ball plate and a reference sphere, then
+// 500 urad out of square, 200 and -150 ppm of scale, the gauge leaning 3 and -2 mrad and reading
+// 400 ppm long), calibrated on a flat, a step gauge, a ball plate and a reference sphere, then
 // each part scanned later (another seed) and compared with its true shape, uncorrected and corrected;
 // and a drifting gauge stand, its drift removed by reading the first point again every N lines.
 #include <unistd.h>
@@ -43,6 +43,18 @@ int main() {
     std::fclose(f);
   }
   if (dg::host::run_calibrate(plate) != 0) return 1;
+  dg::host::CalibrateArgs steps = a;
+  steps.artefact = "stepgauge";
+  steps.device = std::string("sim:part=stepgauge,seed=26,") + machine;
+  steps.certificate = dir + ".steps.csv";
+  {
+    FILE* f = std::fopen(steps.certificate.c_str(), "w");
+    for (int k = 0; k < dg::sim::kSteps; ++k) std::fprintf(f, "%g\n", dg::sim::step_height_mm(k));
+    std::fclose(f);
+  }
+  steps.x = "5.5:40.5", steps.y = "6:24";
+  steps.ball_step_mm = 0.5;
+  if (dg::host::run_calibrate(steps) != 0) return 1;
   dg::host::CalibrateArgs sphere = a;
   sphere.artefact = "sphere";
   sphere.device = std::string("sim:part=sphere,seed=25,") + machine;
@@ -59,12 +71,17 @@ int main() {
   std::printf("ball plate, 9 balls at 1 mm (7,921 readings): scale x %+.1f ppm (u %.1f, true +200), scale y %+.1f ppm (u %.1f, "
               "true -150), squareness %+.1f urad (u %.1f, true +500)\n",
               c.scale_x_ppm, c.u_scale_x_ppm, c.scale_y_ppm, c.u_scale_y_ppm, c.squareness_urad, c.u_squareness_urad);
+  std::printf("step gauge, 6 steps 2 to 12 mm at 0.5 mm: gauge scale %+.0f ppm (u %.0f, true +400)\n", c.gauge_scale_ppm,
+              c.u_gauge_scale_ppm);
   std::printf("reference sphere, 25.4 mm at 0.5 mm (%zu readings on its cap): gauge tilt x %+.0f urad (u %.0f, true +3000), "
-              "y %+.0f urad (u %.0f, true -2000); the three artefacts %.2f s\n",
+              "y %+.0f urad (u %.0f, true -2000); the four artefacts %.2f s\n",
               c.sphere_points, c.gauge_tilt_x_urad, c.u_gauge_tilt_x_urad, c.gauge_tilt_y_urad, c.u_gauge_tilt_y_urad, calibrate_s);
   std::printf("%-9s %22s %22s\n", "part", "uncorrected max/RMS um", "corrected max/RMS um");
   // What one flat cannot tell: the plane taken out of the map, less the flat's own 5 mm.
-  auto plane = [&](double x, double y) { return c.plane_mm[0] - 5.0 + c.plane_mm[1] * x + c.plane_mm[2] * y; };
+  // The flat read its 5 mm with the gauge's scale, which corrected heights have taken out.
+  auto plane = [&](double x, double y) {
+    return (c.plane_mm[0] + c.plane_mm[1] * x + c.plane_mm[2] * y) / (1 + c.gauge_scale_ppm * 1e-6) - 5.0;
+  };
   for (dg::sim::PartKind kind : {dg::sim::PartKind::kDome, dg::sim::PartKind::kSaddle, dg::sim::PartKind::kCanister,
                                  dg::sim::PartKind::kFlat}) {
     const std::string scan = dir + "." + dg::sim::part_name(kind) + ".scan";
@@ -129,6 +146,8 @@ int main() {
   std::remove((cal + ".flat.scan").c_str());
   std::remove((cal + ".ballplate.scan").c_str());
   std::remove((cal + ".sphere.scan").c_str());
+  std::remove((cal + ".stepgauge.scan").c_str());
+  std::remove(steps.certificate.c_str());
   std::remove((dir + ".plate.csv").c_str());
   return 0;
 }

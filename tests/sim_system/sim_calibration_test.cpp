@@ -34,8 +34,17 @@ std::string temp_path(const std::string& name) {
 
 std::string certificate(const std::string& path) { return dg::test::write_ball_plate_certificate(path); }
 
-// A typical table calibrated over x, y (MIN:MAX) on the simulated flat, ball plate and reference
-// sphere into `cal`.
+// The simulated step gauge's certificate (docs/step-gauge-sim.csv), as a file.
+std::string step_certificate(const std::string& path) {
+  FILE* f = std::fopen(path.c_str(), "w");
+  std::fprintf(f, "height_mm\n");
+  for (int k = 0; k < dg::sim::kSteps; ++k) std::fprintf(f, "%g\n", dg::sim::step_height_mm(k));
+  std::fclose(f);
+  return path;
+}
+
+// A typical table calibrated over x, y (MIN:MAX) on the simulated flat, step gauge, ball plate
+// and reference sphere into `cal`.
 TableCalibration calibrate_typical(const char* machine, const std::string& cal, const char* x, const char* y, int seed,
                                    const std::string& plate_csv) {
   CalibrateArgs flat;
@@ -45,6 +54,14 @@ TableCalibration calibrate_typical(const char* machine, const std::string& cal, 
   flat.force = true;
   flat.quiet = true;
   LONGS_EQUAL(0, run_calibrate(flat));
+  CalibrateArgs steps = flat;
+  steps.artefact = "stepgauge";
+  steps.device = std::string("sim:part=stepgauge,seed=") + std::to_string(seed + 3) + "," + machine;
+  steps.certificate = step_certificate(cal + ".steps.csv");
+  steps.x = "5.5:40.5", steps.y = "6:24";  // the steps' tops only
+  steps.ball_step_mm = 0.5;
+  LONGS_EQUAL(0, run_calibrate(steps));
+  std::remove(steps.certificate.c_str());
   CalibrateArgs plate = flat;
   plate.artefact = "ballplate";
   plate.device = std::string("sim:part=ballplate,seed=") + std::to_string(seed + 1) + "," + machine;
@@ -61,7 +78,7 @@ TableCalibration calibrate_typical(const char* machine, const std::string& cal, 
 }
 
 void remove_calibration(const std::string& cal) {
-  for (const char* scan : {"", ".flat.scan", ".ballplate.scan", ".sphere.scan"}) std::remove((cal + scan).c_str());
+  for (const char* scan : {"", ".flat.scan", ".stepgauge.scan", ".ballplate.scan", ".sphere.scan"}) std::remove((cal + scan).c_str());
 }
 
 constexpr const char* kMachine = "flatness_um=30,noise_um=0.5";
@@ -90,7 +107,8 @@ ScanArgs dome_scan(const std::string& calibration, const std::string& output) {
 
 // The worst error of a calibrated dome scan off the true dome, corrected and as measured: each
 // point at the (x, y) the calibration moved it to, the raw one where the table was told to go, both
-// less the plane one flat cannot tell (the map's plane less the flat's own 5 mm).
+// less the plane one flat cannot tell (the map's plane, rescaled by the gauge's scale when
+// calibrated, less the flat's own 5 mm).
 std::pair<double, double> dome_errors(const TableCalibration& c, const std::string& part) {
   const PointCloud corrected = read_points(part);
   const ScanData raw = read_scan_file(part);
@@ -98,7 +116,8 @@ std::pair<double, double> dome_errors(const TableCalibration& c, const std::stri
   for (size_t k = 0; k < corrected.points.size(); ++k) {
     const Point3& p = corrected.points[k];
     const double rx = raw.points[k].x_nm * 1e-6, ry = raw.points[k].y_nm * 1e-6;
-    const double plane = c.plane_mm[0] - 5.0 + c.plane_mm[1] * rx + c.plane_mm[2] * ry;
+    // The flat read its 5 mm with the gauge's scale; corrected heights have it taken out.
+    const double plane = (c.plane_mm[0] + c.plane_mm[1] * rx + c.plane_mm[2] * ry) / (1 + c.gauge_scale_ppm * 1e-6) - 5.0;
     worst = std::fmax(worst, std::fabs(p.z - dg::sim::shape_height_mm(dg::sim::PartKind::kDome, p.x, p.y) - plane));
     worst_raw = std::fmax(worst_raw, std::fabs(raw.points[k].z_nm * 1e-6 - dg::sim::shape_height_mm(dg::sim::PartKind::kDome, rx, ry) - plane));
   }
@@ -163,9 +182,10 @@ TEST(SimCalibration, ADomeScannedLaterIsCorrectedToItsTrueShapeWithinTwoMicromet
 }
 
 // A typical table: 30 um out of flat, 500 urad out of square, 200 and -150 ppm of scale, the gauge
-// leaning 3 mrad towards +x and 2 towards -y. The flat gives the map, the ball plate the axes, the
-// sphere the gauge's lean; the dome then lies where the calibration moves its points.
-TEST(SimCalibration, OnATypicalTableAFlatABallPlateAndASphereBringADomeWithinTwoMicrometresAndTheNoise) {
+// leaning 3 mrad towards +x and 2 towards -y and reading 400 ppm long. The flat gives the map, the
+// step gauge the gauge's scale, the ball plate the axes, the sphere the gauge's lean; the dome
+// then lies where the calibration moves its points.
+TEST(SimCalibration, OnATypicalTableFourArtefactsBringADomeWithinTwoMicrometresAndTheNoise) {
   const char* machine = "machine=typical,noise_um=0.5";
   const std::string cal = temp_path("typical.cal.json"), part = temp_path("typical-dome.scan"), plate_csv = temp_path("plate.csv");
   const TableCalibration c = calibrate_typical(machine, cal, "0:100", "0:100", 31, plate_csv);
@@ -177,6 +197,9 @@ TEST(SimCalibration, OnATypicalTableAFlatABallPlateAndASphereBringADomeWithinTwo
   DOUBLES_EQUAL(3000, c.gauge_tilt_x_urad, 4 * c.u_gauge_tilt_x_urad);
   DOUBLES_EQUAL(-2000, c.gauge_tilt_y_urad, 4 * c.u_gauge_tilt_y_urad);
   CHECK(c.u_gauge_tilt_x_urad < 100 && c.u_gauge_tilt_y_urad < 100);
+  CHECK(c.has_gauge_scale);
+  DOUBLES_EQUAL(400, c.gauge_scale_ppm, 4 * c.u_gauge_scale_ppm);
+  CHECK(c.u_gauge_scale_ppm < 60);
   ScanArgs s = dome_scan(cal, part);
   s.device = std::string("sim:part=dome,seed=33,") + machine;
   LONGS_EQUAL(0, run_scan(s));

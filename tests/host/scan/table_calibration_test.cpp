@@ -109,6 +109,28 @@ TEST(TableCalibration, AGaugeTiltMovesEachPointByItsHeightAndTheFileSaysVersionT
   STRCMP_CONTAINS("a tilt beyond 50000 urad", refusal(far).c_str());
 }
 
+// The gauge's scale divides each corrected height by (1 + scale) and widens its sigma by the
+// height times the scale's u; a version-1 file that claims a scale is refused.
+TEST(TableCalibration, AGaugeScaleRescalesEachHeightAndWidensItsSigma) {
+  TableCalibration c = three_by_two();
+  c.has_gauge_scale = true;
+  c.gauge_scale_ppm = 400, c.u_gauge_scale_ppm = 30, c.scale_steps = 6;
+  const std::string json = calibration_to_json(c);
+  STRCMP_CONTAINS("\"version\": 2", json.c_str());
+  const TableCalibration back = calibration_from_json(json, "table.cal.json");
+  CHECK(back.has_gauge_scale);
+  DOUBLES_EQUAL(400, back.gauge_scale_ppm, 0);
+  PointCloud cloud;
+  cloud.points = {{5, 10, 10.002}};  // the map's 2 um there comes out first
+  cloud.sigma = std::vector<double>{4e-4};
+  apply_calibration(back, cloud, "part.scan");
+  DOUBLES_EQUAL(10 / 1.0004, cloud.points[0].z, 1e-12);
+  DOUBLES_EQUAL(std::sqrt(4e-4 * 4e-4 + 3e-4 * 3e-4 + std::pow(10 / 1.0004 * 30e-6, 2)), (*cloud.sigma)[0], 1e-12);  // the map u is 3e-4 there
+  std::string old = json;
+  old.replace(old.find("\"version\": 2"), 12, "\"version\": 1");
+  STRCMP_CONTAINS("a gauge scale in a version 1 file", refusal(old).c_str());
+}
+
 TEST(TableCalibration, AFileWithAnythingWrongIsRefusedWithWhat) {
   const std::string good = calibration_to_json(three_by_two());
   STRCMP_EQUAL("", refusal(good).c_str());

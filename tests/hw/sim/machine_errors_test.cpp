@@ -99,6 +99,25 @@ TEST(MachineErrors, ALeaningGaugeReadsAlongItsAxisWhereThePlungerMeetsThePart) {
   STRCMP_CONTAINS("gauge_tilt_x_urad must be", apply_sim_option("gauge_tilt_x_urad=60000", &o).c_str());
 }
 
+// The step gauge's tops stand at their certified heights, and a gauge reading 400 ppm long reads
+// each 400 ppm high.
+TEST(MachineErrors, AGaugeWithAScaleErrorReadsTheStepGaugesTopsThatMuchLong) {
+  for (int step = 0; step < dg::sim::kSteps; ++step) {
+    SimOptions o;
+    for (const char* pair : {"part=stepgauge", "gauge_scale_ppm=400"}) STRCMP_EQUAL("", apply_sim_option(pair, &o).c_str());
+    const double x_mm = dg::sim::kStepX0Mm + (step + 0.5) * dg::sim::kStepWidthMm, y_mm = 10;
+    DOUBLES_EQUAL(2.0 + 2.0 * step, o.config.part.height_mm(x_mm, y_mm), 0);
+    o.config.start_x_steps = static_cast<int64_t>(x_mm * 400);
+    o.config.start_y_steps = static_cast<int64_t>(y_mm * 400);
+    SimBoard board(o.config, nullptr);
+    DOUBLES_EQUAL((2.0 + 2.0 * step) * 1.0004, board.height_under_probe_mm(), 1e-12);
+  }
+  SimOptions o;
+  STRCMP_EQUAL("", apply_sim_option("part=stepgauge", &o).c_str());
+  DOUBLES_EQUAL(1.0, o.config.part.height_mm(8, 20), 0);  // its plate, beside the first step
+  STRCMP_CONTAINS("gauge_scale_ppm must be", apply_sim_option("gauge_scale_ppm=1e6", &o).c_str());
+}
+
 // The stand's warm-up settles as a first-order lag: 63 % of it after one time constant, and on
 // top of the steady creep.
 TEST(MachineErrors, TheStandsWarmUpSettlesWithItsTimeConstantOnTopOfItsCreep) {

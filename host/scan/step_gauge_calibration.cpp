@@ -1,0 +1,160 @@
+// The gauge's scale from a step gauge: its tops found as levels of the readings, then a straight
+// line through their heights against the certificate's.
+#include "host/scan/step_gauge_calibration.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <sstream>
+
+#include "host/io/whole_file.h"
+
+namespace dg::host {
+
+namespace {
+
+constexpr double kLevelGapMm = 0.2;   // heights further apart than this are two levels
+constexpr size_t kMinLevelPoints = 10;
+constexpr double kEdgeMm = 0.7;       // a step's readings this close to its ends may be its wall's
+
+}  // namespace
+
+GaugeScale calibrate_gauge_scale(const PointCloud& scan, const std::vector<double>& certified, const std::string& name,
+                                 const TableCalibration* map) {
+  if (certified.size() < 2) throw CalibrationError(name + ": a step gauge needs at least 2 certified steps");
+  std::vector<size_t> order(scan.points.size());
+  for (size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return scan.points[a].z < scan.points[b].z; });
+  // Levels: runs of sorted heights without a gap.
+  std::vector<std::vector<size_t>> levels;
+  for (size_t k = 0; k < order.size(); ++k) {
+    if (k == 0 || scan.points[order[k]].z - scan.points[order[k - 1]].z > kLevelGapMm) levels.emplace_back();
+    levels.back().push_back(order[k]);
+  }
+  levels.erase(std::remove_if(levels.begin(), levels.end(), [](const std::vector<size_t>& l) { return l.size() < kMinLevelPoints; }),
+               levels.end());
+  char words[256];
+  if (levels.size() != certified.size() + 1) {
+    std::snprintf(words, sizeof words, ": the readings fall into %zu levels; the plate and the certificate's %zu steps make %zu: "
+                  "scan the steps' tops and the plate beside them (--x, --y), its steps along x",
+                  levels.size(), certified.size(), certified.size() + 1);
+    throw CalibrationError(name + words);
+  }
+  // The mean and the u of the readings in `level` inside [x0, x1] x [y0, y1].
+  struct Mean {
+    double z = 0, x = 0, u = 0;
+    size_t n = 0;
+  };
+  auto mean_of = [&](const std::vector<size_t>& level, double x0, double x1, double y0, double y1) {
+    double sum = 0, sum_sq = 0, sum_x = 0, map_u = 0;
+    Mean m;
+    for (size_t k : level) {
+      const Point3& p = scan.points[k];
+      if (p.x < x0 || p.x > x1 || p.y < y0 || p.y > y1) continue;
+      sum += p.z, sum_sq += p.z * p.z, sum_x += p.x, ++m.n;
+      if (map != nullptr && map->covers(p.x, p.y)) map_u = std::fmax(map_u, map->u_at(p.x, p.y));
+    }
+    if (m.n < 2) return m;
+    m.z = sum / static_cast<double>(m.n);
+    m.x = sum_x / static_cast<double>(m.n);
+    const double variance = std::fmax(0.0, (sum_sq - sum * m.z) / static_cast<double>(m.n - 1));
+    // The map's error under a top is one value for all its readings (its nodes are few there): it
+    // does not average out, and the largest node's u is what it may be.
+    m.u = std::sqrt(variance / static_cast<double>(m.n) + map_u * map_u);
+    return m;
+  };
+  const std::vector<size_t>& plate = levels.front();
+  GaugeScale out;
+  for (size_t l = 1; l < levels.size(); ++l) {
+    double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+    for (size_t k : levels[l]) {
+      const Point3& p = scan.points[k];
+      x0 = std::fmin(x0, p.x), x1 = std::fmax(x1, p.x), y0 = std::fmin(y0, p.y), y1 = std::fmax(y1, p.y);
+    }
+    const Mean top = mean_of(levels[l], x0 + kEdgeMm, x1 - kEdgeMm, y0 + kEdgeMm, y1 - kEdgeMm);
+    if (top.n < kMinLevelPoints) {
+      std::snprintf(words, sizeof words, ": the step at x %.3f..%.3f mm has %zu readings away from its edges; scan it at 1 mm "
+                    "or finer, across its whole width", x0, x1, top.n);
+      throw CalibrationError(name + words);
+    }
+    // The plate beside the top, over the top's inner x, on either side of it in y.
+    Mean beside = mean_of(plate, x0 + kEdgeMm, x1 - kEdgeMm, y1 + kEdgeMm, 1e300);
+    if (beside.n < kMinLevelPoints) beside = mean_of(plate, x0 + kEdgeMm, x1 - kEdgeMm, -1e300, y0 - kEdgeMm);
+    if (beside.n < kMinLevelPoints) {
+      std::snprintf(words, sizeof words, ": the step at x %.3f..%.3f mm has %zu readings of the plate beside it; scan the plate "
+                    "beside every step, a few millimetres of it", x0, x1, beside.n);
+      throw CalibrationError(name + words);
+    }
+    StepLevel s;
+    s.points = top.n + beside.n;
+    s.height_mm = top.z - beside.z;
+    s.x_mm = top.x;
+    s.u_mm = std::hypot(top.u, beside.u);
+    out.steps.push_back(s);
+  }
+  std::sort(out.steps.begin(), out.steps.end(), [](const StepLevel& a, const StepLevel& b) { return a.x_mm < b.x_mm; });
+  // h = a + b H, weighted by 1 / u^2 (u at least a nanometre: a noise-free simulation).
+  double sw = 0, sh = 0, sH = 0;
+  for (size_t k = 0; k < certified.size(); ++k) {
+    const double w = 1 / std::pow(std::fmax(out.steps[k].u_mm, 1e-6), 2);
+    sw += w, sh += w * out.steps[k].height_mm, sH += w * certified[k];
+  }
+  const double mean_h = sh / sw, mean_H = sH / sw;
+  double sxx = 0, sxy = 0, span = 0;
+  for (size_t k = 0; k < certified.size(); ++k) {
+    const double w = 1 / std::pow(std::fmax(out.steps[k].u_mm, 1e-6), 2);
+    sxx += w * (certified[k] - mean_H) * (certified[k] - mean_H);
+    sxy += w * (certified[k] - mean_H) * (out.steps[k].height_mm - mean_h);
+    span = std::fmax(span, std::fabs(certified[k] - certified[0]));
+  }
+  if (span < 1.0) throw CalibrationError(name + ": the certified steps span less than 1 mm; a scale needs heights further apart");
+  const double slope = sxy / sxx;
+  double chi2 = 0, ss = 0;
+  for (size_t k = 0; k < certified.size(); ++k) {
+    const double r = out.steps[k].height_mm - (mean_h + slope * (certified[k] - mean_H));
+    ss += r * r;
+    chi2 += r * r / std::pow(std::fmax(out.steps[k].u_mm, 1e-6), 2);
+  }
+  out.residual_rms_mm = std::sqrt(ss / static_cast<double>(certified.size()));
+  // The u's stated, unless the heights scatter more about the line than they say (chi^2 per
+  // degree of freedom above 1): then that scatter (Birge's ratio).
+  const size_t dof = certified.size() - 2;
+  const double birge = dof > 0 ? std::fmax(1.0, std::sqrt(chi2 / static_cast<double>(dof))) : 1.0;
+  out.scale_ppm = (slope - 1) * 1e6;
+  out.u_scale_ppm = birge / std::sqrt(sxx) * 1e6;
+  if (std::fabs(out.scale_ppm) > 20000) {
+    std::snprintf(words, sizeof words, ": the steps read %+.0f ppm off their certified heights: is the certificate this gauge's, "
+                  "its heights in mm and in the order of the steps along +x?", out.scale_ppm);
+    throw CalibrationError(name + words);
+  }
+  return out;
+}
+
+std::vector<double> read_step_certificate(const std::string& path) {
+  std::string text;
+  if (!read_whole_file(path, &text)) throw CalibrationError(path + ": cannot open: " + std::strerror(errno));
+  std::vector<double> out;
+  std::istringstream lines(text);
+  std::string line;
+  for (int number = 1; std::getline(lines, line); ++number) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty() || line[0] == '#') continue;
+    double h = 0;
+    char extra = 0;
+    std::istringstream fields(line);
+    if (!(fields >> h) || (fields >> extra)) {
+      if (number == 1 && out.empty()) continue;  // a header
+      throw CalibrationError(path + ":" + std::to_string(number) + ": expected a height in mm, got '" + line + "'");
+    }
+    if (!std::isfinite(h) || std::fabs(h) > 1000) {
+      throw CalibrationError(path + ":" + std::to_string(number) + ": not a height within 1000 mm");
+    }
+    out.push_back(h);
+  }
+  if (out.size() < 2) throw CalibrationError(path + ": a step gauge's certificate needs at least 2 steps, it has " + std::to_string(out.size()));
+  return out;
+}
+
+}  // namespace dg::host
