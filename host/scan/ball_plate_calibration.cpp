@@ -2,13 +2,11 @@
 #include "host/scan/ball_plate_calibration.h"
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <sstream>
 
-#include "host/io/whole_file.h"
+#include "host/scan/certificate_csv.h"
 #include "host/scan/small_solve.h"
 #include "host/scan/sphere_fit.h"
 #include "host/scan/table_calibration.h"
@@ -109,24 +107,8 @@ AxisCalibration calibrate_from_ball_plate(const PointCloud& scan, const std::vec
 }
 
 std::vector<Point2> read_ball_certificate(const std::string& path) {
-  std::string text;
-  if (!read_whole_file(path, &text)) throw CalibrationError(path + ": cannot open: " + std::strerror(errno));
   std::vector<Point2> out;
-  std::istringstream lines(text);
-  std::string line;
-  for (int number = 1; std::getline(lines, line); ++number) {
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line.empty() || line[0] == '#') continue;
-    double x = 0, y = 0;
-    char comma = 0, extra = 0;
-    std::istringstream fields(line);
-    if (!(fields >> x >> comma >> y) || comma != ',' || (fields >> extra)) {
-      if (number == 1 && out.empty()) continue;  // a header
-      throw CalibrationError(path + ":" + std::to_string(number) + ": expected x_mm,y_mm, got '" + line + "'");
-    }
-    if (!std::isfinite(x) || !std::isfinite(y)) throw CalibrationError(path + ":" + std::to_string(number) + ": not a finite number");
-    out.push_back({x, y});
-  }
+  for (const std::vector<double>& row : read_certificate_rows(path, 2, "x_mm,y_mm")) out.push_back({row[0], row[1]});
   if (out.size() < 4) throw CalibrationError(path + ": a ball plate's certificate needs at least 4 balls, it has " + std::to_string(out.size()));
   return out;
 }

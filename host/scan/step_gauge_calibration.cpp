@@ -3,13 +3,10 @@
 #include "host/scan/step_gauge_calibration.h"
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
-#include <sstream>
 
-#include "host/io/whole_file.h"
+#include "host/scan/certificate_csv.h"
 
 namespace dg::host {
 
@@ -133,25 +130,11 @@ GaugeScale calibrate_gauge_scale(const PointCloud& scan, const std::vector<doubl
 }
 
 std::vector<double> read_step_certificate(const std::string& path) {
-  std::string text;
-  if (!read_whole_file(path, &text)) throw CalibrationError(path + ": cannot open: " + std::strerror(errno));
   std::vector<double> out;
-  std::istringstream lines(text);
-  std::string line;
-  for (int number = 1; std::getline(lines, line); ++number) {
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line.empty() || line[0] == '#') continue;
-    double h = 0;
-    char extra = 0;
-    std::istringstream fields(line);
-    if (!(fields >> h) || (fields >> extra)) {
-      if (number == 1 && out.empty()) continue;  // a header
-      throw CalibrationError(path + ":" + std::to_string(number) + ": expected a height in mm, got '" + line + "'");
-    }
-    if (!std::isfinite(h) || std::fabs(h) > 1000) {
-      throw CalibrationError(path + ":" + std::to_string(number) + ": not a height within 1000 mm");
-    }
-    out.push_back(h);
+  const std::vector<std::vector<double>> rows = read_certificate_rows(path, 1, "a height in mm");
+  for (size_t k = 0; k < rows.size(); ++k) {
+    if (std::fabs(rows[k][0]) > 1000) throw CalibrationError(path + ": height " + std::to_string(k + 1) + " is not within 1000 mm");
+    out.push_back(rows[k][0]);
   }
   if (out.size() < 2) throw CalibrationError(path + ": a step gauge's certificate needs at least 2 steps, it has " + std::to_string(out.size()));
   return out;
