@@ -45,7 +45,7 @@ CLI::App* add_calibrate_command(CLI::App& app, CalibrateArgs& a) {
       ->capture_default_str()->check(CLI::IsMember({"flat", "ballplate", "stepgauge", "sphere"}));
   cmd->add_option("--certificate", a.certificate,
                   "ballplate: the certified ball centres, CSV x_mm,y_mm; stepgauge: the steps' certified heights, one a line "
-                  "in mm, in their order along +x")
+                  "in mm (matched to the steps by height)")
       ->check(CLI::ExistingFile);
   cmd->add_option("--diameter-mm", a.diameter_mm, "sphere: its certified diameter, mm")->check(CLI::Range(1.0, 200.0));
   cmd->add_option("--sphere-at", a.sphere_at, "sphere: where its top stands on the table, X,Y in mm (within 3 mm)");
@@ -293,8 +293,8 @@ int calibrate_step_gauge(const CalibrateArgs& a) {
   TableCalibration without_scale = c;
   without_scale.has_gauge_scale = false;
   const ArtefactPoints steps = artefact_points(a, without_scale, a.x, a.y, ".stepgauge.scan",
-                                               "Calibrating the gauge's scale on a step gauge, its steps along +x in the "
-                                               "certificate's order, the scan (--x, --y) on their tops only");
+                                               "Calibrating the gauge's scale on a step gauge, the scan (--x, --y) over its "
+                                               "tops and the plate beside them");
   if (steps.exit_code != 0) return steps.exit_code;
   const GaugeScale scale = calibrate_gauge_scale(steps.points, certified, steps.scan, &c);
   c.has_gauge_scale = true;
@@ -305,8 +305,9 @@ int calibrate_step_gauge(const CalibrateArgs& a) {
   write_file_atomically(a.output, calibration_to_json(c));
   if (!a.quiet) {
     for (size_t k = 0; k < scale.steps.size(); ++k) {
-      std::printf("step %zu at x %.2f mm: %.4f mm read (u %.4f, %zu readings), certified %.4f\n", k + 1, scale.steps[k].x_mm,
-                  scale.steps[k].height_mm, scale.steps[k].u_mm, scale.steps[k].points, certified[k]);
+      std::printf("step %zu at (%.1f, %.1f) mm: %.4f mm above the plate (u %.4f, %zu readings), certified %.4f\n", k + 1,
+                  scale.steps[k].x_mm, scale.steps[k].y_mm, scale.steps[k].height_mm, scale.steps[k].u_mm, scale.steps[k].points,
+                  certified[k]);
     }
     const double span = std::fabs(certified.back() - certified.front());
     std::printf("gauge scale %+.0f ppm (u %.0f): over the steps' %.1f mm it reads %+.2f um; heights off the line %.4f mm RMS\n",

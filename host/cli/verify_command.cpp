@@ -1,4 +1,5 @@
-// Verifying the table on a ball plate: scan it corrected, measure its ball-to-ball lengths, report E.
+// Verifying the table on a ball plate or a step gauge: scan it corrected, measure its ball-to-ball
+// lengths or step-to-step heights, report E.
 #include "host/cli/verify_command.h"
 
 #include <cmath>
@@ -10,6 +11,7 @@
 #include "host/io/atomic_file.h"
 #include "host/scan/ball_plate_calibration.h"
 #include "host/scan/length_verification.h"
+#include "host/scan/step_gauge_calibration.h"
 #include "host/scan/table_calibration.h"
 
 namespace dg::host {
@@ -83,48 +85,36 @@ std::string errors_svg(const LengthVerification& v, const PermissibleError& mpe,
 }  // namespace
 
 CLI::App* add_verify_command(CLI::App& app, VerifyArgs& a) {
-  CLI::App* cmd = app.add_subcommand("verify", "measure a ball plate's lengths and report the length-measurement error E against E_MPE");
+  CLI::App* cmd = app.add_subcommand("verify", "measure a ball plate's lengths or a step gauge's heights and report the "
+                                                "length-measurement error E against E_MPE");
+  cmd->add_option("--artefact", a.artefact, "ballplate (lengths in the table's plane) or stepgauge (heights along z)")
+      ->capture_default_str()->check(CLI::IsMember({"ballplate", "stepgauge"}));
   cmd->add_option("--device", a.device, "device URI (else DIGITIZER_DEVICE or the config file)");
-  cmd->add_option("--certificate", a.certificate, "the plate's certified ball centres, CSV x_mm,y_mm")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--certificate", a.certificate,
+                  "ballplate: the certified ball centres, CSV x_mm,y_mm; stepgauge: the steps' certified heights, one a line in mm")
+      ->required()->check(CLI::ExistingFile);
+  cmd->add_option("--x", a.x, "stepgauge: the area to scan, x range MIN:MAX in mm (its tops and the plate beside them)");
+  cmd->add_option("--y", a.y, "stepgauge: y range MIN:MAX in mm");
   cmd->add_option("--at", a.at, "where the plate lies: its origin X,Y in mm and its turn from the table's x axis in degrees")
       ->capture_default_str();
   cmd->add_option("--mpe", a.mpe, "the maximum permissible error E_MPE = A + L/K um, as A,K")->capture_default_str();
   cmd->add_option("--shortest", a.shortest_mm, "leave out lengths shorter than this, mm")->check(CLI::Range(0.0, 10000.0));
-  cmd->add_option("--ball-step", a.ball_step_mm, "grid step of the plate's scan, mm")->capture_default_str()->check(CLI::Range(0.05, 2.0));
+  cmd->add_option("--ball-step", a.ball_step_mm, "grid step of the artefact's scan, mm")->capture_default_str()->check(CLI::Range(0.05, 2.0));
   cmd->add_option("--calibration", a.calibration, "the table calibration the plate's scan is corrected by (none: the table as it is)")
       ->required();
-  cmd->add_option("--from", a.from, "a stored scan of the plate instead of scanning")->check(CLI::ExistingFile);
-  cmd->add_option("--scan-output", a.scan_output, "keep the plate's scan here (default OUTPUT.scan)");
-  cmd->add_option("-o,--output", a.output, "every length, its certified and measured value, E and E_MPE (.csv)")->required();
+  cmd->add_option("--from", a.from, "a stored scan of the artefact instead of scanning")->check(CLI::ExistingFile);
+  cmd->add_option("--scan-output", a.scan_output, "keep the artefact's scan here (default OUTPUT.scan)");
+  cmd->add_option("-o,--output", a.output, "every length (or height), its certified and measured value, E and E_MPE (.csv)")->required();
   cmd->add_option("--svg", a.svg, "a picture of E against L with the E_MPE lines");
   cmd->add_flag("--force", a.force, "replace an existing plate scan");
   cmd->add_flag("-q,--quiet", a.quiet, "print nothing but errors");
   return cmd;
 }
 
-int run_verify(const VerifyArgs& a) {
-  const std::vector<double> at = numbers(a.at, 3, "--at");
-  const std::vector<double> mpe_numbers = numbers(a.mpe, 2, "--mpe");
-  if (!(mpe_numbers[0] > 0) || !(mpe_numbers[1] > 0)) throw std::invalid_argument("--mpe: A and K must be positive");
-  const PermissibleError mpe{mpe_numbers[0], mpe_numbers[1]};
-  const std::vector<Point2> certified = read_ball_certificate(a.certificate);
-  std::string plate_scan = a.from;
-  if (plate_scan.empty()) {
-    ArtefactScan scan;
-    ranges_around(placed_centres(certified, at[0], at[1], at[2]), 9.0, &scan.x, &scan.y);
-    plate_scan = a.scan_output.empty() ? a.output + ".scan" : a.scan_output;
-    scan.device = a.device, scan.step_mm = a.ball_step_mm, scan.calibration = a.calibration, scan.output = plate_scan;
-    scan.force = a.force, scan.quiet = a.quiet;
-    char what[160];
-    std::snprintf(what, sizeof what, "Verifying on a ball plate laid with its origin at (%g, %g) mm, turned %g degrees", at[0], at[1], at[2]);
-    const int scanned = scan_artefact(scan, what);
-    if (scanned != 0) return scanned;
-  }
-  const PointCloud plate = read_points(plate_scan);
-  if (!a.quiet && a.calibration != "none" && plate.calibration.empty()) {
-    std::printf("note: %s carries no calibration record: the table is verified as it is\n", plate_scan.c_str());
-  }
-  const LengthVerification v = verify_lengths(plate, certified, at[0], at[1], at[2], mpe, a.shortest_mm, plate_scan);
+namespace {
+
+// The lengths as CSV, the picture, the summary line; the exit code.
+int report(const VerifyArgs& a, const LengthVerification& v, const PermissibleError& mpe, const std::string& title) {
   std::string csv = "from,to,certified_mm,measured_mm,error_um,mpe_um,within\n";
   char line[200];
   double shortest = 1e300, longest = 0;
@@ -136,15 +126,71 @@ int run_verify(const VerifyArgs& a) {
     shortest = std::fmin(shortest, l.certified_mm), longest = std::fmax(longest, l.certified_mm);
   }
   write_file_atomically(a.output, csv);
-  char title[160];
-  std::snprintf(title, sizeof title, "Length error on a ball plate at (%g, %g) mm, %g deg: %s", at[0], at[1], at[2], v.pass ? "PASS" : "FAIL");
-  if (!a.svg.empty()) write_file_atomically(a.svg, errors_svg(v, mpe, title));
+  const std::string verdict = title + ": " + (v.pass ? "PASS" : "FAIL");
+  if (!a.svg.empty()) write_file_atomically(a.svg, errors_svg(v, mpe, verdict));
   if (!a.quiet) {
-    std::printf("%zu lengths %.3f..%.3f mm; worst |E| %.2f um, %.0f %% of its E_MPE = %g + L/%g um: %s\n", v.lengths.size(), shortest,
-                longest, v.worst_error_mm * 1e3, v.worst_share * 100, mpe.a_um, mpe.k, v.pass ? "PASS" : "FAIL");
+    std::printf("%zu %s %.3f..%.3f mm; worst |E| %.2f um, %.0f %% of its E_MPE = %g + L/%g um: %s\n", v.lengths.size(),
+                a.artefact == "stepgauge" ? "heights" : "lengths", shortest, longest, v.worst_error_mm * 1e3, v.worst_share * 100,
+                mpe.a_um, mpe.k, v.pass ? "PASS" : "FAIL");
     std::printf("wrote %s%s%s\n", a.output.c_str(), a.svg.empty() ? "" : " and ", a.svg.c_str());
   }
   return v.pass ? 0 : kExitVerifyFailed;
+}
+
+// The artefact's scan, corrected by --calibration: taken unless --from names one.
+std::string scanned(const VerifyArgs& a, const std::string& x, const std::string& y, const std::string& what, int* exit_code) {
+  std::string path = a.from;
+  if (path.empty()) {
+    ArtefactScan scan;
+    scan.x = x, scan.y = y;
+    path = a.scan_output.empty() ? a.output + ".scan" : a.scan_output;
+    scan.device = a.device, scan.step_mm = a.ball_step_mm, scan.calibration = a.calibration, scan.output = path;
+    scan.force = a.force, scan.quiet = a.quiet;
+    *exit_code = scan_artefact(scan, what);
+  }
+  return path;
+}
+
+PointCloud corrected_points(const VerifyArgs& a, const std::string& path) {
+  PointCloud points = read_points(path);
+  if (!a.quiet && a.calibration != "none" && points.calibration.empty()) {
+    std::printf("note: %s carries no calibration record: the table is verified as it is\n", path.c_str());
+  }
+  return points;
+}
+
+int verify_step_gauge(const VerifyArgs& a, const PermissibleError& mpe) {
+  if (a.x.empty() || a.y.empty()) throw std::invalid_argument("--artefact stepgauge needs --x and --y: its tops and the plate beside them");
+  const std::vector<double> certified = read_step_certificate(a.certificate);
+  int exit_code = 0;
+  const std::string path = scanned(a, a.x, a.y, "Verifying heights on a step gauge, its tops and the plate beside them in x " + a.x +
+                                                    ", y " + a.y, &exit_code);
+  if (exit_code != 0) return exit_code;
+  const LengthVerification v = verify_heights(measure_steps(corrected_points(a, path), certified, path), certified, mpe, a.shortest_mm);
+  if (v.lengths.empty()) throw CalibrationError(path + ": no two steps differ enough in height to test one");
+  return report(a, v, mpe, "Height error on a step gauge in x " + a.x + ", y " + a.y);
+}
+
+}  // namespace
+
+int run_verify(const VerifyArgs& a) {
+  const std::vector<double> mpe_numbers = numbers(a.mpe, 2, "--mpe");
+  if (!(mpe_numbers[0] > 0) || !(mpe_numbers[1] > 0)) throw std::invalid_argument("--mpe: A and K must be positive");
+  const PermissibleError mpe{mpe_numbers[0], mpe_numbers[1]};
+  if (a.artefact == "stepgauge") return verify_step_gauge(a, mpe);
+  const std::vector<double> at = numbers(a.at, 3, "--at");
+  const std::vector<Point2> certified = read_ball_certificate(a.certificate);
+  std::string x, y;
+  ranges_around(placed_centres(certified, at[0], at[1], at[2]), 9.0, &x, &y);
+  char what[160];
+  std::snprintf(what, sizeof what, "Verifying on a ball plate laid with its origin at (%g, %g) mm, turned %g degrees", at[0], at[1], at[2]);
+  int exit_code = 0;
+  const std::string path = scanned(a, x, y, what, &exit_code);
+  if (exit_code != 0) return exit_code;
+  const LengthVerification v = verify_lengths(corrected_points(a, path), certified, at[0], at[1], at[2], mpe, a.shortest_mm, path);
+  char title[160];
+  std::snprintf(title, sizeof title, "Length error on a ball plate at (%g, %g) mm, %g deg", at[0], at[1], at[2]);
+  return report(a, v, mpe, title);
 }
 
 }  // namespace dg::host

@@ -1,5 +1,5 @@
-// `digitizer verify`: the table's length-measurement error on a ball plate, against a stated
-// maximum permissible error, in the manner of ISO 10360-2.
+// `digitizer verify`: the table's length-measurement error on a ball plate (in its plane) or a
+// step gauge (along z), against a stated maximum permissible error, in the manner of ISO 10360-2.
 #pragma once
 #include <CLI/CLI.hpp>
 #include <string>
@@ -7,8 +7,10 @@
 namespace dg::host {
 
 struct VerifyArgs {
+  std::string artefact = "ballplate";  // or "stepgauge": heights along z
   std::string device;        // --device; chosen_device() when empty
-  std::string certificate;   // the plate's certified ball centres
+  std::string certificate;   // the plate's certified ball centres, or the steps' heights
+  std::string x, y;          // stepgauge: the area to scan (MIN:MAX, mm): its tops and the plate beside
   std::string at = "0,0,0";  // where the plate lies: its origin X,Y (mm) and its turn (degrees)
   std::string mpe = "3,250"; // E_MPE = A + L/K um: "A,K"
   double shortest_mm = 0;    // lengths shorter than this are not tested

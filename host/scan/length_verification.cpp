@@ -1,9 +1,11 @@
-// Ball-to-ball lengths of a placed ball plate against their certified values.
+// Ball-to-ball lengths of a placed ball plate, and step-to-step heights of a step gauge, against
+// their certified values.
 #include "host/scan/length_verification.h"
 
 #include <cmath>
 
 #include "host/scan/ball_plate_calibration.h"
+#include "host/scan/step_gauge_calibration.h"
 #include "host/scan/table_calibration.h"
 
 namespace dg::host {
@@ -27,15 +29,38 @@ LengthVerification verify_lengths(const PointCloud& scan, const std::vector<Poin
       l.certified_mm = std::hypot(certified[j].x - certified[i].x, certified[j].y - certified[i].y);
       if (l.certified_mm < shortest_mm) continue;
       l.measured_mm = std::hypot(out.centres[j].x - out.centres[i].x, out.centres[j].y - out.centres[i].y);
-      const double e = std::fabs(l.error_mm());
-      out.worst_error_mm = std::fmax(out.worst_error_mm, e);
-      out.worst_share = std::fmax(out.worst_share, e / mpe.at_mm(l.certified_mm));
-      out.pass = out.pass && e <= mpe.at_mm(l.certified_mm);
-      out.lengths.push_back(l);
+      out.add(l, mpe);
     }
   }
   if (out.lengths.empty()) throw CalibrationError(name + ": no two balls are far enough apart to test a length");
   return out;
+}
+
+LengthVerification verify_heights(const std::vector<StepLevel>& steps, const std::vector<double>& certified,
+                                  const PermissibleError& mpe, double shortest_mm) {
+  LengthVerification out;
+  out.pass = true;
+  for (size_t i = 0; i < certified.size(); ++i) {
+    for (size_t j = i + 1; j < certified.size(); ++j) {
+      MeasuredLength l;
+      l.from = i, l.to = j;
+      l.certified_mm = std::fabs(certified[j] - certified[i]);
+      if (l.certified_mm < shortest_mm) continue;
+      // The measured difference in the certified one's sense: a step read lower than its
+      // neighbour when certified higher is a negative length, and its whole error counts.
+      l.measured_mm = (steps[j].height_mm - steps[i].height_mm) * (certified[j] >= certified[i] ? 1 : -1);
+      out.add(l, mpe);
+    }
+  }
+  return out;
+}
+
+void LengthVerification::add(const MeasuredLength& l, const PermissibleError& mpe) {
+  const double e = std::fabs(l.error_mm());
+  worst_error_mm = std::fmax(worst_error_mm, e);
+  worst_share = std::fmax(worst_share, e / mpe.at_mm(l.certified_mm));
+  pass = pass && e <= mpe.at_mm(l.certified_mm);
+  lengths.push_back(l);
 }
 
 }  // namespace dg::host

@@ -249,6 +249,39 @@ TEST(SimCalibration, ALeaningGaugeIsMeasuredOnASphereAndTakenOutOfADomeScannedLa
   remove_calibration(cal);
 }
 
+// The gauge alone out of scale, reading 800 ppm short: the dome's 10 mm read 8 um low at its top.
+// A flat and the step gauge (its tops against the plate beside them) measure the scale; a dome
+// scanned later comes back within 2 um and the noise of its true shape.
+TEST(SimCalibration, AGaugeReadingShortIsMeasuredOnAStepGaugeAndTakenOutOfADomeScannedLater) {
+  const std::string machine = "gauge_scale_ppm=-800,noise_um=0.5";
+  const std::string cal = temp_path("scale.cal.json"), part = temp_path("scale-dome.scan");
+  CalibrateArgs flat;
+  flat.device = "sim:part=flat,seed=61," + machine;
+  flat.x = "0:60", flat.y = "0:40";
+  flat.output = cal;
+  flat.force = flat.quiet = true;
+  LONGS_EQUAL(0, run_calibrate(flat));
+  CalibrateArgs steps = flat;
+  steps.artefact = "stepgauge";
+  steps.device = "sim:part=stepgauge,seed=62," + machine;
+  steps.certificate = step_certificate(cal + ".steps.csv");
+  steps.x = "5.5:40.5", steps.y = "6:24";
+  steps.ball_step_mm = 0.5;
+  LONGS_EQUAL(0, run_calibrate(steps));
+  const TableCalibration c = read_calibration_file(cal);
+  std::printf("\n  gauge scale %.0f ppm (u %.0f, true -800)", c.gauge_scale_ppm, c.u_gauge_scale_ppm);
+  DOUBLES_EQUAL(-800, c.gauge_scale_ppm, 4 * c.u_gauge_scale_ppm);
+  ScanArgs s = dome_scan(cal, part);
+  s.device = "sim:part=dome,seed=63," + machine;
+  LONGS_EQUAL(0, run_scan(s));
+  const auto [worst, worst_raw] = dome_errors(c, part);
+  std::printf("\n  gauge reading short, dome after calibration: worst %.2f um (uncorrected %.1f um)", worst * 1e3, worst_raw * 1e3);
+  CHECK(worst_raw > 0.005);
+  CHECK(worst <= 0.002 + 3.5 * 0.00058);
+  for (const std::string& f : {part, steps.certificate}) std::remove(f.c_str());
+  remove_calibration(cal);
+}
+
 // A sphere of another diameter than the certificate's is refused with both diameters, and the
 // calibration file keeps what it had.
 TEST(SimCalibration, ASphereOfAnotherDiameterThanItsCertificateIsRefused) {
@@ -272,7 +305,8 @@ TEST(SimCalibration, ASphereOfAnotherDiameterThanItsCertificateIsRefused) {
 }
 
 // ISO 10360-2 asks for lengths in several positions and orientations: the plate is laid square,
-// turned 30 degrees and turned -60 degrees on the typical table, calibrated over 150 x 150 mm. Calibrated, every ball-to-ball
+// turned 30 degrees and turned -60 degrees on the typical table, calibrated over 150 x 150 mm, and
+// the step gauge turned a quarter for heights. Calibrated, every ball-to-ball
 // length is within E_MPE = 3 + L/250 um; the same table uncalibrated fails (its 200 ppm of scale
 // alone is 20 um over 100 mm).
 TEST(SimCalibration, AVerifiedTypicalTablePassesInThreePlacementsAndFailsUncalibrated) {
@@ -301,6 +335,26 @@ TEST(SimCalibration, AVerifiedTypicalTablePassesInThreePlacementsAndFailsUncalib
       std::remove((v.output + ".scan").c_str());
     }
   }
+  // Along z: the step gauge turned a quarter (its steps along y) at x 36..54 mm, against E_MPE on
+  // every height between two steps. Uncalibrated, the gauge's 400 ppm is 4 um over 10 mm.
+  const std::string steps_csv = step_certificate(temp_path("verify-steps.csv"));
+  for (const char* calibration : {"calibrated", "none"}) {
+    VerifyArgs v;
+    v.artefact = "stepgauge";
+    v.device = std::string("sim:part=stepgauge,seed=44,part_x_mm=60,part_angle_deg=90,") + machine;
+    v.certificate = steps_csv;
+    v.x = "36:54", v.y = "5.5:40.5";
+    v.ball_step_mm = 0.5;
+    v.calibration = std::string(calibration) == "none" ? "none" : cal;
+    v.output = temp_path("heights.csv");
+    v.force = v.quiet = true;
+    const int result = run_verify(v);
+    std::printf("\n  step gauge turned 90 degrees, %s: %s", calibration, result == 0 ? "pass" : "fail");
+    LONGS_EQUAL(std::string(calibration) == "none" ? kExitVerifyFailed : 0, result);
+    std::remove(v.output.c_str());
+    std::remove((v.output + ".scan").c_str());
+  }
+  std::remove(steps_csv.c_str());
   std::remove(plate_csv.c_str());
   remove_calibration(cal);
 }

@@ -59,3 +59,22 @@ TEST(LengthVerification, APlateLaidElsewhereThanSaidIsRefusedWithTheBallItCannot
     STRCMP_CONTAINS("ball 3 (expected at 125.000, 55.000 mm): no ball there", error.what());
   }
 }
+
+// Along z: the heights between every two steps against their certified differences, in the
+// certificate's sense; a gauge reading 400 ppm long fails the longest of them.
+TEST(LengthVerification, StepHeightsAreJudgedBetweenEveryTwoStepsAndAScaleFailsTheLongest) {
+  const std::vector<double> certified = {2, 4, 6, 12};
+  std::vector<StepLevel> steps(4);
+  for (size_t k = 0; k < 4; ++k) steps[k].height_mm = (certified[k] - 1) * 1.0004;
+  const PermissibleError mpe{3, 250};
+  const LengthVerification v = verify_heights(steps, certified, mpe, 0);
+  LONGS_EQUAL(6, v.lengths.size());
+  DOUBLES_EQUAL(10.0, v.lengths[2].certified_mm, 1e-12);  // steps 1 and 4
+  DOUBLES_EQUAL(0.004, v.lengths[2].error_mm(), 1e-9);
+  CHECK_FALSE(v.pass);  // 4 um against 3 + 10/250
+  DOUBLES_EQUAL(0.004, v.worst_error_mm, 1e-9);
+  LONGS_EQUAL(3, verify_heights(steps, certified, mpe, 5.0).lengths.size());  // 6, 8 and 10 mm only
+  std::vector<StepLevel> swapped = steps;
+  std::swap(swapped[0].height_mm, swapped[1].height_mm);  // the 2 mm step read 2 mm higher than the 4 mm one
+  DOUBLES_EQUAL(-2.0008, verify_heights(swapped, certified, mpe, 0).lengths[0].measured_mm, 1e-9);
+}

@@ -21,7 +21,7 @@ const std::vector<double> kCertified = {2, 4, 6, 8, 10, 12};
 // 0.5 mm over x 5.5..40.5 and 1 mm over y 6..`y1_mm` (beyond 15 mm: the plate beside them), by a
 // gauge reading (1 + scale) times the height, 0.3 mm added (its zero elsewhere), on a travel
 // tilted `tilt_x` along x, with Gaussian noise, rounded to 1 um.
-PointCloud steps(double scale, double noise_mm, unsigned seed, double tilt_x = 0, double y1_mm = 24) {
+PointCloud steps(double scale, double noise_mm, unsigned seed, double tilt_x = 0, double y1_mm = 24, bool along_y = false) {
   std::mt19937 random(seed);
   std::normal_distribution<double> noise(0.0, noise_mm);
   PointCloud cloud;
@@ -30,7 +30,9 @@ PointCloud steps(double scale, double noise_mm, unsigned seed, double tilt_x = 0
       const int k = static_cast<int>(std::floor((x - 5) / 6));
       const double height = k >= 0 && k < 6 && y < 15 ? kCertified[static_cast<size_t>(k)] : 1.0;
       const double z = (height + 0.3 + tilt_x * x) * (1 + scale) + (noise_mm > 0 ? noise(random) : 0.0);
-      cloud.points.push_back({x, y, std::round(z * 1e3) * 1e-3});
+      // Turned a quarter: the steps run along y, the plate beside them at smaller x.
+      if (along_y) cloud.points.push_back({60 - y, x, std::round(z * 1e3) * 1e-3});
+      else cloud.points.push_back({x, y, std::round(z * 1e3) * 1e-3});
     }
   }
   return cloud;
@@ -69,6 +71,16 @@ TEST(StepGaugeCalibration, ATiltOfTheTravelAlongTheStepsCancelsAgainstThePlateBe
   CHECK(g.u_scale_ppm < 20);
 }
 
+// The steps run along y on a gauge turned a quarter, and the certificate lists them in another
+// order: each is matched by height, and the plate beside each is found across the row.
+TEST(StepGaugeCalibration, TurnedAQuarterWithItsCertificateInAnotherOrderTheStepsAreStillMatched) {
+  const std::vector<double> shuffled = {8, 2, 12, 4, 10, 6};
+  const GaugeScale g = calibrate_gauge_scale(steps(400e-6, 0.0005, 4, 0, 24, true), shuffled, "steps.scan");
+  DOUBLES_EQUAL(400, g.scale_ppm, 4 * g.u_scale_ppm);
+  for (size_t k = 0; k < shuffled.size(); ++k) DOUBLES_EQUAL((shuffled[k] - 1.0) * 1.0004, g.steps[k].height_mm, 0.002);
+  DOUBLES_EQUAL(26.0, g.steps[0].y_mm, 0.3);  // the 8 mm step: fourth along the row, now along y
+}
+
 TEST(StepGaugeCalibration, TheStatedUncertaintyMatchesTheSpreadOfRepeatedCalibrations) {
   constexpr int kReplicas = 200;
   double sum = 0, sum_sq = 0, stated = 0;
@@ -90,8 +102,8 @@ TEST(StepGaugeCalibration, StepsThatDoNotMatchTheCertificateAreRefusedWithTheRea
   // The tops alone, no plate beside them: the lowest top is taken for the plate.
   STRCMP_CONTAINS("fall into 6 levels; the plate and the certificate's 6 steps make 7",
                   refusal(steps(0, 0.001, 1, 0, 14), kCertified).c_str());
-  STRCMP_CONTAINS("span less than 1 mm", refusal(steps(0, 0.001, 1), {2, 2.1, 2.2, 2.3, 2.4, 2.5}).c_str());
-  STRCMP_CONTAINS("ppm off their certified heights", refusal(steps(0, 0.001, 1), {12, 10, 8, 6, 4, 2}).c_str());
+  STRCMP_CONTAINS("ppm off their certified heights", refusal(steps(0, 0.001, 1), {2.1, 4.2, 6.3, 8.4, 10.5, 12.6}).c_str());
+  STRCMP_CONTAINS("closer than 0.5 mm in height", refusal(steps(0, 0.001, 1), {2, 4, 6, 8, 10, 10.2}).c_str());
   STRCMP_CONTAINS("at least 2 certified steps", refusal(steps(0, 0.001, 1), {2}).c_str());
   STRCMP_CONTAINS("fall into 0 levels", refusal(PointCloud{}, kCertified).c_str());
 }
