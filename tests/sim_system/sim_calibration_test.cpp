@@ -124,6 +124,18 @@ std::pair<double, double> dome_errors(const TableCalibration& c, const std::stri
   return {worst, worst_raw};
 }
 
+// `cal` calibrated on the simulated flat of `machine` over 0..60 x 0..40 mm; the arguments, for
+// the artefacts that follow.
+CalibrateArgs calibrate_small_flat(const std::string& machine, int seed, const std::string& cal) {
+  CalibrateArgs flat;
+  flat.device = "sim:part=flat,seed=" + std::to_string(seed) + "," + machine;
+  flat.x = "0:60", flat.y = "0:40";
+  flat.output = cal;
+  flat.force = flat.quiet = true;
+  LONGS_EQUAL(0, run_calibrate(flat));
+  return flat;
+}
+
 // What `digitizer ARGS...` (a device command) prints on standard output.
 std::string device_command_output(std::vector<std::string> words, const std::string& capture) {
   CLI::App app{"test", "digitizer"};
@@ -218,12 +230,7 @@ TEST(SimCalibration, OnATypicalTableFourArtefactsBringADomeWithinTwoMicrometresA
 TEST(SimCalibration, ALeaningGaugeIsMeasuredOnASphereAndTakenOutOfADomeScannedLater) {
   const std::string machine = "gauge_tilt_x_urad=8000,gauge_tilt_y_urad=5000,noise_um=0.5";
   const std::string cal = temp_path("tilt.cal.json"), part = temp_path("tilt-dome.scan");
-  CalibrateArgs flat;
-  flat.device = "sim:part=flat,seed=51," + machine;
-  flat.x = "0:60", flat.y = "0:40";
-  flat.output = cal;
-  flat.force = flat.quiet = true;
-  LONGS_EQUAL(0, run_calibrate(flat));
+  const CalibrateArgs flat = calibrate_small_flat(machine, 51, cal);
   CalibrateArgs sphere = flat;
   sphere.artefact = "sphere";
   sphere.device = "sim:part=sphere,seed=52," + machine;
@@ -255,12 +262,7 @@ TEST(SimCalibration, ALeaningGaugeIsMeasuredOnASphereAndTakenOutOfADomeScannedLa
 TEST(SimCalibration, AGaugeReadingShortIsMeasuredOnAStepGaugeAndTakenOutOfADomeScannedLater) {
   const std::string machine = "gauge_scale_ppm=-800,noise_um=0.5";
   const std::string cal = temp_path("scale.cal.json"), part = temp_path("scale-dome.scan");
-  CalibrateArgs flat;
-  flat.device = "sim:part=flat,seed=61," + machine;
-  flat.x = "0:60", flat.y = "0:40";
-  flat.output = cal;
-  flat.force = flat.quiet = true;
-  LONGS_EQUAL(0, run_calibrate(flat));
+  const CalibrateArgs flat = calibrate_small_flat(machine, 61, cal);
   CalibrateArgs steps = flat;
   steps.artefact = "stepgauge";
   steps.device = "sim:part=stepgauge,seed=62," + machine;
