@@ -14,6 +14,11 @@ namespace dg::host {
 std::vector<std::vector<double>> read_certificate_rows(const std::string& path, size_t columns, const std::string& row_words) {
   std::string text;
   if (!read_whole_file(path, &text)) throw CalibrationError(path + ": cannot open: " + std::strerror(errno));
+  return parse_certificate_rows(text, path, columns, row_words);
+}
+
+std::vector<std::vector<double>> parse_certificate_rows(const std::string& text, const std::string& path, size_t columns,
+                                                        const std::string& row_words) {
   std::vector<std::vector<double>> out;
   std::istringstream lines(text);
   std::string line;

@@ -19,8 +19,10 @@
 #include "host/fit/tolerance_fit.h"
 #include "host/geometry/tessellate.h"
 #include "host/inspect/inspect.h"
+#include "host/scan/gauge_tilt_calibration.h"
 #include "host/scan/lts_filter.h"
 #include "host/scan/segment.h"
+#include "host/scan/step_gauge_calibration.h"
 #include "tests/support/sample_surfaces.h"
 
 using namespace dg::host;
@@ -74,7 +76,7 @@ ToleranceResult tolerance_fit(const PointCloud& cloud, double tolerance_mm, int 
 }
 
 void run(uint8_t stage, const PointCloud& cloud) {
-  switch (stage % 10) {
+  switch (stage % 12) {
     case 0: {
       const LtsResult r = lts_filter(cloud.points, LtsOptions{});
       for (double z : r.z) finite_or_trap(z);
@@ -147,6 +149,18 @@ void run(uint8_t stage, const PointCloud& cloud) {
           if (k >= m.vertices.size()) __builtin_trap();
         }
       }
+      break;
+    }
+    case 10: {
+      // The points as a reference sphere's readings (any shape: a plane, a cliff, a scatter).
+      const GaugeTilt t = calibrate_gauge_tilt(cloud, 25.4, "fuzz");
+      finite_or_trap(t.tilt_x_urad + t.tilt_y_urad + t.u_tilt_x_urad + t.u_tilt_y_urad + t.residual_rms_mm);
+      break;
+    }
+    case 11: {
+      // The points as a step gauge's readings against a six-step certificate.
+      const GaugeScale g = calibrate_gauge_scale(cloud, {2, 4, 6, 8, 10, 12}, "fuzz");
+      finite_or_trap(g.scale_ppm + g.u_scale_ppm + g.residual_rms_mm);
       break;
     }
   }
