@@ -251,7 +251,7 @@ int calibrate_sphere(const CalibrateArgs& a) {
   TableCalibration c = existing_calibration(a, "the gauge's tilt");
   // The cap the fit uses (55 degrees from the top) and 3 mm for where the sphere was said to be.
   std::string x, y;
-  ranges_around({at}, a.diameter_mm / 2 * std::sin(55 * 3.14159265358979323846 / 180) + 3.0, &x, &y);
+  ranges_around({at}, sphere_cap_reach_mm(a.diameter_mm) + 3.0, &x, &y);
   // The map and the axes come out first: the travel's slope under the sphere tilts its cap as the
   // gauge's lean would, and the axes' scale stretches it. An earlier tilt does not apply: it is
   // what is measured again.

@@ -84,8 +84,9 @@ double tilt_variance_from_map(const std::vector<CapPoint>& cap, const std::vecto
   for (size_t i = 0; i < cap.size(); ++i) {
     const CapPoint& p = cap[i];
     residual(p, q, radius_mm, &g);
-    const double ux = p.x + p.z * q[3] - q[0], uy = p.y + p.z * q[4] - q[1], uz = p.z * cos_tilt - q[2];
-    const double df_dz = (ux * q[3] + uy * q[4] + uz * cos_tilt) / std::sqrt(ux * ux + uy * uy + uz * uz);
+    // The centre's gradient is -u / |u|; a reading moved by dz moves the touched point by
+    // dz (sx, sy, cos), so df/dz is u / |u| along that.
+    const double df_dz = -(g[0] * q[3] + g[1] * q[4] + g[2] * cos_tilt);
     double row_dot_g = 0;
     for (int k = 0; k < kUnknowns; ++k) row_dot_g += row[k] * g[k];
     size_t node[4];
@@ -101,6 +102,8 @@ double tilt_variance_from_map(const std::vector<CapPoint>& cap, const std::vecto
 
 }  // namespace
 
+double sphere_cap_reach_mm(double diameter_mm) { return diameter_mm / 2 * std::sin(kCapAngleRad); }
+
 GaugeTilt calibrate_gauge_tilt(const PointCloud& scan, double diameter_mm, const std::string& name, const TableCalibration* map) {
   if (!(diameter_mm > 1 && diameter_mm < 200)) {
     throw CalibrationError(name + ": a reference sphere's diameter must lie between 1 and 200 mm");
@@ -113,7 +116,7 @@ GaugeTilt calibrate_gauge_tilt(const PointCloud& scan, double diameter_mm, const
   if (top == nullptr) throw CalibrationError(name + ": no readings");
   // The cap: within the cap angle of the top, sideways and in depth (the stem and the base below
   // the sphere's equator stay out).
-  const double reach_mm = radius_mm * std::sin(kCapAngleRad), depth_mm = radius_mm * (1 - std::cos(kCapAngleRad));
+  const double reach_mm = sphere_cap_reach_mm(diameter_mm), depth_mm = radius_mm * (1 - std::cos(kCapAngleRad));
   std::vector<CapPoint> cap;
   std::vector<Point3> cap_points;
   double lowest = 0;

@@ -23,6 +23,10 @@ struct GaugeTilt {
   size_t points = 0;            // readings on the cap that were fitted
 };
 
+// How far from the sphere's top, sideways, the readings the fit uses reach (the cap within 55
+// degrees of the top): what a scan of the sphere must cover around it.
+double sphere_cap_reach_mm(double diameter_mm);
+
 // `scan`: a sphere of certified `diameter_mm` scanned from above, its readings corrected by the
 // table's map and axes already. The cap within 55 degrees of the sphere's top (the highest reading)
 // is fitted by least squares on the geometric distance: centre and the two tilt components, the
