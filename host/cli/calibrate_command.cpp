@@ -218,6 +218,7 @@ int calibrate_ball_plate(const CalibrateArgs& a) {
   c.has_axes = true;
   c.scale_x_ppm = axes.scale_x_ppm, c.scale_y_ppm = axes.scale_y_ppm, c.squareness_urad = axes.squareness_urad;
   c.u_scale_x_ppm = axes.u_scale_x_ppm, c.u_scale_y_ppm = axes.u_scale_y_ppm, c.u_squareness_urad = axes.u_squareness_urad;
+  c.straightness = axes.straightness;
   c.balls = axes.centres.size();
   c.ball_centre_rms_mm = axes.centre_rms_mm;
   c.axes_created_utc = utc_now();
@@ -229,6 +230,15 @@ int calibrate_ball_plate(const CalibrateArgs& a) {
                 "%.3f degrees off the x axis\n",
                 c.scale_x_ppm, c.u_scale_x_ppm, c.scale_y_ppm, c.u_scale_y_ppm, c.squareness_urad, c.u_squareness_urad,
                 axes.placement_deg);
+    const Straightness& bow = c.straightness;
+    if (bow.measured) {
+      std::printf("straightness: the y way bows %+.2f um in x over y %.1f..%.1f mm (u %.2f), the x way %+.2f um in y over "
+                  "x %.1f..%.1f mm (u %.2f)\n",
+                  bow.x_um, bow.centre_y_mm - bow.half_span_y_mm, bow.centre_y_mm + bow.half_span_y_mm, bow.u_x_um, bow.y_um,
+                  bow.centre_x_mm - bow.half_span_x_mm, bow.centre_x_mm + bow.half_span_x_mm, bow.u_y_um);
+    } else {
+      std::printf("straightness: not measured (the plate needs three rows and three columns of balls)\n");
+    }
     std::printf("added to %s: scans corrected by it now have their x and y corrected too\n", a.output.c_str());
   }
   return 0;

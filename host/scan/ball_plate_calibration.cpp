@@ -58,37 +58,88 @@ std::vector<Point3> fit_ball_centres(const PointCloud& scan, const std::vector<P
   return centres;
 }
 
+namespace {
+
+// How many distinct values (more than 1 mm apart) `values` holds: a plate's rows or columns.
+size_t distinct_rows(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  size_t rows = values.empty() ? 0 : 1;
+  for (size_t k = 1; k < values.size(); ++k) rows += values[k] - values[k - 1] > 1.0 ? 1 : 0;
+  return rows;
+}
+
+// The least-squares fit of every ball's certified centre c = A m + t + R(phi) (k_x Qy, k_y Qx),
+// Qy = (m_y - centre_y)^2 and Qx = (m_x - centre_x)^2, for the unknowns (A's first row, t_x, A's
+// second row, t_y[, k_x, k_y]) in that order. One system for both coordinates: the bows, which
+// belong to the table, reach both through the plate's rotation.
+struct PlateFit {
+  double p[8] = {};
+  double variance_factor[8] = {};
+  double ss = 0;  // the residuals' sum of squares (mm^2)
+  bool ok = false;
+};
+
+PlateFit fit_plate(const std::vector<Point3>& m, const std::vector<Point2>& certified, int unknowns, double phi,
+                   double centre_x, double centre_y) {
+  PlateFit fit;
+  double n[8][8] = {}, b[8] = {};
+  const double c = std::cos(phi), s = std::sin(phi);
+  auto rows = [&](size_t k, double (&rx)[8], double (&ry)[8]) {
+    const double qy = (m[k].y - centre_y) * (m[k].y - centre_y), qx = (m[k].x - centre_x) * (m[k].x - centre_x);
+    const double x_row[8] = {m[k].x, m[k].y, 1, 0, 0, 0, c * qy, -s * qx};
+    const double y_row[8] = {0, 0, 0, m[k].x, m[k].y, 1, s * qy, c * qx};
+    for (int i = 0; i < 8; ++i) rx[i] = x_row[i], ry[i] = y_row[i];
+  };
+  for (size_t k = 0; k < certified.size(); ++k) {
+    double rx[8], ry[8];
+    rows(k, rx, ry);
+    for (int i = 0; i < unknowns; ++i) {
+      b[i] += rx[i] * certified[k].x + ry[i] * certified[k].y;
+      for (int j = 0; j < unknowns; ++j) n[i][j] += rx[i] * rx[j] + ry[i] * ry[j];
+    }
+  }
+  double solve[8][8];
+  std::memcpy(solve, n, sizeof n);
+  if (!solve_small(unknowns, solve, b, fit.p) || !inverse_diagonal(unknowns, n, fit.variance_factor)) return fit;
+  for (size_t k = 0; k < certified.size(); ++k) {
+    double rx[8], ry[8];
+    rows(k, rx, ry);
+    double px = 0, py = 0;
+    for (int i = 0; i < unknowns; ++i) px += rx[i] * fit.p[i], py += ry[i] * fit.p[i];
+    fit.ss += (certified[k].x - px) * (certified[k].x - px) + (certified[k].y - py) * (certified[k].y - py);
+  }
+  fit.ok = true;
+  return fit;
+}
+
+}  // namespace
+
 AxisCalibration calibrate_from_ball_plate(const PointCloud& scan, const std::vector<Point2>& certified, const std::string& name) {
   if (certified.size() < 4) throw CalibrationError("a ball plate needs at least 4 certified balls, got " + std::to_string(certified.size()));
   AxisCalibration out;
   out.centres = fit_ball_centres(scan, certified, name);
-  // c = A m + t: two 3-parameter least-squares problems with the same design [m_x, m_y, 1].
-  double n[4][4] = {}, bx[4] = {}, by[4] = {};
-  for (size_t k = 0; k < certified.size(); ++k) {
-    const double row[3] = {out.centres[k].x, out.centres[k].y, 1};
-    for (int i = 0; i < 3; ++i) {
-      bx[i] += row[i] * certified[k].x, by[i] += row[i] * certified[k].y;
-      for (int j = 0; j < 3; ++j) n[i][j] += row[i] * row[j];
-    }
+  // A bow needs three rows (and three columns) to be told from a straight, leaning axis.
+  std::vector<double> xs, ys;
+  for (const Point2& c : certified) xs.push_back(c.x), ys.push_back(c.y);
+  Straightness& bow = out.straightness;
+  bow.measured = distinct_rows(xs) >= 3 && distinct_rows(ys) >= 3;
+  double lo_x = out.centres[0].x, hi_x = lo_x, lo_y = out.centres[0].y, hi_y = lo_y;
+  for (const Point3& m : out.centres) {
+    lo_x = std::fmin(lo_x, m.x), hi_x = std::fmax(hi_x, m.x), lo_y = std::fmin(lo_y, m.y), hi_y = std::fmax(hi_y, m.y);
   }
-  double ax[4] = {}, ay[4] = {}, variance_factor[4] = {};
-  {
-    double n1[4][4], n2[4][4];
-    std::memcpy(n1, n, sizeof n), std::memcpy(n2, n, sizeof n);
-    if (!solve_small(3, n1, bx, ax) || !solve_small(3, n2, by, ay) || !inverse_diagonal(3, n, variance_factor)) {
-      throw CalibrationError(name + ": the balls' centres lie on one line; the plate needs balls spread in x and y");
-    }
-  }
-  double ss = 0;
-  for (size_t k = 0; k < certified.size(); ++k) {
-    const Point3& m = out.centres[k];
-    const double rx = certified[k].x - (ax[0] * m.x + ax[1] * m.y + ax[2]);
-    const double ry = certified[k].y - (ay[0] * m.x + ay[1] * m.y + ay[2]);
-    ss += rx * rx + ry * ry;
-  }
+  bow.centre_x_mm = 0.5 * (lo_x + hi_x), bow.centre_y_mm = 0.5 * (lo_y + hi_y);
+  bow.half_span_x_mm = 0.5 * (hi_x - lo_x), bow.half_span_y_mm = 0.5 * (hi_y - lo_y);
+  const int unknowns = bow.measured ? 8 : 6;
+  // The bows reach the plate's frame turned by its placement: a first fit finds the placement, a
+  // second fits the bows along it (its change mixes the bows by the sine of a few microradians).
+  PlateFit fit = fit_plate(out.centres, certified, unknowns, 0, bow.centre_x_mm, bow.centre_y_mm);
+  if (fit.ok) fit = fit_plate(out.centres, certified, unknowns, std::atan2(fit.p[3], fit.p[0]), bow.centre_x_mm, bow.centre_y_mm);
+  if (!fit.ok) throw CalibrationError(name + ": the balls' centres lie on one line; the plate needs balls spread in x and y");
+  const double* ax = fit.p;
+  const double* ay = fit.p + 3;
   const size_t equations = 2 * certified.size();
-  out.centre_rms_mm = std::sqrt(ss / static_cast<double>(certified.size()));
-  const double sigma2 = equations > 6 ? ss / static_cast<double>(equations - 6) : 0;
+  out.centre_rms_mm = std::sqrt(fit.ss / static_cast<double>(certified.size()));
+  const double sigma2 = equations > static_cast<size_t>(unknowns) ? fit.ss / static_cast<double>(equations - static_cast<size_t>(unknowns)) : 0;
   // A = R(phi) U with U upper triangular: phi from A's first column, U = R(-phi) A.
   const double phi = std::atan2(ay[0], ax[0]);
   const double c = std::cos(phi), s = std::sin(phi);
@@ -100,9 +151,18 @@ AxisCalibration calibrate_from_ball_plate(const PointCloud& scan, const std::vec
   out.scale_y_ppm = (u11 / std::cos(squareness) - 1) * 1e6;
   // Each entry's variance is sigma^2 [(D^T D)^-1] on its own diagonal; the rotation by a plate laid
   // within a few degrees mixes the entries little, which this neglects.
-  out.u_scale_x_ppm = std::sqrt(sigma2 * variance_factor[0]) * 1e6;
-  out.u_squareness_urad = std::sqrt(sigma2 * variance_factor[1]) * 1e6;
-  out.u_scale_y_ppm = std::sqrt(sigma2 * variance_factor[1]) * 1e6;
+  out.u_scale_x_ppm = std::sqrt(sigma2 * fit.variance_factor[0]) * 1e6;
+  out.u_squareness_urad = std::sqrt(sigma2 * fit.variance_factor[1]) * 1e6;
+  out.u_scale_y_ppm = std::sqrt(sigma2 * fit.variance_factor[4]) * 1e6;
+  if (bow.measured) {
+    // The sagitta over the outer balls' span: how far the path at mid-span lies from the chord
+    // through its ends, k h^2 with the opposite sign (k the bow's curvature term).
+    const double hy2 = bow.half_span_y_mm * bow.half_span_y_mm, hx2 = bow.half_span_x_mm * bow.half_span_x_mm;
+    bow.x_um = -fit.p[6] * hy2 * 1e3;
+    bow.y_um = -fit.p[7] * hx2 * 1e3;
+    bow.u_x_um = std::sqrt(sigma2 * fit.variance_factor[6]) * hy2 * 1e3;
+    bow.u_y_um = std::sqrt(sigma2 * fit.variance_factor[7]) * hx2 * 1e3;
+  }
   return out;
 }
 

@@ -7,6 +7,7 @@
 
 #include "host/geometry/trimmed_face.h"
 #include "host/scan/point_reader.h"
+#include "host/scan/table_calibration.h"
 
 namespace dg::host {
 
@@ -15,6 +16,8 @@ struct AxisCalibration {
   // y' = y (1 + scale_y) cos(squareness); the x axis is the reference direction.
   double scale_x_ppm = 0, scale_y_ppm = 0, squareness_urad = 0;
   double u_scale_x_ppm = 0, u_scale_y_ppm = 0, u_squareness_urad = 0;  // standard uncertainties (k = 1)
+  // Where the plate has three rows and three columns: x' and y' gain the ways' bows as well.
+  Straightness straightness;
   double placement_deg = 0;        // the plate's rotation on the table (its setup, taken out)
   double centre_rms_mm = 0;        // RMS of the centres' misfit after the fit
   std::vector<Point3> centres;     // each ball's fitted centre, in commanded table coordinates
@@ -28,8 +31,8 @@ std::vector<Point3> fit_ball_centres(const PointCloud& scan, const std::vector<P
 
 // `certified`: the balls' centres in the plate's own frame (x, y, mm; its certificate), with the
 // plate laid on the table so that frame matches the table's within 2 mm and a few degrees.
-// Each ball's centre as fit_ball_centres finds it; the centres then fit c = R(phi) M m + t (M the axes' errors above, R and t the placement) by
-// least squares; M's entries come from the QR factors of the fitted affine map. Needs at least 4
+// Each ball's centre as fit_ball_centres finds it; the centres then fit c = R(phi) M(m) + t (M the axes' errors above, R and t the placement) by
+// least squares; M's linear entries come from the QR factors of the fitted affine map. Needs at least 4
 // balls not on one line; throws CalibrationError naming a ball that cannot be fitted.
 AxisCalibration calibrate_from_ball_plate(const PointCloud& scan, const std::vector<Point2>& certified, const std::string& name);
 

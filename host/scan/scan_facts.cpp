@@ -83,6 +83,11 @@ std::vector<std::string> scan_facts(const ScanData& data) {
                       "squareness %+.1f urad (u %.1f)",
                       c.balls, c.scale_x_ppm, c.u_scale_x_ppm, c.scale_y_ppm, c.u_scale_y_ppm, c.squareness_urad, c.u_squareness_urad);
         fact += text;
+        if (c.straightness.measured) {
+          std::snprintf(text, sizeof text, ", straightness (bows) %+.2f um in x (u %.2f) and %+.2f um in y (u %.2f)",
+                        c.straightness.x_um, c.straightness.u_x_um, c.straightness.y_um, c.straightness.u_y_um);
+          fact += text;
+        }
       } else {
         fact += "; squareness and scale not compensated";
       }

@@ -75,7 +75,7 @@ double TableCalibration::u_at(double x_mm, double y_mm) const {
 std::string calibration_to_json(const TableCalibration& c) {
   nlohmann::ordered_json j;
   j["format"] = "digitizer table calibration";
-  j["version"] = c.has_version_2_parts() ? TableCalibration::kVersion : TableCalibration::kVersionWithoutTilt;
+  j["version"] = c.version();
   j["created_utc"] = c.created_utc;
   j["device_id"] = c.device_id;
   j["artefact"] = {{"kind", c.artefact}, {"flatness_mm", c.artefact_flatness_mm}};
@@ -94,6 +94,17 @@ std::string calibration_to_json(const TableCalibration& c) {
                  {"u_squareness_urad", c.u_squareness_urad},
                  {"balls", c.balls},
                  {"centre_rms_mm", c.ball_centre_rms_mm}};
+    const Straightness& b = c.straightness;
+    if (b.measured) {
+      j["axes"]["straightness"] = {{"x_um", b.x_um},
+                                   {"y_um", b.y_um},
+                                   {"u_x_um", b.u_x_um},
+                                   {"u_y_um", b.u_y_um},
+                                   {"centre_x_mm", b.centre_x_mm},
+                                   {"centre_y_mm", b.centre_y_mm},
+                                   {"half_span_x_mm", b.half_span_x_mm},
+                                   {"half_span_y_mm", b.half_span_y_mm}};
+    }
   }
   if (c.has_gauge_tilt) {
     j["gauge"] = {{"artefact", "reference sphere"},
@@ -137,9 +148,10 @@ TableCalibration calibration_from_json(const std::string& text, const std::strin
     throw CalibrationError(name + ": not a digitizer table calibration (\"format\" is missing or different)");
   }
   const double version = number(j, "version", "");
-  if (version != TableCalibration::kVersion && version != TableCalibration::kVersionWithoutTilt) {
+  if (version != TableCalibration::kVersion && version != TableCalibration::kVersionWithTilt &&
+      version != TableCalibration::kVersionWithoutTilt) {
     char words[96];  // %g: the file's number may be anything finite
-    std::snprintf(words, sizeof words, ": calibration version %g; this digitizer reads versions %d and %d", version,
+    std::snprintf(words, sizeof words, ": calibration version %g; this digitizer reads versions %d to %d", version,
                   TableCalibration::kVersionWithoutTilt, TableCalibration::kVersion);
     throw CalibrationError(name + words);
   }
@@ -193,6 +205,27 @@ TableCalibration calibration_from_json(const std::string& text, const std::strin
     if (axes.contains("created_utc") && axes["created_utc"].is_string()) c.axes_created_utc = axes["created_utc"].get<std::string>();
     if (axes.contains("balls") && axes["balls"].is_number_unsigned()) c.balls = axes["balls"].get<size_t>();
     if (axes.contains("centre_rms_mm") && axes["centre_rms_mm"].is_number()) c.ball_centre_rms_mm = axes["centre_rms_mm"].get<double>();
+    if (axes.contains("straightness")) {
+      if (version < TableCalibration::kVersion) {
+        throw CalibrationError(name + ": the ways' straightness in a version " + std::to_string(static_cast<int>(version)) +
+                               " file (it came with version 3): the file was edited or is damaged");
+      }
+      const nlohmann::json& bow = axes["straightness"];
+      Straightness& b = c.straightness;
+      b.measured = true;
+      b.x_um = number(bow, "x_um", "axes.straightness."), b.y_um = number(bow, "y_um", "axes.straightness.");
+      b.u_x_um = number(bow, "u_x_um", "axes.straightness."), b.u_y_um = number(bow, "u_y_um", "axes.straightness.");
+      b.centre_x_mm = number(bow, "centre_x_mm", "axes.straightness."), b.centre_y_mm = number(bow, "centre_y_mm", "axes.straightness.");
+      b.half_span_x_mm = number(bow, "half_span_x_mm", "axes.straightness.");
+      b.half_span_y_mm = number(bow, "half_span_y_mm", "axes.straightness.");
+      // A way bent by a millimetre is broken; a span under a millimetre measured no bow.
+      if (std::fabs(b.x_um) > 1000 || std::fabs(b.y_um) > 1000 || b.u_x_um < 0 || b.u_y_um < 0 || !(b.half_span_x_mm >= 1) ||
+          !(b.half_span_y_mm >= 1) || b.half_span_x_mm > kLimitMm || b.half_span_y_mm > kLimitMm ||
+          std::fabs(b.centre_x_mm) > kLimitMm || std::fabs(b.centre_y_mm) > kLimitMm) {
+        throw CalibrationError(name + ": axes.straightness: a bow beyond 1000 um, a negative uncertainty, or a span not "
+                               "between 1 mm and 10 m");
+      }
+    }
   }
   if (j.contains("gauge")) {
     if (version == TableCalibration::kVersionWithoutTilt) {
@@ -273,8 +306,8 @@ void apply_calibration(const TableCalibration& c, PointCloud& cloud, const std::
     p.z -= c.z_error_at(p.x, p.y);
     if (c.has_axes) {
       const double q = c.squareness_urad * 1e-6;
-      const double x = p.x * (1 + c.scale_x_ppm * 1e-6) + p.y * std::sin(q);
-      p.y = p.y * (1 + c.scale_y_ppm * 1e-6) * std::cos(q);
+      const double x = p.x * (1 + c.scale_x_ppm * 1e-6) + p.y * std::sin(q) + c.straightness.dx_mm(p.y);
+      p.y = p.y * (1 + c.scale_y_ppm * 1e-6) * std::cos(q) + c.straightness.dy_mm(p.x);
       p.x = x;
     }
     if (c.has_gauge_tilt) {

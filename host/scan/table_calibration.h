@@ -1,6 +1,7 @@
 // A table's calibration: the height error of its XY travel on a grid, measured on a flat, its
 // file (JSON), and the correction of scan points by it.
 #pragma once
+#include <cmath>
 #include <cstddef>
 #include <optional>
 #include <stdexcept>
@@ -18,10 +19,36 @@ class CalibrationError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The ways' straightness from a ball plate of at least three rows and three columns: the y axis's
+// path bows in x and the x axis's in y, each a parabola through the plate's span. Each figure is the
+// sagitta over the outer balls' span in micrometres (positive: the path's middle lies towards +x,
+// or +y, of the chord through its ends); the linear part of a bent way is the squareness and scale.
+struct Straightness {
+  bool measured = false;
+  double x_um = 0, y_um = 0, u_x_um = 0, u_y_um = 0;
+  double centre_x_mm = 0, centre_y_mm = 0, half_span_x_mm = 0, half_span_y_mm = 0;
+  // What the bow adds to the table's x at commanded y, and to its y at commanded x (mm). Like the
+  // scale and squareness, it is nothing at the commanded origin: the table stands where homing put
+  // it there, and the plate's placement takes the bow's offset at its middle.
+  double dx_mm(double y_mm) const { return bow(x_um, y_mm, centre_y_mm, half_span_y_mm); }
+  double dy_mm(double x_mm) const { return bow(y_um, x_mm, centre_x_mm, half_span_x_mm); }
+  // Their standard uncertainties there (mm).
+  double u_dx_mm(double y_mm) const { return std::fabs(bow(u_x_um, y_mm, centre_y_mm, half_span_y_mm)); }
+  double u_dy_mm(double x_mm) const { return std::fabs(bow(u_y_um, x_mm, centre_x_mm, half_span_x_mm)); }
+
+ private:
+  static double bow(double sagitta_um, double at_mm, double centre_mm, double half_span_mm) {
+    if (!(half_span_mm > 0)) return 0;
+    return -sagitta_um * 1e-3 * ((at_mm - centre_mm) * (at_mm - centre_mm) - centre_mm * centre_mm) / (half_span_mm * half_span_mm);
+  }
+};
+
 struct TableCalibration {
-  // Version 2 adds the gauge's tilt and scale; a file without them is written as version 1, which
-  // readers that know neither still read correctly. A version-1 reader would ignore them.
-  static constexpr int kVersion = 2;
+  // Version 2 adds the gauge's tilt and scale, version 3 the ways' straightness; a file is written
+  // with the lowest version that holds what it has, which readers that know no later part still
+  // read correctly. An older reader refuses a later version rather than ignore a correction.
+  static constexpr int kVersion = 3;
+  static constexpr int kVersionWithTilt = 2;
   static constexpr int kVersionWithoutTilt = 1;
   std::string created_utc;  // ISO 8601, when it was measured
   std::string device_id;    // the device it was measured on ("" when the scan did not say)
@@ -42,6 +69,7 @@ struct TableCalibration {
   bool has_axes = false;
   double scale_x_ppm = 0, scale_y_ppm = 0, squareness_urad = 0;
   double u_scale_x_ppm = 0, u_scale_y_ppm = 0, u_squareness_urad = 0;
+  Straightness straightness;  // within the axes: x' and y' gain straightness.dx_mm(y), dy_mm(x)
   size_t balls = 0;
   double ball_centre_rms_mm = 0;
   std::string axes_created_utc;
@@ -61,6 +89,9 @@ struct TableCalibration {
   double scale_rms_mm = 0;
   std::string scale_created_utc;
   bool has_version_2_parts() const { return has_gauge_tilt || has_gauge_scale; }
+  int version() const {
+    return has_axes && straightness.measured ? kVersion : has_version_2_parts() ? kVersionWithTilt : kVersionWithoutTilt;
+  }
 
   double x1_mm() const { return x0_mm + step_x_mm * static_cast<double>(nx - 1); }
   double y1_mm() const { return y0_mm + step_y_mm * static_cast<double>(ny - 1); }

@@ -39,8 +39,11 @@ double raw_peak(uint64_t seed) {
 }  // namespace
 
 void actual_table_xy(const MachineErrors& e, double x_mm, double y_mm, double* actual_x_mm, double* actual_y_mm) {
-  *actual_x_mm = x_mm * (1 + e.scale_x_ppm * 1e-6) + y_mm * std::sin(e.squareness_urad * 1e-6);
-  *actual_y_mm = y_mm * (1 + e.scale_y_ppm * 1e-6) * std::cos(e.squareness_urad * 1e-6);
+  const double u = x_mm / kTravelMm, v = y_mm / kTravelMm;
+  *actual_x_mm = x_mm * (1 + e.scale_x_ppm * 1e-6) + y_mm * std::sin(e.squareness_urad * 1e-6) +
+                 e.straightness_x_um * 1e-3 * 4 * v * (1 - v);
+  *actual_y_mm = y_mm * (1 + e.scale_y_ppm * 1e-6) * std::cos(e.squareness_urad * 1e-6) +
+                 e.straightness_y_um * 1e-3 * 4 * u * (1 - u);
 }
 
 double flatness_map_peak(uint64_t map_seed) { return raw_peak(map_seed); }

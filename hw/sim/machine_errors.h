@@ -11,6 +11,10 @@ struct MachineErrors {
   double squareness_urad = 0;  // the y axis leans towards +x by this angle: x moves y * angle
   double scale_x_ppm = 0;      // the x screw's lead error: the table travels (1 + ppm 1e-6) of the command
   double scale_y_ppm = 0;
+  // The ways are not straight: a bent rail bows the carriage's path. While y travels, x wanders by
+  // straightness_x_um 4 v (1 - v), v = y / 100 mm (a bow, this high at mid-travel, nothing at its
+  // ends); while x travels, y wanders by straightness_y_um 4 u (1 - u), u = x / 100 mm.
+  double straightness_x_um = 0, straightness_y_um = 0;
   // The table's travel is not flat: a smooth height error of the carriage over its XY travel
   // (low-order modes over 100 x 100 mm with a bowl), this many micrometres at its largest.
   double flatness_um = 0;
@@ -28,7 +32,8 @@ struct MachineErrors {
   uint64_t map_seed = 1;       // picks the flatness map's modes (the machine's, not the scan's)
 
   bool any() const {
-    return squareness_urad != 0 || scale_x_ppm != 0 || scale_y_ppm != 0 || flatness_um != 0 || drift_um_per_h != 0 ||
+    return squareness_urad != 0 || scale_x_ppm != 0 || scale_y_ppm != 0 || straightness_x_um != 0 ||
+           straightness_y_um != 0 || flatness_um != 0 || drift_um_per_h != 0 ||
            warmup_um != 0 || gauge_tilt_x_urad != 0 || gauge_tilt_y_urad != 0 ||
            gauge_scale_ppm != 0;
   }

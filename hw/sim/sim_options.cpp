@@ -20,12 +20,14 @@ const char kSimOptionsHelp[] =
     "  require_homing=0|1  gauge=digimatic|caliper  backlash_um=X  compensate_um=X\n"
     "  touch_x_mm=X touch_y_mm=Y (faces the touch probe meets)\n"
     "  the machine's errors (each 0 by default): squareness_urad=X scale_x_ppm=X scale_y_ppm=X\n"
+    "  straightness_x_um=X straightness_y_um=Y (the ways bow: x wanders this much at mid-travel of y,\n"
+    "  and y at mid-travel of x)\n"
     "  flatness_um=X (the travel's height error at its largest) drift_um_per_h=X machine_seed=N\n"
     "  warmup_um=X warmup_min=T (the stand settles: Z grows by X (1 - exp(-t / T)))\n"
     "  gauge_tilt_x_urad=X gauge_tilt_y_urad=Y (the gauge's axis leans towards +x, +y)\n"
     "  gauge_scale_ppm=X (the gauge reads its travel this much long)\n"
-    "  machine=typical (500 urad, 200 and -150 ppm, 30 um, gauge tilt 3000 and -2000 urad,\n"
-    "  gauge scale 400 ppm, no drift)\n"
+    "  machine=typical (500 urad, 200 and -150 ppm, straightness 8 and -5 um, 30 um, gauge tilt\n"
+    "  3000 and -2000 urad, gauge scale 400 ppm, no drift)\n"
     "  part_x_mm=X part_y_mm=Y part_angle_deg=A (where the part's own frame lies on the table)\n";
 namespace {
 
@@ -134,6 +136,9 @@ std::string apply_sim_option(const std::string& pair, SimOptions* options) {
   } else if (key == "squareness_urad" || key == "scale_x_ppm" || key == "scale_y_ppm") {
     if (!parse_double(value, &d) || std::fabs(d) > 20000) return key + " must be -20000..20000, got '" + value + "'";
     (key == "squareness_urad" ? c.machine.squareness_urad : key == "scale_x_ppm" ? c.machine.scale_x_ppm : c.machine.scale_y_ppm) = d;
+  } else if (key == "straightness_x_um" || key == "straightness_y_um") {
+    if (!parse_double(value, &d) || std::fabs(d) > 1000) return key + " must be -1000..1000, got '" + value + "'";
+    (key == "straightness_x_um" ? c.machine.straightness_x_um : c.machine.straightness_y_um) = d;
   } else if (key == "gauge_scale_ppm") {
     if (!parse_double(value, &d) || std::fabs(d) > 20000) return key + " must be -20000..20000, got '" + value + "'";
     c.machine.gauge_scale_ppm = d;
@@ -160,6 +165,7 @@ std::string apply_sim_option(const std::string& pair, SimOptions* options) {
     c.machine.map_seed = map_seed;
     if (value == "typical") {
       c.machine.squareness_urad = 500, c.machine.scale_x_ppm = 200, c.machine.scale_y_ppm = -150;
+      c.machine.straightness_x_um = 8, c.machine.straightness_y_um = -5;
       c.machine.flatness_um = 30;
       c.machine.gauge_tilt_x_urad = 3000, c.machine.gauge_tilt_y_urad = -2000;
       c.machine.gauge_scale_ppm = 400;

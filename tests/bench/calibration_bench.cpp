@@ -71,6 +71,9 @@ int main() {
   std::printf("ball plate, 9 balls at 1 mm (7,921 readings): scale x %+.1f ppm (u %.1f, true +200), scale y %+.1f ppm (u %.1f, "
               "true -150), squareness %+.1f urad (u %.1f, true +500)\n",
               c.scale_x_ppm, c.u_scale_x_ppm, c.scale_y_ppm, c.u_scale_y_ppm, c.squareness_urad, c.u_squareness_urad);
+  // The simulator's bows (8 and -5 um at mid-travel) over the plate's 70 mm between its outer balls: S (35 / 50)^2.
+  std::printf("  straightness (bow over the outer balls' span): x %+.2f um (u %.2f, true +3.92), y %+.2f um (u %.2f, true "
+              "-2.45)\n", c.straightness.x_um, c.straightness.u_x_um, c.straightness.y_um, c.straightness.u_y_um);
   std::printf("step gauge, 6 steps 2 to 12 mm at 0.5 mm: gauge scale %+.0f ppm (u %.0f, true +400)\n", c.gauge_scale_ppm,
               c.u_gauge_scale_ppm);
   std::printf("reference sphere, 25.4 mm at 0.5 mm (%zu readings on its cap): gauge tilt x %+.0f urad (u %.0f, true +3000), "

@@ -109,3 +109,21 @@ TEST(PositionUncertainty, AgreesWithTheSpreadOfHeightsReadWhereTheTableReallySto
     DOUBLES_EQUAL(spread, sigma[i], 0.15 * spread);
   }
 }
+
+// A bow measured over 70 mm about y = 50 is uncertain by u at the span's ends and by nothing at
+// the commanded origin (where every correction is zero); beyond the plate it grows with the square.
+TEST(PositionUncertainty, AMeasuredBowAddsItsUncertaintyByTheSquareOfTheDistance) {
+  TableCalibration c;
+  c.has_axes = true;
+  c.straightness.measured = true;
+  c.straightness.u_x_um = 0.5, c.straightness.u_y_um = 0.2;
+  c.straightness.centre_x_mm = c.straightness.centre_y_mm = 50;
+  c.straightness.half_span_x_mm = c.straightness.half_span_y_mm = 35;
+  ScanData scan;
+  const TablePosition t = table_position(scan, c);
+  DOUBLES_EQUAL(0, t.u_x_mm(0, 0, 0), 1e-15);
+  // At y = 85: ((35)^2 - 50^2) / 35^2 of the sagitta's u.
+  DOUBLES_EQUAL(0.5e-3 * (2500 - 1225) / 1225, t.u_x_mm(0, 85, 0), 1e-12);
+  DOUBLES_EQUAL(0.2e-3 * (2500 - 1225) / 1225, t.u_y_mm(15, 0, 0), 1e-12);
+  CHECK(t.u_x_mm(0, 150, 0) > 5 * t.u_x_mm(0, 85, 0));
+}

@@ -142,7 +142,7 @@ TEST(TableCalibration, AFileWithAnythingWrongIsRefusedWithWhat) {
     CHECK(at != std::string::npos);
     return text.replace(at, from.size(), to);
   };
-  STRCMP_CONTAINS("version 3", refusal(edited("\"version\": 1", "\"version\": 3")).c_str());
+  STRCMP_CONTAINS("version 4", refusal(edited("\"version\": 1", "\"version\": 4")).c_str());
   // Found by the fuzzer: a version no integer holds.
   STRCMP_CONTAINS("version 1e+300", refusal(edited("\"version\": 1", "\"version\": 1e300")).c_str());
   STRCMP_CONTAINS("z_error_mm must hold nx * ny = 8", refusal(edited("\"nx\": 3", "\"nx\": 4")).c_str());

@@ -49,6 +49,22 @@ TEST(MachineErrors, SquarenessAndScaleMoveTheTableAwayFromTheCommandedPoint) {
   DOUBLES_EQUAL(100 * (1 - 150e-6) * std::cos(500e-6), y, 1e-9);  // and the leaning axis is a cosine shorter
 }
 
+TEST(MachineErrors, BentWaysBowEachAxisPathAtMidTravelAndNotAtItsEnds) {
+  SimOptions o;
+  STRCMP_EQUAL("", apply_sim_option("straightness_x_um=8", &o).c_str());
+  STRCMP_EQUAL("", apply_sim_option("straightness_y_um=-5", &o).c_str());
+  CHECK(o.config.machine.any());
+  const MachineErrors& e = o.config.machine;
+  double x = 0, y = 0;
+  actual_table_xy(e, 20, 50, &x, &y);  // y at mid-travel: x wanders by the whole bow
+  DOUBLES_EQUAL(20.008, x, 1e-12);
+  DOUBLES_EQUAL(50 - 0.005 * 4 * 0.2 * 0.8, y, 1e-12);
+  actual_table_xy(e, 100, 0, &x, &y);  // both at an end of their travel: no bow
+  DOUBLES_EQUAL(100, x, 1e-12);
+  DOUBLES_EQUAL(0, y, 1e-12);
+  CHECK(!apply_sim_option("straightness_x_um=2000", &o).empty());
+}
+
 TEST(MachineErrors, TheGaugeReadsThePartWhereTheTableReallyIsPlusTheTravelsErrorAndDrift) {
   SimOptions o;
   for (const char* pair : {"part=saddle", "squareness_urad=1000", "scale_x_ppm=500", "flatness_um=20", "drift_um_per_h=360"}) {
