@@ -72,9 +72,13 @@ void SurfaceLocator::cell_of(const Point3& p, int& x, int& y, int& z) const {
   z = std::clamp(static_cast<int>(std::floor((p.z - origin_.z) / cell_mm_)), 0, nz_ - 1);
 }
 
-Closest SurfaceLocator::closest(const Point3& p) const {
+SurfaceLocator::Starts SurfaceLocator::starts(const Point3& p) const {
   int cx, cy, cz;
   cell_of(p, cx, cy, cz);
+  // How far p lies inside its own bucket (a point outside the grid was clamped to an edge bucket).
+  const double fx = (p.x - origin_.x) / cell_mm_ - cx, fy = (p.y - origin_.y) / cell_mm_ - cy, fz = (p.z - origin_.z) / cell_mm_ - cz;
+  const bool inside = fx >= 0 && fx <= 1 && fy >= 0 && fy <= 1 && fz >= 0 && fz <= 1;
+  const double inner_margin = cell_mm_ * std::min({fx, 1 - fx, fy, 1 - fy, fz, 1 - fz});
   // Rings of buckets around p's (clamped) bucket until no unvisited bucket can hold a nearer sample.
   // The samples of the first two rings are kept as candidates for a second start: the nearest one
   // more than two sample spacings from the nearest in parameters (the other side of a fold, or
@@ -111,9 +115,13 @@ Closest SurfaceLocator::closest(const Point3& p) const {
         }
       }
     }
-    // Every bucket beyond this ring is at least ring * cell away from p's bucket.
-    const double reach = ring * cell_mm_;
-    if (best_d2 < HUGE_VAL && reach * reach >= best_d2) break;
+    // Every bucket beyond this ring is at least ring * cell away from p's bucket, and beyond p's own
+    // bucket at least p's distance to that bucket's nearest face (p inside it). The second start is
+    // sought within 1.5 times the best distance: once both lie inside what was searched, no
+    // further bucket can change either.
+    double reach = ring * cell_mm_;
+    if (ring == 0 && inside) reach = inner_margin;
+    if (best_d2 < HUGE_VAL && reach * reach >= (ring == 0 ? 2.25 * best_d2 : best_d2)) break;
   }
   const Sample& first = samples_[best];
   size_t other = samples_.size();
@@ -125,9 +133,14 @@ Closest SurfaceLocator::closest(const Point3& p) const {
     other_d2 = near[k].d2;
     other = near[k].index;
   }
-  Closest result = closest_point(surface_, p, first.u, first.v);
-  if (other < samples_.size()) {
-    const Closest second = closest_point(surface_, p, samples_[other].u, samples_[other].v);
+  return {best, other};
+}
+
+Closest SurfaceLocator::closest(const Point3& p) const {
+  const Starts s = starts(p);
+  Closest result = closest_point(surface_, p, samples_[s.nearest].u, samples_[s.nearest].v);
+  if (s.second < samples_.size()) {
+    const Closest second = closest_point(surface_, p, samples_[s.second].u, samples_[s.second].v);
     if (std::fabs(second.distance) < std::fabs(result.distance)) result = second;
   }
   return result;

@@ -18,11 +18,20 @@ class SurfaceLocator {
   Closest closest(const Point3& p) const;
   const BSplineSurface& surface() const { return surface_; }
 
- private:
   struct Sample {
     Point3 point;
     double u, v;
   };
+  // The Gauss-Newton starts closest() uses for p: the nearest sample, and the second one (the
+  // nearest sample more than two sample spacings away in parameters and within 1.5 times the
+  // nearest's distance; samples().size() when there is none).
+  struct Starts {
+    size_t nearest, second;
+  };
+  Starts starts(const Point3& p) const;
+  const std::vector<Sample>& samples() const { return samples_; }
+
+ private:
   long cell_key(int x, int y, int z) const;
   void cell_of(const Point3& p, int& x, int& y, int& z) const;
 

@@ -31,6 +31,18 @@ BSplineSurface sphere_cap() {
   return fit_least_squares(c.points, parameterize(c, Parameterization::kTableXy), nullptr, spec);
 }
 
+// A corrugated sheet, z = 3 sin(x): bicubic 40 x 6 over 0..30 x 0..10 mm, where a start on the
+// wrong flank of a ridge settles in a local minimum.
+BSplineSurface corrugated() {
+  PointCloud c;
+  for (int j = 0; j <= 20; ++j)
+    for (int i = 0; i <= 300; ++i) c.points.push_back({0.1 * i, 0.5 * j, 3 * std::sin(0.1 * i)});
+  LsqSpec spec;
+  spec.knots_u = clamped_uniform_knots(40, 3);
+  spec.knots_v = clamped_uniform_knots(6, 3);
+  return fit_least_squares(c.points, parameterize(c, Parameterization::kTableXy), nullptr, spec);
+}
+
 }  // namespace
 
 TEST_GROUP(Inspect){};
@@ -85,5 +97,28 @@ TEST(Inspect, RefusesNoPointsAndAPointWhoseDistanceIsNotFinite) {
     FAIL("a point at 1e308 was inspected");
   } catch (const std::invalid_argument& e) {
     STRCMP_CONTAINS("point 2", e.what());
+  }
+}
+
+// The bucket search may stop at a point's own bucket when the nearest sample (and the ring for a
+// second start) lies within it: its nearest sample is still the one a scan of every sample finds,
+// for points on, near and far from the surfaces, inside and outside the samples' box.
+TEST(Inspect, TheLocatorStartsFromTheNearestSampleAsAScanOfAllFindsIt) {
+  for (const bool sheet : {false, true}) {
+    const BSplineSurface surface = sheet ? corrugated() : sphere_cap();
+    const SurfaceLocator locator(surface);
+    const std::vector<SurfaceLocator::Sample>& samples = locator.samples();
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> x(-5, sheet ? 35 : 45), y(-5, sheet ? 15 : 35), off(-3, 3);
+    std::normal_distribution<double> near(0, 0.01);
+    for (int k = 0; k < 2000; ++k) {
+      const double px = x(rng), py = y(rng);
+      const double on = sheet ? 3 * std::sin(px) : -40 + std::sqrt(std::fmax(0, 2500 - (px - 20) * (px - 20) - (py - 15) * (py - 15)));
+      const Point3 p{px, py, on + (k % 2 == 0 ? near(rng) : off(rng))};
+      double nearest_d2 = HUGE_VAL;
+      for (const SurfaceLocator::Sample& s : samples) nearest_d2 = std::fmin(nearest_d2, dot(s.point - p, s.point - p));
+      const Point3 found = samples[locator.starts(p).nearest].point;
+      DOUBLES_EQUAL(nearest_d2, dot(found - p, found - p), 1e-12);
+    }
   }
 }
