@@ -49,6 +49,10 @@ CLI::App* add_calibrate_command(CLI::App& app, CalibrateArgs& a) {
       ->check(CLI::ExistingFile);
   cmd->add_option("--diameter-mm", a.diameter_mm, "sphere: its certified diameter, mm")->check(CLI::Range(1.0, 200.0));
   cmd->add_option("--sphere-at", a.sphere_at, "sphere: where its top stands on the table, X,Y in mm (within 3 mm)");
+  cmd->add_option("--lead-mm", a.lead_mm,
+                  "sphere: the lead screws' lead (travel per turn), mm: their periodic error is measured as well (scan at "
+                  "--ball-step 0.5 or finer; before the ball plate, whose axes it then corrects)")
+      ->check(CLI::Range(0.5, 100.0));
   cmd->add_option("--ball-step", a.ball_step_mm, "ballplate, stepgauge and sphere: grid step of the artefact's scan, mm")
       ->capture_default_str()->check(CLI::Range(0.05, 2.0));
   cmd->add_option("--device", a.device, "device URI (else DIGITIZER_DEVICE or the config file)");
@@ -264,17 +268,28 @@ int calibrate_sphere(const CalibrateArgs& a) {
   ranges_around({at}, sphere_cap_reach_mm(a.diameter_mm) + 3.0, &x, &y);
   // The map and the axes come out first: the travel's slope under the sphere tilts its cap as the
   // gauge's lean would, and the axes' scale stretches it. An earlier tilt does not apply: it is
-  // what is measured again.
+  // what is measured again, and so is the screws' error when a lead is given (else an earlier one
+  // corrects the readings).
   TableCalibration without_tilt = c;
   without_tilt.has_gauge_tilt = false;
+  if (a.lead_mm > 0) without_tilt.lead = LeadError{};
   const ArtefactPoints sphere = artefact_points(a, without_tilt, x, y, ".sphere.scan",
                                                 "Calibrating the gauge's tilt on a reference sphere, fixed on its stem with its "
                                                 "top under the gauge at the given place, the gauge clamped as it will measure");
   if (sphere.exit_code != 0) return sphere.exit_code;
-  const GaugeTilt tilt = calibrate_gauge_tilt(sphere.points, a.diameter_mm, sphere.scan, &c);
+  const GaugeTilt tilt = calibrate_gauge_tilt(sphere.points, a.diameter_mm, sphere.scan, &c, a.lead_mm);
   c.has_gauge_tilt = true;
   c.gauge_tilt_x_urad = tilt.tilt_x_urad, c.gauge_tilt_y_urad = tilt.tilt_y_urad;
   c.u_gauge_tilt_x_urad = tilt.u_tilt_x_urad, c.u_gauge_tilt_y_urad = tilt.u_tilt_y_urad;
+  // A ball plate measured before the screws' error was corrected took its balls' periodic shifts
+  // for scale, squareness and bow: those axes would be false, so they go, with the reason.
+  bool axes_dropped = false;
+  if (tilt.lead.measured) {
+    c.lead = tilt.lead;
+    axes_dropped = c.has_axes;
+    c.has_axes = false;
+    c.straightness = Straightness{};
+  }
   c.sphere_diameter_mm = a.diameter_mm;
   c.sphere_points = tilt.points;
   c.sphere_rms_mm = tilt.residual_rms_mm;
@@ -289,7 +304,17 @@ int calibrate_sphere(const CalibrateArgs& a) {
                 lean_urad * 1e-6 * 57.29577951308232, lean_urad * 1e-6 * 10 * 1e3);
     std::printf("  of u: the readings' scatter %.0f and %.0f urad, the travel map's uncertainty under the sphere %.0f and %.0f urad\n",
                 tilt.u_noise_x_urad, tilt.u_noise_y_urad, tilt.u_map_x_urad, tilt.u_map_y_urad);
-    std::printf("added to %s: scans corrected by it now have the gauge's lean taken out\n", a.output.c_str());
+    if (tilt.lead.measured) {
+      const LeadError& e = tilt.lead;
+      std::printf("lead screws (%.2f mm a turn): periodic error %.2f um in x (u %.2f), %.2f um in y (u %.2f) at its largest\n",
+                  e.lead_mm, e.amplitude_x_um(), e.u_x_um, e.amplitude_y_um(), e.u_y_um);
+    }
+    std::printf("added to %s: scans corrected by it now have the gauge's lean%s taken out\n", a.output.c_str(),
+                tilt.lead.measured ? " and the screws' periodic error" : "");
+  }
+  if (axes_dropped) {
+    std::fprintf(stderr, "digitizer: %s: the ball plate's axes were measured without this periodic correction and are "
+                 "removed; calibrate the ball plate again (-o the same file)\n", a.output.c_str());
   }
   return 0;
 }

@@ -20,6 +20,7 @@ struct CalibrateArgs {
   double ball_step_mm = 1.0;  // ball plate and sphere: grid step of its scan
   double diameter_mm = 0;  // sphere: its certified diameter
   std::string sphere_at;   // sphere: where its top stands on the table, "X,Y" in mm
+  double lead_mm = 0;      // sphere: the screws' lead, to fit their periodic error as well (0: not)
   std::string from;        // an existing scan of the artefact instead of scanning
   std::string scan_output; // where the artefact's scan is kept (default OUTPUT.flat.scan, OUTPUT.ballplate.scan, OUTPUT.stepgauge.scan, OUTPUT.sphere.scan)
   std::string output;      // the calibration file

@@ -21,6 +21,7 @@ struct GaugeTilt {
   double free_diameter_mm = 0;  // what the readings give alone (an algebraic fit; the check on the certificate)
   double residual_rms_mm = 0;   // of the readings' distances from the fitted sphere
   size_t points = 0;            // readings on the cap that were fitted
+  LeadError lead;               // the screws' periodic error, when a lead was given
 };
 
 // How far from the sphere's top, sideways, the readings the fit uses reach (the cap within 55
@@ -36,7 +37,9 @@ double sphere_cap_reach_mm(double diameter_mm);
 // exceeds 10 um (a dirty ball, another diameter, a slipping stand).
 // `map`, when the readings were corrected by a travel map: its nodes' uncertainties are carried
 // into the tilt's by the fit's sensitivity to each node (GUM 5.1.2, the nodes taken as independent).
+// `lead_mm` > 0: the screws' periodic error is fitted too, one turn of that lead on each axis (a
+// sine and a cosine each, four unknowns more), from where the flanks' slope shows a sideways shift.
 GaugeTilt calibrate_gauge_tilt(const PointCloud& scan, double diameter_mm, const std::string& name,
-                               const TableCalibration* map = nullptr);
+                               const TableCalibration* map = nullptr, double lead_mm = 0);
 
 }  // namespace dg::host

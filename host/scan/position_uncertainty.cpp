@@ -13,13 +13,13 @@ namespace dg::host {
 double TablePosition::u_x_mm(double x_mm, double y_mm, double z_mm) const {
   const double step_sq = step_mm * step_mm / 12.0;
   const double scale = x_mm * u_scale_x, square = y_mm * u_squareness_rad, tilt = z_mm * u_tilt_x_rad;
-  const double bow = straightness.u_dx_mm(y_mm);
-  return std::sqrt(step_sq + scale * scale + square * square + tilt * tilt + bow * bow);
+  const double bow = straightness.u_dx_mm(y_mm), screw = lead.u_dx_mm(x_mm);
+  return std::sqrt(step_sq + scale * scale + square * square + tilt * tilt + bow * bow + screw * screw);
 }
 
 double TablePosition::u_y_mm(double x_mm, double y_mm, double z_mm) const {
-  const double scale = y_mm * u_scale_y, tilt = z_mm * u_tilt_y_rad, bow = straightness.u_dy_mm(x_mm);
-  return std::sqrt(step_mm * step_mm / 12.0 + scale * scale + tilt * tilt + bow * bow);
+  const double scale = y_mm * u_scale_y, tilt = z_mm * u_tilt_y_rad, bow = straightness.u_dy_mm(x_mm), screw = lead.u_dy_mm(y_mm);
+  return std::sqrt(step_mm * step_mm / 12.0 + scale * scale + tilt * tilt + bow * bow + screw * screw);
 }
 
 TablePosition table_position(const ScanData& scan, const std::optional<TableCalibration>& calibration) {
@@ -31,6 +31,7 @@ TablePosition table_position(const ScanData& scan, const std::optional<TableCali
     t.u_squareness_rad = calibration->u_squareness_urad * 1e-6;
     t.straightness = calibration->straightness;
   }
+  if (calibration) t.lead = calibration->lead;
   if (calibration && calibration->has_gauge_tilt) {
     t.u_tilt_x_rad = calibration->u_gauge_tilt_x_urad * 1e-6;
     t.u_tilt_y_rad = calibration->u_gauge_tilt_y_urad * 1e-6;
@@ -88,7 +89,8 @@ std::vector<std::pair<double, double>> scan_slopes(const ScanData& scan) {
 double add_position_uncertainty(const ScanData& scan, const TablePosition& table, std::vector<double>& sigma_mm) {
   if (sigma_mm.size() != scan.points.size()) return 0;
   if (!(table.step_mm > 0) && !(table.u_scale_x > 0) && !(table.u_scale_y > 0) && !(table.u_squareness_rad > 0) &&
-      !(table.u_tilt_x_rad > 0) && !(table.u_tilt_y_rad > 0) && !table.straightness.measured) {
+      !(table.u_tilt_x_rad > 0) && !(table.u_tilt_y_rad > 0) && !table.straightness.measured &&
+      !table.lead.measured) {
     return 0;
   }
   const std::vector<std::pair<double, double>> slope = scan_slopes(scan);

@@ -17,7 +17,8 @@ namespace dg::host {
 // x and (y u_sy)^2 along y; when the gauge's tilt was measured on a sphere, the reading's height z
 // times the tilt's uncertainty, (z u_tx)^2 and (z u_ty)^2 (the shear it corrects by); when the
 // plate measured the ways' straightness, each bow's uncertainty where the point lies (it grows with
-// the square of the distance from the plate's middle). The repeatability measured at the scan's
+// the square of the distance from the plate's middle), and the screws' periodic error's where the
+// sphere measured one. The repeatability measured at the scan's
 // first point holds this only for that point's slope, which is usually none.
 struct TablePosition {
   double step_mm = 0;                            // the axes' travel per motor step
@@ -25,6 +26,7 @@ struct TablePosition {
   double u_squareness_rad = 0;
   double u_tilt_x_rad = 0, u_tilt_y_rad = 0;
   Straightness straightness;                     // its u_x_um and u_y_um (measured: with a bow)
+  LeadError lead;                                // the screws' periodic error's u (measured: with one)
   double u_x_mm(double x_mm, double y_mm, double z_mm) const;
   double u_y_mm(double x_mm, double y_mm, double z_mm) const;
 };

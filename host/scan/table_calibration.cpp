@@ -117,6 +117,12 @@ std::string calibration_to_json(const TableCalibration& c) {
                   {"points", c.sphere_points},
                   {"residual_rms_mm", c.sphere_rms_mm}};
   }
+  if (c.lead.measured) {
+    const LeadError& e = c.lead;
+    j["lead_screws"] = {{"artefact", "reference sphere"}, {"lead_mm", e.lead_mm},     {"x_sin_um", e.x_sin_um},
+                        {"x_cos_um", e.x_cos_um},         {"y_sin_um", e.y_sin_um}, {"y_cos_um", e.y_cos_um},
+                        {"u_x_um", e.u_x_um},             {"u_y_um", e.u_y_um}};
+  }
   if (c.has_gauge_scale) {
     j["gauge_scale"] = {{"artefact", "step gauge"},
                         {"created_utc", c.scale_created_utc},
@@ -244,6 +250,24 @@ TableCalibration calibration_from_json(const std::string& text, const std::strin
     if (gauge.contains("points") && gauge["points"].is_number_unsigned()) c.sphere_points = gauge["points"].get<size_t>();
     if (gauge.contains("residual_rms_mm") && gauge["residual_rms_mm"].is_number()) c.sphere_rms_mm = gauge["residual_rms_mm"].get<double>();
   }
+  if (j.contains("lead_screws")) {
+    if (version < TableCalibration::kVersion) {
+      throw CalibrationError(name + ": the screws' periodic error in a version " + std::to_string(static_cast<int>(version)) +
+                             " file (it came with version 3): the file was edited or is damaged");
+    }
+    const nlohmann::json& lead = j["lead_screws"];
+    LeadError& e = c.lead;
+    e.measured = true;
+    e.lead_mm = number(lead, "lead_mm", "lead_screws.");
+    e.x_sin_um = number(lead, "x_sin_um", "lead_screws."), e.x_cos_um = number(lead, "x_cos_um", "lead_screws.");
+    e.y_sin_um = number(lead, "y_sin_um", "lead_screws."), e.y_cos_um = number(lead, "y_cos_um", "lead_screws.");
+    e.u_x_um = number(lead, "u_x_um", "lead_screws."), e.u_y_um = number(lead, "u_y_um", "lead_screws.");
+    // What calibrate_gauge_tilt accepts, and a screw wobbling by a millimetre is broken.
+    if (!(e.lead_mm >= 0.5 && e.lead_mm <= 100) || std::fabs(e.x_sin_um) > 1000 || std::fabs(e.x_cos_um) > 1000 ||
+        std::fabs(e.y_sin_um) > 1000 || std::fabs(e.y_cos_um) > 1000 || e.u_x_um < 0 || e.u_y_um < 0) {
+      throw CalibrationError(name + ": lead_screws: a lead outside 0.5..100 mm, a term beyond 1000 um or a negative uncertainty");
+    }
+  }
   if (j.contains("gauge_scale")) {
     if (version == TableCalibration::kVersionWithoutTilt) {
       throw CalibrationError(name + ": a gauge scale in a version 1 file (the scale came with version 2): the file was edited or is damaged");
@@ -304,12 +328,15 @@ void apply_calibration(const TableCalibration& c, PointCloud& cloud, const std::
       (*cloud.sigma)[k] = std::hypot((*cloud.sigma)[k], u);
     }
     p.z -= c.z_error_at(p.x, p.y);
+    const double commanded_x = p.x, commanded_y = p.y;  // the screws turn with the command
     if (c.has_axes) {
       const double q = c.squareness_urad * 1e-6;
       const double x = p.x * (1 + c.scale_x_ppm * 1e-6) + p.y * std::sin(q) + c.straightness.dx_mm(p.y);
       p.y = p.y * (1 + c.scale_y_ppm * 1e-6) * std::cos(q) + c.straightness.dy_mm(p.x);
       p.x = x;
     }
+    p.x += c.lead.dx_mm(commanded_x);
+    p.y += c.lead.dy_mm(commanded_y);
     if (c.has_gauge_tilt) {
       // The reading's own height shears it: measured from the gauge's zero, as the tilt was fitted.
       const double sx = std::sin(c.gauge_tilt_x_urad * 1e-6), sy = std::sin(c.gauge_tilt_y_urad * 1e-6);

@@ -43,10 +43,40 @@ struct Straightness {
   }
 };
 
+// The lead screws' periodic error, once a turn, from a reference sphere's flanks: the table stands
+// e_x = x_sin sin(2 pi x / lead) + x_cos (cos(2 pi x / lead) - 1) ahead of its command in x, and
+// e_y the same in y; nothing at the commanded origin, where homing leaves the screws.
+struct LeadError {
+  bool measured = false;
+  double lead_mm = 0;
+  double x_sin_um = 0, x_cos_um = 0, y_sin_um = 0, y_cos_um = 0;
+  double u_x_um = 0, u_y_um = 0;  // each term's standard uncertainty (the larger of the pair's)
+  double dx_mm(double x_mm) const { return term(x_sin_um, x_cos_um, x_mm); }
+  double dy_mm(double y_mm) const { return term(y_sin_um, y_cos_um, y_mm); }
+  double amplitude_x_um() const { return std::hypot(x_sin_um, x_cos_um); }
+  // The standard uncertainty of dx_mm and dy_mm there (mm): each term's u by its own factor.
+  double u_dx_mm(double x_mm) const { return u_term(u_x_um, x_mm); }
+  double u_dy_mm(double y_mm) const { return u_term(u_y_um, y_mm); }
+  double amplitude_y_um() const { return std::hypot(y_sin_um, y_cos_um); }
+
+ private:
+  double term(double sin_um, double cos_um, double t_mm) const {
+    if (!measured || !(lead_mm > 0)) return 0;
+    const double turn = 2 * 3.14159265358979323846 * t_mm / lead_mm;
+    return 1e-3 * (sin_um * std::sin(turn) + cos_um * (std::cos(turn) - 1));
+  }
+  double u_term(double u_um, double t_mm) const {
+    if (!measured || !(lead_mm > 0)) return 0;
+    const double turn = 2 * 3.14159265358979323846 * t_mm / lead_mm;
+    return 1e-3 * u_um * std::hypot(std::sin(turn), std::cos(turn) - 1);
+  }
+};
+
 struct TableCalibration {
-  // Version 2 adds the gauge's tilt and scale, version 3 the ways' straightness; a file is written
-  // with the lowest version that holds what it has, which readers that know no later part still
-  // read correctly. An older reader refuses a later version rather than ignore a correction.
+  // Version 2 adds the gauge's tilt and scale, version 3 the ways' straightness and the screws'
+  // periodic error; a file is written with the lowest version that holds what it has, which readers
+  // that know no later part still read correctly. An older reader refuses a later version rather
+  // than ignore a correction.
   static constexpr int kVersion = 3;
   static constexpr int kVersionWithTilt = 2;
   static constexpr int kVersionWithoutTilt = 1;
@@ -76,6 +106,7 @@ struct TableCalibration {
   // The gauge's tilt from a reference sphere (gauge_tilt_calibration.h), when measured: after the
   // map and the axes, a point read z high moves to (x + z sin(tilt_x), y + z sin(tilt_y)), z cos(tilt).
   bool has_gauge_tilt = false;
+  LeadError lead;  // measured on the sphere with a lead given: moves (x, y) with the axes, by the commanded position
   double gauge_tilt_x_urad = 0, gauge_tilt_y_urad = 0, u_gauge_tilt_x_urad = 0, u_gauge_tilt_y_urad = 0;
   double sphere_diameter_mm = 0;  // the certificate's
   size_t sphere_points = 0;
@@ -90,7 +121,9 @@ struct TableCalibration {
   std::string scale_created_utc;
   bool has_version_2_parts() const { return has_gauge_tilt || has_gauge_scale; }
   int version() const {
-    return has_axes && straightness.measured ? kVersion : has_version_2_parts() ? kVersionWithTilt : kVersionWithoutTilt;
+    return (has_axes && straightness.measured) || lead.measured ? kVersion
+           : has_version_2_parts()                            ? kVersionWithTilt
+                                                              : kVersionWithoutTilt;
   }
 
   double x1_mm() const { return x0_mm + step_x_mm * static_cast<double>(nx - 1); }
@@ -116,8 +149,8 @@ TableCalibration read_calibration_file(const std::string& path, std::string* tex
 // unknown (""): no check, since there is nothing to compare.
 void check_calibration_device(const std::string& measured_on, const std::string& path, const std::string& device_id);
 
-// Subtracts the travel's error from every point's z, moves its (x, y) by the axes' errors and
-// the gauge's tilt and scales its z by the gauge's scale where they were measured, and adds the map's uncertainty to each point's sigma, where the cloud has one. A point outside the calibrated travel is an error that names it:
+// Subtracts the travel's error from every point's z, moves its (x, y) by the axes' errors, the
+// screws' periodic error and the gauge's tilt and scales its z by the gauge's scale where they were measured, and adds the map's uncertainty to each point's sigma, where the cloud has one. A point outside the calibrated travel is an error that names it:
 // its correction is unknown, and an uncorrected point among corrected ones would be a false number.
 void apply_calibration(const TableCalibration& c, PointCloud& cloud, const std::string& name);
 

@@ -38,12 +38,20 @@ double raw_peak(uint64_t seed) {
 
 }  // namespace
 
+// One screw's periodic error at commanded position t (mm), zero at the origin.
+double lead_error_mm(const MachineErrors& e, double t_mm, double phase) {
+  if (e.lead_error_um == 0) return 0;
+  return e.lead_error_um * 1e-3 * (std::sin(2 * kPi * t_mm / e.lead_mm + phase) - std::sin(phase));
+}
+
 void actual_table_xy(const MachineErrors& e, double x_mm, double y_mm, double* actual_x_mm, double* actual_y_mm) {
   const double u = x_mm / kTravelMm, v = y_mm / kTravelMm;
+  Random random(e.map_seed * 40503u + 11);
+  const double phase_x = 2 * kPi * random.uniform(), phase_y = 2 * kPi * random.uniform();
   *actual_x_mm = x_mm * (1 + e.scale_x_ppm * 1e-6) + y_mm * std::sin(e.squareness_urad * 1e-6) +
-                 e.straightness_x_um * 1e-3 * 4 * v * (1 - v);
+                 e.straightness_x_um * 1e-3 * 4 * v * (1 - v) + lead_error_mm(e, x_mm, phase_x);
   *actual_y_mm = y_mm * (1 + e.scale_y_ppm * 1e-6) * std::cos(e.squareness_urad * 1e-6) +
-                 e.straightness_y_um * 1e-3 * 4 * u * (1 - u);
+                 e.straightness_y_um * 1e-3 * 4 * u * (1 - u) + lead_error_mm(e, y_mm, phase_y);
 }
 
 double flatness_map_peak(uint64_t map_seed) { return raw_peak(map_seed); }

@@ -15,6 +15,11 @@ struct MachineErrors {
   // straightness_x_um 4 v (1 - v), v = y / 100 mm (a bow, this high at mid-travel, nothing at its
   // ends); while x travels, y wanders by straightness_y_um 4 u (1 - u), u = x / 100 mm.
   double straightness_x_um = 0, straightness_y_um = 0;
+  // The lead screws' periodic error: a bent screw or an off-centre nut moves the table ahead and
+  // behind its command once a turn, lead_error_um at its largest, with a phase per axis from the
+  // map seed, counted from the commanded origin (where homing leaves the screw).
+  double lead_error_um = 0;
+  double lead_mm = 8;  // the screws' lead: one turn moves the table this far (8 mm: a common T8 screw)
   // The table's travel is not flat: a smooth height error of the carriage over its XY travel
   // (low-order modes over 100 x 100 mm with a bowl), this many micrometres at its largest.
   double flatness_um = 0;
@@ -33,7 +38,7 @@ struct MachineErrors {
 
   bool any() const {
     return squareness_urad != 0 || scale_x_ppm != 0 || scale_y_ppm != 0 || straightness_x_um != 0 ||
-           straightness_y_um != 0 || flatness_um != 0 || drift_um_per_h != 0 ||
+           straightness_y_um != 0 || lead_error_um != 0 || flatness_um != 0 || drift_um_per_h != 0 ||
            warmup_um != 0 || gauge_tilt_x_urad != 0 || gauge_tilt_y_urad != 0 ||
            gauge_scale_ppm != 0;
   }

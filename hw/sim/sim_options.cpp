@@ -21,7 +21,7 @@ const char kSimOptionsHelp[] =
     "  touch_x_mm=X touch_y_mm=Y (faces the touch probe meets)\n"
     "  the machine's errors (each 0 by default): squareness_urad=X scale_x_ppm=X scale_y_ppm=X\n"
     "  straightness_x_um=X straightness_y_um=Y (the ways bow: x wanders this much at mid-travel of y,\n"
-    "  and y at mid-travel of x)\n"
+    "  and y at mid-travel of x)  lead_error_um=X lead_mm=L (each screw's periodic error, once a turn)\n"
     "  flatness_um=X (the travel's height error at its largest) drift_um_per_h=X machine_seed=N\n"
     "  warmup_um=X warmup_min=T (the stand settles: Z grows by X (1 - exp(-t / T)))\n"
     "  gauge_tilt_x_urad=X gauge_tilt_y_urad=Y (the gauge's axis leans towards +x, +y)\n"
@@ -139,6 +139,12 @@ std::string apply_sim_option(const std::string& pair, SimOptions* options) {
   } else if (key == "straightness_x_um" || key == "straightness_y_um") {
     if (!parse_double(value, &d) || std::fabs(d) > 1000) return key + " must be -1000..1000, got '" + value + "'";
     (key == "straightness_x_um" ? c.machine.straightness_x_um : c.machine.straightness_y_um) = d;
+  } else if (key == "lead_error_um") {
+    if (!parse_double(value, &d) || d < 0 || d > 1000) return key + " must be 0..1000, got '" + value + "'";
+    c.machine.lead_error_um = d;
+  } else if (key == "lead_mm") {
+    if (!parse_double(value, &d) || !(d >= 0.5 && d <= 100)) return key + " must be 0.5..100, got '" + value + "'";
+    c.machine.lead_mm = d;
   } else if (key == "gauge_scale_ppm") {
     if (!parse_double(value, &d) || std::fabs(d) > 20000) return key + " must be -20000..20000, got '" + value + "'";
     c.machine.gauge_scale_ppm = d;

@@ -31,7 +31,7 @@ struct SimOptions {
 // switches (nc, open, stuck; 1 and 0 for nc and open), switch_bounce_us, glitch_ms, x_wire_cut_ms,
 // require_homing, gauge (digimatic, caliper), backlash_um (the
 // screws' play), compensate_um (the firmware's compensation; default the play), and the machine's
-// errors: squareness_urad, scale_x_ppm, scale_y_ppm, straightness_x_um, straightness_y_um, flatness_um, drift_um_per_h, warmup_um, warmup_min, machine_seed,
+// errors: squareness_urad, scale_x_ppm, scale_y_ppm, straightness_x_um, straightness_y_um, lead_error_um, lead_mm, flatness_um, drift_um_per_h, warmup_um, warmup_min, machine_seed,
 // machine=typical|ideal, and the part's placement: part_x_mm, part_y_mm, part_angle_deg. Returns an error
 // message, or empty on success.
 std::string apply_sim_option(const std::string& pair, SimOptions* options);
