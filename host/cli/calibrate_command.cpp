@@ -225,6 +225,7 @@ int calibrate_ball_plate(const CalibrateArgs& a) {
   c.straightness = axes.straightness;
   c.balls = axes.centres.size();
   c.ball_centre_rms_mm = axes.centre_rms_mm;
+  c.axes_with_lead = c.lead.measured;
   c.axes_created_utc = utc_now();
   write_file_atomically(a.output, calibration_to_json(c));
   if (!a.quiet) {
@@ -282,13 +283,16 @@ int calibrate_sphere(const CalibrateArgs& a) {
   c.gauge_tilt_x_urad = tilt.tilt_x_urad, c.gauge_tilt_y_urad = tilt.tilt_y_urad;
   c.u_gauge_tilt_x_urad = tilt.u_tilt_x_urad, c.u_gauge_tilt_y_urad = tilt.u_tilt_y_urad;
   // A ball plate measured before the screws' error was corrected took its balls' periodic shifts
-  // for scale, squareness and bow: those axes would be false, so they go, with the reason.
+  // for scale, squareness and bow: those axes would be false, so they go, with the reason. (A plate
+  // measured under an earlier lead correction stays: a new measurement moves it by its noise.)
   bool axes_dropped = false;
   if (tilt.lead.measured) {
     c.lead = tilt.lead;
-    axes_dropped = c.has_axes;
-    c.has_axes = false;
-    c.straightness = Straightness{};
+    if (c.has_axes && !c.axes_with_lead) {
+      axes_dropped = true;
+      c.has_axes = false;
+      c.straightness = Straightness{};
+    }
   }
   c.sphere_diameter_mm = a.diameter_mm;
   c.sphere_points = tilt.points;

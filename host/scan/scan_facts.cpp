@@ -91,6 +91,11 @@ std::vector<std::string> scan_facts(const ScanData& data) {
       } else {
         fact += "; squareness and scale not compensated";
       }
+      if (c.lead.measured) {
+        std::snprintf(text, sizeof text, "; the lead screws' periodic error (%.2f mm a turn): %.2f um in x (u %.2f), %.2f um in y (u %.2f)",
+                      c.lead.lead_mm, c.lead.amplitude_x_um(), c.lead.u_x_um, c.lead.amplitude_y_um(), c.lead.u_y_um);
+        fact += text;
+      }
       facts.push_back(fact);
     } catch (const CalibrationError& error) {
       facts.push_back(std::string("calibration: a record that cannot be used: ") + error.what());

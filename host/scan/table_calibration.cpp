@@ -94,6 +94,7 @@ std::string calibration_to_json(const TableCalibration& c) {
                  {"u_squareness_urad", c.u_squareness_urad},
                  {"balls", c.balls},
                  {"centre_rms_mm", c.ball_centre_rms_mm}};
+    if (c.axes_with_lead) j["axes"]["lead_corrected"] = true;
     const Straightness& b = c.straightness;
     if (b.measured) {
       j["axes"]["straightness"] = {{"x_um", b.x_um},
@@ -211,6 +212,7 @@ TableCalibration calibration_from_json(const std::string& text, const std::strin
     if (axes.contains("created_utc") && axes["created_utc"].is_string()) c.axes_created_utc = axes["created_utc"].get<std::string>();
     if (axes.contains("balls") && axes["balls"].is_number_unsigned()) c.balls = axes["balls"].get<size_t>();
     if (axes.contains("centre_rms_mm") && axes["centre_rms_mm"].is_number()) c.ball_centre_rms_mm = axes["centre_rms_mm"].get<double>();
+    c.axes_with_lead = axes.contains("lead_corrected") && axes["lead_corrected"] == true;
     if (axes.contains("straightness")) {
       if (version < TableCalibration::kVersion) {
         throw CalibrationError(name + ": the ways' straightness in a version " + std::to_string(static_cast<int>(version)) +

@@ -102,6 +102,7 @@ struct TableCalibration {
   Straightness straightness;  // within the axes: x' and y' gain straightness.dx_mm(y), dy_mm(x)
   size_t balls = 0;
   double ball_centre_rms_mm = 0;
+  bool axes_with_lead = false;  // the plate's readings were corrected by the screws' periodic error
   std::string axes_created_utc;
   // The gauge's tilt from a reference sphere (gauge_tilt_calibration.h), when measured: after the
   // map and the axes, a point read z high moves to (x + z sin(tilt_x), y + z sin(tilt_y)), z cos(tilt).

@@ -26,8 +26,8 @@ const char kSimOptionsHelp[] =
     "  warmup_um=X warmup_min=T (the stand settles: Z grows by X (1 - exp(-t / T)))\n"
     "  gauge_tilt_x_urad=X gauge_tilt_y_urad=Y (the gauge's axis leans towards +x, +y)\n"
     "  gauge_scale_ppm=X (the gauge reads its travel this much long)\n"
-    "  machine=typical (500 urad, 200 and -150 ppm, straightness 8 and -5 um, 30 um, gauge tilt\n"
-    "  3000 and -2000 urad, gauge scale 400 ppm, no drift)\n"
+    "  machine=typical (500 urad, 200 and -150 ppm, straightness 8 and -5 um, screws 3 um a turn of\n"
+    "  8 mm, 30 um, gauge tilt 3000 and -2000 urad, gauge scale 400 ppm, no drift)\n"
     "  part_x_mm=X part_y_mm=Y part_angle_deg=A (where the part's own frame lies on the table)\n";
 namespace {
 
@@ -172,6 +172,7 @@ std::string apply_sim_option(const std::string& pair, SimOptions* options) {
     if (value == "typical") {
       c.machine.squareness_urad = 500, c.machine.scale_x_ppm = 200, c.machine.scale_y_ppm = -150;
       c.machine.straightness_x_um = 8, c.machine.straightness_y_um = -5;
+      c.machine.lead_error_um = 3, c.machine.lead_mm = 8;
       c.machine.flatness_um = 30;
       c.machine.gauge_tilt_x_urad = 3000, c.machine.gauge_tilt_y_urad = -2000;
       c.machine.gauge_scale_ppm = 400;

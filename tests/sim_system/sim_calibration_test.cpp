@@ -45,8 +45,22 @@ std::string step_certificate(const std::string& path) {
   return path;
 }
 
-// A typical table calibrated over x, y (MIN:MAX) on the simulated flat, step gauge, ball plate
-// and reference sphere into `cal`.
+// The arguments for the simulated reference sphere (its top at (20, 15) mm, scanned at 0.5 mm)
+// after `base`'s artefact, with the screws' lead when `lead_mm` > 0.
+CalibrateArgs sphere_args(const CalibrateArgs& base, const std::string& machine, int seed, double lead_mm) {
+  CalibrateArgs sphere = base;
+  sphere.artefact = "sphere";
+  sphere.certificate.clear();
+  sphere.device = "sim:part=sphere,seed=" + std::to_string(seed) + "," + machine;
+  sphere.diameter_mm = 2 * dg::sim::kSphereRadiusMm;
+  sphere.sphere_at = "20,15";
+  sphere.ball_step_mm = 0.5;
+  sphere.lead_mm = lead_mm;
+  return sphere;
+}
+
+// A typical table calibrated over x, y (MIN:MAX) on the simulated flat, step gauge, reference
+// sphere (with the screws' 8 mm lead), ball plate and the sphere again into `cal`.
 TableCalibration calibrate_typical(const char* machine, const std::string& cal, const char* x, const char* y, int seed,
                                    const std::string& plate_csv) {
   CalibrateArgs flat;
@@ -64,17 +78,16 @@ TableCalibration calibrate_typical(const char* machine, const std::string& cal, 
   steps.ball_step_mm = 0.5;
   LONGS_EQUAL(0, run_calibrate(steps));
   std::remove(steps.certificate.c_str());
+  // The sphere with the screws' lead before the plate: the plate's balls then lie where the
+  // screws really put them.
+  const CalibrateArgs sphere = sphere_args(flat, machine, seed + 2, 8);
+  LONGS_EQUAL(0, run_calibrate(sphere));
   CalibrateArgs plate = flat;
   plate.artefact = "ballplate";
   plate.device = std::string("sim:part=ballplate,seed=") + std::to_string(seed + 1) + "," + machine;
   plate.certificate = certificate(plate_csv);
   LONGS_EQUAL(0, run_calibrate(plate));
-  CalibrateArgs sphere = flat;
-  sphere.artefact = "sphere";
-  sphere.device = std::string("sim:part=sphere,seed=") + std::to_string(seed + 2) + "," + machine;
-  sphere.diameter_mm = 2 * dg::sim::kSphereRadiusMm;
-  sphere.sphere_at = "20,15";
-  sphere.ball_step_mm = 0.5;
+  // The sphere again, with the axes in place: its tilt and lead no longer carry their stretch.
   LONGS_EQUAL(0, run_calibrate(sphere));
   return read_calibration_file(cal);
 }
@@ -126,16 +139,31 @@ std::pair<double, double> dome_errors(const TableCalibration& c, const std::stri
   return {worst, worst_raw};
 }
 
-// `cal` calibrated on the simulated flat of `machine` over 0..60 x 0..40 mm; the arguments, for
-// the artefacts that follow.
-CalibrateArgs calibrate_small_flat(const std::string& machine, int seed, const std::string& cal) {
+// `cal` calibrated on the simulated flat of `machine` over x, y (MIN:MAX); the arguments, for the
+// artefacts that follow.
+CalibrateArgs calibrate_flat(const std::string& machine, int seed, const std::string& cal, const char* x, const char* y) {
   CalibrateArgs flat;
   flat.device = "sim:part=flat,seed=" + std::to_string(seed) + "," + machine;
-  flat.x = "0:60", flat.y = "0:40";
+  flat.x = x, flat.y = y;
   flat.output = cal;
   flat.force = flat.quiet = true;
   LONGS_EQUAL(0, run_calibrate(flat));
   return flat;
+}
+
+// Over 0..60 x 0..40 mm, where the dome lies.
+CalibrateArgs calibrate_small_flat(const std::string& machine, int seed, const std::string& cal) {
+  return calibrate_flat(machine, seed, cal, "0:60", "0:40");
+}
+
+// Over the whole 0..100 mm travel, and the arguments for the ball plate (seed + 1) that follows,
+// its certificate written to `plate_csv`.
+CalibrateArgs calibrate_flat_for_plate(const std::string& machine, int seed, const std::string& cal, const std::string& plate_csv) {
+  CalibrateArgs plate = calibrate_flat(machine, seed, cal, "0:100", "0:100");
+  plate.artefact = "ballplate";
+  plate.device = "sim:part=ballplate,seed=" + std::to_string(seed + 1) + "," + machine;
+  plate.certificate = certificate(plate_csv);
+  return plate;
 }
 
 // What `digitizer ARGS...` (a device command) prints on standard output.
@@ -226,6 +254,31 @@ TEST(SimCalibration, OnATypicalTableFourArtefactsBringADomeWithinTwoMicrometresA
   remove_calibration(cal);
 }
 
+// A ball plate measured before the screws' error was known read the balls' periodic shifts as
+// axes: measuring the lead on the sphere then removes those axes (never kept false), a plate
+// measured again under the lead's correction is kept, and so is it when the sphere is measured again.
+TEST(SimCalibration, AxesMeasuredBeforeTheScrewsErrorWasKnownAreRemovedAndTheOnesAfterKept) {
+  const std::string machine = "lead_error_um=4,scale_x_ppm=200,noise_um=0.5";
+  const std::string cal = temp_path("order.cal.json"), plate_csv = temp_path("order-plate.csv");
+  const CalibrateArgs plate = calibrate_flat_for_plate(machine, 91, cal, plate_csv);
+  const CalibrateArgs sphere = sphere_args(plate, machine, 93, 8);
+  LONGS_EQUAL(0, run_calibrate(plate));
+  CHECK(read_calibration_file(cal).has_axes);
+  CHECK_FALSE(read_calibration_file(cal).axes_with_lead);
+  LONGS_EQUAL(0, run_calibrate(sphere));
+  CHECK_FALSE(read_calibration_file(cal).has_axes);
+  CHECK(read_calibration_file(cal).lead.measured);
+  LONGS_EQUAL(0, run_calibrate(plate));
+  TableCalibration c = read_calibration_file(cal);
+  CHECK(c.has_axes && c.axes_with_lead);
+  DOUBLES_EQUAL(200, c.scale_x_ppm, 4 * c.u_scale_x_ppm);
+  LONGS_EQUAL(0, run_calibrate(sphere));
+  c = read_calibration_file(cal);
+  CHECK(c.has_axes && c.lead.measured);
+  std::remove(plate_csv.c_str());
+  remove_calibration(cal);
+}
+
 // The ways alone out of straight: the y way bows 15 um in x at mid-travel and the x way -10 um in
 // y. Over the dome (0..40 x 0..30 mm) the table stands up to 13 um beside where it was told to,
 // which the dome's flanks turn into height. A flat and the ball plate (three rows, three columns)
@@ -233,17 +286,7 @@ TEST(SimCalibration, OnATypicalTableFourArtefactsBringADomeWithinTwoMicrometresA
 TEST(SimCalibration, BentWaysAreMeasuredOnABallPlateAndTakenOutOfADomeScannedLater) {
   const std::string machine = "straightness_x_um=15,straightness_y_um=-10,noise_um=0.5";
   const std::string cal = temp_path("bow.cal.json"), part = temp_path("bow-dome.scan"), plate_csv = temp_path("bow-plate.csv");
-  CalibrateArgs flat;
-  flat.device = "sim:part=flat,seed=71," + machine;
-  flat.x = "0:100", flat.y = "0:100";
-  flat.output = cal;
-  flat.force = flat.quiet = true;
-  LONGS_EQUAL(0, run_calibrate(flat));
-  CalibrateArgs plate = flat;
-  plate.artefact = "ballplate";
-  plate.device = "sim:part=ballplate,seed=72," + machine;
-  plate.certificate = certificate(plate_csv);
-  LONGS_EQUAL(0, run_calibrate(plate));
+  LONGS_EQUAL(0, run_calibrate(calibrate_flat_for_plate(machine, 71, cal, plate_csv)));
   const TableCalibration c = read_calibration_file(cal);
   const Straightness& bow = c.straightness;
   CHECK(bow.measured);
@@ -272,14 +315,7 @@ TEST(SimCalibration, TheScrewsPeriodicErrorIsMeasuredOnASphereAndTakenOutOfADome
   const std::string machine = "lead_error_um=4,lead_mm=8,noise_um=0.5";
   const std::string cal = temp_path("lead.cal.json"), part = temp_path("lead-dome.scan");
   const CalibrateArgs flat = calibrate_small_flat(machine, 81, cal);
-  CalibrateArgs sphere = flat;
-  sphere.artefact = "sphere";
-  sphere.device = "sim:part=sphere,seed=82," + machine;
-  sphere.diameter_mm = 2 * dg::sim::kSphereRadiusMm;
-  sphere.sphere_at = "20,15";
-  sphere.ball_step_mm = 0.5;
-  sphere.lead_mm = 8;
-  LONGS_EQUAL(0, run_calibrate(sphere));
+  LONGS_EQUAL(0, run_calibrate(sphere_args(flat, machine, 82, 8)));
   const TableCalibration c = read_calibration_file(cal);
   CHECK(c.lead.measured);
   std::printf("\n  lead screws: %.2f um in x (u %.2f), %.2f um in y (u %.2f), true 4; tilt %.0f and %.0f urad (u %.0f)",

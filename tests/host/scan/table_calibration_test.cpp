@@ -185,3 +185,30 @@ TEST(TableCalibration, AScanFilesLastCalibrationRecordCorrectsItsRawPoints) {
   LONGS_EQUAL(1000000 - 5000, data.points.at(0).z_nm);
   std::remove(path.c_str());
 }
+
+// The screws' periodic error goes into the file whole (version 3), comes back as it went, moves a
+// point by its commanded position, and is refused in a file that says an earlier version.
+TEST(TableCalibration, TheScrewsPeriodicErrorRoundTripsAndMovesAPointByItsCommandedPlace) {
+  TableCalibration c = three_by_two();
+  c.lead.measured = true;
+  c.lead.lead_mm = 8;
+  c.lead.x_sin_um = 3, c.lead.x_cos_um = -1, c.lead.y_sin_um = 0.5, c.lead.y_cos_um = 2;
+  c.lead.u_x_um = 0.1, c.lead.u_y_um = 0.2;
+  const std::string json = calibration_to_json(c);
+  STRCMP_CONTAINS("\"version\": 3", json.c_str());
+  const TableCalibration back = calibration_from_json(json, "t.json");
+  CHECK(back.lead.measured);
+  DOUBLES_EQUAL(-1, back.lead.x_cos_um, 0);
+  PointCloud cloud;
+  cloud.points = {{2, 12, 0}};  // a quarter and one and a half turns
+  apply_calibration(back, cloud, "part.scan");
+  DOUBLES_EQUAL(2 + 0.003 + 0.001 * (-1) * (0 - 1), cloud.points[0].x, 1e-9);
+  DOUBLES_EQUAL(12 + 0.0005 * 0 + 0.002 * (-1 - 1), cloud.points[0].y, 1e-9);
+  DOUBLES_EQUAL(0, back.lead.dx_mm(0), 0);  // nothing at the commanded origin
+  std::string old = json;
+  old.replace(old.find("\"version\": 3"), 12, "\"version\": 2");
+  STRCMP_CONTAINS("periodic error in a version 2 file", refusal(old).c_str());
+  std::string bad = json;
+  bad.replace(bad.find("\"lead_mm\": 8.0"), 14, "\"lead_mm\": 0.0");
+  STRCMP_CONTAINS("lead_screws: a lead outside", refusal(bad).c_str());
+}

@@ -65,6 +65,28 @@ TEST(MachineErrors, BentWaysBowEachAxisPathAtMidTravelAndNotAtItsEnds) {
   CHECK(!apply_sim_option("straightness_x_um=2000", &o).empty());
 }
 
+TEST(MachineErrors, EachScrewRepeatsItsErrorEveryTurnUpToItsAmplitudeAndNoneAtTheOrigin) {
+  SimOptions o;
+  STRCMP_EQUAL("", apply_sim_option("lead_error_um=3", &o).c_str());
+  STRCMP_EQUAL("", apply_sim_option("lead_mm=5", &o).c_str());
+  CHECK(o.config.machine.any());
+  const MachineErrors& e = o.config.machine;
+  double x = 0, y = 0, largest = 0;
+  actual_table_xy(e, 0, 0, &x, &y);
+  DOUBLES_EQUAL(0, x, 1e-15);
+  DOUBLES_EQUAL(0, y, 1e-15);
+  for (double t = 0; t < 5; t += 0.05) {
+    double x2 = 0, y2 = 0;
+    actual_table_xy(e, t, t, &x, &y);
+    actual_table_xy(e, t + 15, t + 35, &x2, &y2);  // three and seven turns on
+    DOUBLES_EQUAL(x - t, x2 - t - 15, 1e-12);
+    DOUBLES_EQUAL(y - t, y2 - t - 35, 1e-12);
+    largest = std::fmax(largest, std::fabs(x - t));
+  }
+  CHECK(largest > 0.001 && largest <= 0.006);  // a sine's swing less its value at the origin
+  CHECK(!apply_sim_option("lead_mm=0", &o).empty());
+}
+
 TEST(MachineErrors, TheGaugeReadsThePartWhereTheTableReallyIsPlusTheTravelsErrorAndDrift) {
   SimOptions o;
   for (const char* pair : {"part=saddle", "squareness_urad=1000", "scale_x_ppm=500", "flatness_um=20", "drift_um_per_h=360"}) {
