@@ -38,6 +38,12 @@ Status encode_envelope(const digitizer_Envelope& envelope, uint8_t* out, size_t 
 // not an Envelope within our size limits.
 Status decode_envelope(const uint8_t* data, size_t size, digitizer_Envelope* envelope);
 
+// A CalibrationSummary as the bytes a board stores (a nanopb message, so a later firmware reads
+// an earlier one's), and back; kOverflow and kBadEncoding as for envelopes.
+Status encode_calibration_summary(const digitizer_CalibrationSummary& summary, uint8_t* out, size_t capacity,
+                                  size_t* out_size);
+Status decode_calibration_summary(const uint8_t* data, size_t size, digitizer_CalibrationSummary* summary);
+
 // Copies a C string into a fixed nanopb string field, truncating if needed.
 template <size_t N>
 void set_string(char (&field)[N], const char* text) {

@@ -43,6 +43,12 @@ void Device::begin() {
   }
   board_.write_pin(hal::Pin::kGaugeReq, false);
   motion_.attach_estop();
+  // The calibration's summary a board stored before: damaged or absent bytes leave none.
+  uint8_t stored[digitizer_CalibrationSummary_size];
+  const size_t stored_size = board_.load_settings(stored, sizeof stored);
+  if (stored_size > 0 && decode_calibration_summary(stored, stored_size, &calibration_) == Status::kOk) {
+    has_calibration_ = calibration_kept_ = true;
+  }
   if (config_.watchdog_ms > 0) board_.watchdog_start(config_.watchdog_ms);
 }
 
@@ -391,6 +397,18 @@ void Device::handle_command(uint32_t id, const digitizer_Command& command) {
       Reply reply{Reply::kFitResult, id, digitizer_FaultCode_FAULT_NONE, nullptr, command.fit_model};
       return queue(reply);
     }
+    case digitizer_CommandKind_CMD_SET_CALIBRATION: {
+      if (!command.has_calibration || command.calibration.version == 0) {
+        return fault(id, digitizer_FaultCode_FAULT_BAD_REQUEST, "no calibration summary to keep");
+      }
+      calibration_ = command.calibration;
+      has_calibration_ = true;
+      uint8_t bytes[digitizer_CalibrationSummary_size];
+      size_t size = 0;
+      calibration_kept_ = encode_calibration_summary(calibration_, bytes, sizeof bytes, &size) == Status::kOk &&
+                          board_.store_settings(bytes, size);
+      return queue({Reply::kAccepted, id, digitizer_FaultCode_FAULT_NONE, nullptr});
+    }
     case digitizer_CommandKind_CMD_HOME:
       // Allowed in alarm (homing is how a machine recovers its position), not with the e-stop.
       if (estop_held()) return fault(id, digitizer_FaultCode_FAULT_ESTOP, "the e-stop is pressed");
@@ -490,6 +508,9 @@ bool Device::send_reply(const Reply& reply) {
       if (alarm_) set_string(s.alarm_detail, alarm_detail_);
       s.homed = homed_;
       s.reset_cause = reset_cause_name(board_.reset_cause());
+      s.has_calibration = has_calibration_;
+      if (has_calibration_) s.calibration = calibration_;
+      s.calibration_kept = calibration_kept_;
       if (config_.stack_used_bytes != nullptr) {
         s.stack_used_bytes = config_.stack_used_bytes();
         s.stack_size_bytes = config_.stack_size_bytes;
@@ -641,7 +662,8 @@ DeviceConfig hardware_device_config(bool caliper) {
   }
   config.capabilities = (caliper ? digitizer_Capability_CAP_CALIPER_24BIT : digitizer_Capability_CAP_DIGIMATIC) |
                         digitizer_Capability_CAP_DEVICE_FIT | digitizer_Capability_CAP_RESUME |
-                        digitizer_Capability_CAP_HOMING | digitizer_Capability_CAP_TOUCH_PROBE;
+                        digitizer_Capability_CAP_HOMING | digitizer_Capability_CAP_TOUCH_PROBE |
+                        digitizer_Capability_CAP_CALIBRATION_SUMMARY;
   config.require_homing = true;
   // A hung main loop resets the board (the steps stop; the drivers' enable line falls back to its
   // reset state), and status says so after.

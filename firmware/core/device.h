@@ -194,6 +194,9 @@ class Device : private PointSink {
   bool silence_paused_ = false;   // paused by watch_host(), not by CMD_PAUSE
   bool have_last_done_ = false;
   bool resend_done_ = false;  // last_done_ is due on the wire
+  bool has_calibration_ = false;   // calibration_ was set (now or, where the board stores it, before)
+  bool calibration_kept_ = false;  // and the board stored it through a power-off
+  digitizer_CalibrationSummary calibration_ = digitizer_CalibrationSummary_init_zero;
   digitizer_LineDone line_done_ = digitizer_LineDone_init_zero;
   digitizer_FaultCode alarm_code_ = digitizer_FaultCode_FAULT_NONE;
   const char* alarm_detail_ = "";  // a string literal: the alarm's reason, for Status

@@ -73,6 +73,18 @@ class Board {
   virtual void watchdog_start(uint32_t timeout_ms) { (void)timeout_ms; }
   virtual void watchdog_kick() {}
   virtual ResetCause reset_cause() { return ResetCause::kUnknown; }
+
+  // A few bytes of settings kept through a power-off (the calibration's summary), where the board
+  // has somewhere to keep them: store returns false when it has not (the device then holds them
+  // until reset), load how many bytes it read (0: none stored).
+  virtual bool store_settings(const uint8_t* data, size_t size) {
+    (void)data, (void)size;
+    return false;
+  }
+  virtual size_t load_settings(uint8_t* data, size_t capacity) {
+    (void)data, (void)capacity;
+    return 0;
+  }
 };
 
 }  // namespace dg::hal

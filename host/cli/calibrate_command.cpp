@@ -12,13 +12,17 @@
 #include <stdexcept>
 
 #include "host/cli/scan_command.h"
+#include "host/device/request.h"
+#include "host/device/session.h"
 #include "host/io/atomic_file.h"
 #include "host/scan/ball_plate_calibration.h"
+#include "host/scan/calibration_summary.h"
 #include "host/scan/flat_calibration.h"
 #include "host/scan/gauge_tilt_calibration.h"
 #include "host/scan/step_gauge_calibration.h"
 #include "host/scan/scan_file.h"
 #include "host/scan/table_calibration.h"
+#include "host/transport/transport.h"
 
 namespace dg::host {
 
@@ -358,11 +362,62 @@ int calibrate_step_gauge(const CalibrateArgs& a) {
 
 }  // namespace
 
+namespace {
+
+// Tells the device what the file now holds and when it was measured, so that `status` on any host
+// says whether and when it was calibrated. The calibration is written already: a device that cannot
+// keep the summary, or is gone, is told of in a note, not an error. A calibration from stored scans
+// (--from) has no device to tell.
+void keep_summary_on_device(const CalibrateArgs& a) {
+  if (!a.from.empty() || a.device.empty()) return;
+  std::string text;
+  const TableCalibration c = read_calibration_file(a.output, &text);
+  digitizer_Envelope message = digitizer_Envelope_init_zero;
+  message.which_body = digitizer_Envelope_command_tag;
+  message.body.command.kind = digitizer_CommandKind_CMD_SET_CALIBRATION;
+  message.body.command.has_calibration = true;
+  message.body.command.calibration = summarize_calibration(c, text);
+  try {
+    auto transport = open_transport(a.device);
+    Session session(*transport);
+    const digitizer_Hello hello = session.hello(5000);
+    if ((hello.capabilities & digitizer_Capability_CAP_CALIBRATION_SUMMARY) == 0) {
+      if (!a.quiet) std::printf("note: device %s keeps no calibration summary (older firmware)\n", hello.device_id);
+      return;
+    }
+    request(session, message, 5000);
+    digitizer_Envelope status = digitizer_Envelope_init_zero;
+    status.which_body = digitizer_Envelope_command_tag;
+    status.body.command.kind = digitizer_CommandKind_CMD_STATUS;
+    const digitizer_Envelope reply = request(session, status, 5000);
+    session.flush(1000);
+    if (!a.quiet) {
+      const bool kept = reply.which_body == digitizer_Envelope_status_tag && reply.body.status.calibration_kept;
+      std::printf("device %s now says it was calibrated %s (%s)%s\n", hello.device_id,
+                  unix_to_utc(message.body.command.calibration.created_unix_s).c_str(),
+                  calibration_parts_text(message.body.command.calibration.parts).c_str(),
+                  kept ? ", kept through a power-off" : "; it holds that until it restarts (the board stores no settings)");
+    }
+  } catch (const std::exception& error) {
+    std::fprintf(stderr, "digitizer: note: %s is written, but the device was not told of it: %s\n", a.output.c_str(), error.what());
+  }
+}
+
+}  // namespace
+
 int run_calibrate(const CalibrateArgs& a) {
-  if (a.artefact == "ballplate") return calibrate_ball_plate(a);
-  if (a.artefact == "stepgauge") return calibrate_step_gauge(a);
-  if (a.artefact == "sphere") return calibrate_sphere(a);
-  return calibrate_flat(a);
+  int result = 0;
+  if (a.artefact == "ballplate") {
+    result = calibrate_ball_plate(a);
+  } else if (a.artefact == "stepgauge") {
+    result = calibrate_step_gauge(a);
+  } else if (a.artefact == "sphere") {
+    result = calibrate_sphere(a);
+  } else {
+    result = calibrate_flat(a);
+  }
+  if (result == 0) keep_summary_on_device(a);
+  return result;
 }
 
 int run_recorrect(const RecorrectArgs& a) {

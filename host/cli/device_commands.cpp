@@ -9,6 +9,7 @@
 #include "host/cli/units.h"
 #include "host/device/repeatability.h"
 #include "host/device/request.h"
+#include "host/scan/calibration_summary.h"
 #include "host/scan/table_calibration.h"
 #include "host/transport/transport.h"
 #include "host/transport/usb_transport.h"
@@ -56,10 +57,13 @@ digitizer_Envelope command(Session& session, digitizer_CommandKind kind, const D
 // What the status says of the table calibration scans use: when and on which device it was
 // measured, and whether that is this device (a scan from another is refused). A file that cannot be
 // read is reported, not fatal: the device's own status stands.
-nlohmann::json calibration_status(const std::string& path, const char* device_id) {
+nlohmann::json calibration_status(const std::string& path, const char* device_id, const digitizer_Status& s) {
   nlohmann::json j = {{"file", path}};
   try {
-    const TableCalibration c = read_calibration_file(path);
+    std::string text;
+    const TableCalibration c = read_calibration_file(path, &text);
+    // Whether the file is the calibration the device was last told of (the same bytes).
+    if (s.has_calibration) j["device_has_this_file"] = summarize_calibration(c, text).file_crc32 == s.calibration.file_crc32;
     j["created_utc"] = c.created_utc;
     j["device_id"] = c.device_id;
     j["this_device"] = c.device_id.empty() || c.device_id == device_id;
@@ -88,6 +92,31 @@ void print_calibration_status(const nlohmann::json& j) {
   if (j.contains("gauge_tilt_created_utc")) std::printf(", gauge tilt %s", j["gauge_tilt_created_utc"].get<std::string>().c_str());
   if (j.contains("gauge_scale_created_utc")) std::printf(", gauge scale %s", j["gauge_scale_created_utc"].get<std::string>().c_str());
   std::printf("%s\n", j["this_device"].get<bool>() ? "" : ": another device's; scans from this one with it are refused");
+  if (j.contains("device_has_this_file") && !j["device_has_this_file"].get<bool>()) {
+    std::printf("  this file is not the calibration the device was last told of (another, or edited since)\n");
+  }
+}
+
+// What the device keeps of its last calibration: as JSON, and in words.
+nlohmann::json device_calibration_json(const digitizer_Status& s) {
+  if (!s.has_calibration) return nullptr;
+  char crc[16];
+  std::snprintf(crc, sizeof crc, "%08x", static_cast<unsigned>(s.calibration.file_crc32));
+  return {{"version", s.calibration.version},
+          {"created_utc", unix_to_utc(s.calibration.created_unix_s)},
+          {"parts", calibration_parts_text(s.calibration.parts)},
+          {"file_crc32", crc},
+          {"kept_through_power_off", s.calibration_kept}};
+}
+
+void print_device_calibration(const digitizer_Status& s) {
+  if (!s.has_calibration) {
+    std::printf("calibrated: not that the device knows (digitizer calibrate tells it)\n");
+    return;
+  }
+  std::printf("calibrated: %s (%s; file CRC %08x)%s\n", unix_to_utc(s.calibration.created_unix_s).c_str(),
+              calibration_parts_text(s.calibration.parts).c_str(), static_cast<unsigned>(s.calibration.file_crc32),
+              s.calibration_kept ? "" : ", held until the device restarts");
 }
 
 int run_status(const DeviceArgs& a) {
@@ -109,7 +138,8 @@ int run_status(const DeviceArgs& a) {
     if (s.stack_size_bytes > 0) j["stack"] = {{"used_bytes", s.stack_used_bytes}, {"size_bytes", s.stack_size_bytes}};
     static const char* const kResetKeys[] = {"unknown", "power-on", "pin", "watchdog", "software", "brown-out"};
     if (s.reset_cause >= 0 && s.reset_cause <= digitizer_ResetCause_RESET_BROWN_OUT) j["last_reset"] = kResetKeys[s.reset_cause];
-    if (!a.calibration.empty() && a.calibration != "none") j["calibration"] = calibration_status(a.calibration, hello.device_id);
+    j["device_calibration"] = device_calibration_json(s);
+    if (!a.calibration.empty() && a.calibration != "none") j["calibration"] = calibration_status(a.calibration, hello.device_id, s);
     std::printf("%s\n", j.dump(1).c_str());
     return 0;
   }
@@ -125,7 +155,8 @@ int run_status(const DeviceArgs& a) {
     std::printf("stack: at most %u of %u bytes used since reset%s\n", s.stack_used_bytes, s.stack_size_bytes,
                 s.stack_used_bytes >= s.stack_size_bytes ? " (all of it: it may have overflowed)" : "");
   }
-  if (!a.calibration.empty() && a.calibration != "none") print_calibration_status(calibration_status(a.calibration, hello.device_id));
+  print_device_calibration(s);
+  if (!a.calibration.empty() && a.calibration != "none") print_calibration_status(calibration_status(a.calibration, hello.device_id, s));
   return 0;
 }
 

@@ -73,6 +73,25 @@ int main(int argc, char** argv) {
   }
   dg::sim::SimBoard board(options.config, link.get());
   board.set_real_clock(real_ms);
+  // The settings flash in a file: read at power-up, written whole (then renamed) at every store.
+  if (!options.settings_file.empty()) {
+    std::vector<uint8_t> stored(64);
+    if (FILE* in = std::fopen(options.settings_file.c_str(), "rb")) {
+      const size_t got = std::fread(stored.data(), 1, stored.size(), in);
+      std::fclose(in);
+      board.preload_settings(stored.data(), got);
+    }
+    board.on_settings_stored(
+        [](const uint8_t* data, size_t size, void* context) {
+          const std::string& path = *static_cast<const std::string*>(context);
+          const std::string temporary = path + ".new";
+          FILE* out = std::fopen(temporary.c_str(), "wb");
+          const bool written = out != nullptr && std::fwrite(data, 1, size, out) == size;
+          if (out != nullptr && std::fclose(out) == 0 && written && std::rename(temporary.c_str(), path.c_str()) == 0) return;
+          std::fprintf(stderr, "digitizer-sim: could not keep the settings in %s\n", path.c_str());
+        },
+        &options.settings_file);
+  }
   dg::DeviceConfig device = dg::sim::simulated_device(options);
   device.board = "sim";
   // The firmware as the MCU runs it: a watchdog reset starts it again from scratch, on the same

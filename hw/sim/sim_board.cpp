@@ -276,4 +276,23 @@ bool SimBoard::wait(uint64_t deadline_us) {
   }
 }
 
+bool SimBoard::store_bytes(const uint8_t* data, size_t size) {
+  if (size > sizeof settings_) return false;
+  for (size_t k = 0; k < size; ++k) settings_[k] = data[k];
+  settings_size_ = size;
+  return true;
+}
+
+bool SimBoard::store_settings(const uint8_t* data, size_t size) {
+  if (!store_bytes(data, size)) return false;
+  if (settings_hook_ != nullptr) settings_hook_(data, size, settings_context_);
+  return true;
+}
+
+size_t SimBoard::load_settings(uint8_t* data, size_t capacity) {
+  if (settings_size_ > capacity) return 0;
+  for (size_t k = 0; k < settings_size_; ++k) data[k] = settings_[k];
+  return settings_size_;
+}
+
 }  // namespace dg::sim

@@ -91,6 +91,15 @@ class SimBoard final : public hal::Board {
   void watchdog_start(uint32_t timeout_ms) override;
   void watchdog_kick() override;
   hal::ResetCause reset_cause() override { return reset_cause_; }
+  // The MCU's settings flash: kept through a watchdog reset (the same SimBoard), and, where the
+  // simulator program keeps a file of it, through a restart: preload_settings() puts the file's
+  // bytes in at power-up and the hook is told of every store.
+  bool store_settings(const uint8_t* data, size_t size) override;
+  size_t load_settings(uint8_t* data, size_t capacity) override;
+  void preload_settings(const uint8_t* data, size_t size) { store_bytes(data, size); }
+  void on_settings_stored(void (*hook)(const uint8_t* data, size_t size, void* context), void* context) {
+    settings_hook_ = hook, settings_context_ = context;
+  }
   // The watchdog reset the board: the firmware starts again from scratch (its RAM is gone), while
   // the table, the part and the gauge stay as they are. Clears the flag.
   bool take_reset();
@@ -164,6 +173,11 @@ class SimBoard final : public hal::Board {
   bool hung_ = false;  // the main loop hung (once, at config_.hang_at_ns)
   bool reset_pending_ = false;
   hal::ResetCause reset_cause_ = hal::ResetCause::kPowerOn;
+  bool store_bytes(const uint8_t* data, size_t size);
+  uint8_t settings_[64] = {};
+  size_t settings_size_ = 0;
+  void (*settings_hook_)(const uint8_t*, size_t, void*) = nullptr;
+  void* settings_context_ = nullptr;
   uint64_t steps_ = 0;
   uint64_t last_link_poll_ns_ = 0;
   bool link_hint_ = true;

@@ -18,6 +18,7 @@ const char kSimOptionsHelp[] =
     "  switch_bounce_us=T (contact chatter at a switch's edge)  glitch_ms=T (a 2 us spike on the\n"
     "  limit and e-stop inputs every T ms)  x_wire_cut_ms=T (the x switch's wire cut at T)\n"
     "  require_homing=0|1  gauge=digimatic|caliper  backlash_um=X  compensate_um=X\n"
+    "  settings_file=PATH (the settings flash, where the calibration's summary is kept, in a file)\n"
     "  touch_x_mm=X touch_y_mm=Y (faces the touch probe meets)\n"
     "  the machine's errors (each 0 by default): squareness_urad=X scale_x_ppm=X scale_y_ppm=X\n"
     "  straightness_x_um=X straightness_y_um=Y (the ways bow: x wanders this much at mid-travel of y,\n"
@@ -180,6 +181,9 @@ std::string apply_sim_option(const std::string& pair, SimOptions* options) {
   } else if (key == "require_homing") {
     if (value != "0" && value != "1") return "require_homing is 0 or 1, got '" + value + "'";
     options->require_homing = value == "1";
+  } else if (key == "settings_file") {
+    if (value.empty()) return "settings_file needs a path";
+    options->settings_file = value;
   } else if (key == "id") {
     if (value.empty() || value.size() > 23) return "id must be 1 to 23 characters";
     options->device_id = value;

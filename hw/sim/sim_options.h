@@ -21,6 +21,7 @@ struct SimOptions {
   bool require_homing = false;
   int32_t compensate_steps = -1;  // the firmware's backlash compensation; -1: the table's play
   uint32_t watchdog_ms = 0;       // the firmware starts the board's watchdog with this timeout (0: not)
+  std::string settings_file;      // the simulated settings flash kept in this file between runs ("": none)
 };
 
 // Applies one "key=value" pair: part, seed, noise_um, outliers, outlier_mm, inch,
@@ -29,7 +30,8 @@ struct SimOptions {
 // start_y_mm (where the table starts), estop_at_ms, estop_ms (the e-stop pressed then, that long),
 // watchdog_ms (the firmware's watchdog timeout; 0: none), hang_at_ms (the main loop hangs then),
 // switches (nc, open, stuck; 1 and 0 for nc and open), switch_bounce_us, glitch_ms, x_wire_cut_ms,
-// require_homing, gauge (digimatic, caliper), backlash_um (the
+// require_homing, settings_file (the settings flash kept in a file between runs), gauge
+// (digimatic, caliper), backlash_um (the
 // screws' play), compensate_um (the firmware's compensation; default the play), and the machine's
 // errors: squareness_urad, scale_x_ppm, scale_y_ppm, straightness_x_um, straightness_y_um, lead_error_um, lead_mm, flatness_um, drift_um_per_h, warmup_um, warmup_min, machine_seed,
 // machine=typical|ideal, and the part's placement: part_x_mm, part_y_mm, part_angle_deg. Returns an error

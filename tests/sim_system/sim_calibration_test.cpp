@@ -540,6 +540,42 @@ TEST(SimCalibration, StatusSaysWhenAndOnWhichDeviceTheCalibrationWasMeasured) {
   for (const std::string& f : {cal, cal + ".flat.scan"}) std::remove(f.c_str());
 }
 
+// calibrate tells the device what it measured and when; a simulated board whose settings flash is
+// a file keeps that through a restart, so status on a later host (another simulator process) says
+// it, and whether a given file is that calibration. A board that stores nothing says so.
+TEST(SimCalibration, TheDeviceKeepsWhenAndWhatWasCalibratedForStatusOnAnyHost) {
+  const std::string cal = temp_path("kept.cal.json"), out = temp_path("kept.txt"), flash = temp_path("flash.bin");
+  std::remove(flash.c_str());
+  const std::string device = "sim:part=flat,settings_file=" + flash;
+  CalibrateArgs flat;
+  flat.device = device + ",flatness_um=30";
+  flat.x = "0:60", flat.y = "0:40";
+  flat.output = cal;
+  flat.force = flat.quiet = true;
+  LONGS_EQUAL(0, run_calibrate(flat));
+  const TableCalibration c = read_calibration_file(cal);
+  const std::string status = device_command_output({"status", "--device", device, "--calibration", cal}, out);
+  STRCMP_CONTAINS(("calibrated: " + c.created_utc + " (travel map; file CRC ").c_str(), status.c_str());
+  CHECK(status.find("held until the device restarts") == std::string::npos);
+  CHECK(status.find("not the calibration the device was last told of") == std::string::npos);
+  const std::string json = device_command_output({"status", "--device", device, "--json"}, out);
+  STRCMP_CONTAINS("\"kept_through_power_off\": true", json.c_str());
+  STRCMP_CONTAINS("\"parts\": \"travel map\"", json.c_str());
+  // Another file than the one the device was told of is named as such.
+  std::string text;
+  read_calibration_file(cal, &text);
+  const std::string edited = temp_path("edited.cal.json");
+  FILE* f = std::fopen(edited.c_str(), "w");
+  std::fputs((text + " ").c_str(), f);
+  std::fclose(f);
+  STRCMP_CONTAINS("not the calibration the device was last told of",
+                  device_command_output({"status", "--device", device, "--calibration", edited}, out).c_str());
+  // Without a settings file the simulated board starts with nothing stored.
+  STRCMP_CONTAINS("calibrated: not that the device knows",
+                  device_command_output({"status", "--device", "sim:part=flat"}, out).c_str());
+  for (const std::string& path : {cal, cal + ".flat.scan", out, flash, edited}) std::remove(path.c_str());
+}
+
 TEST(SimCalibration, AStoredScanIsRecorrectedByANewerCalibrationAndKeepsItsRawPoints) {
   const std::string cal = calibrate(temp_path("old.cal.json")), part = temp_path("plain.scan");
   LONGS_EQUAL(0, run_scan(dome_scan("none", part)));

@@ -9,9 +9,12 @@
 
 #include "firmware/hal/step_schedule.h"
 
+#include <fcntl.h>
 #include <poll.h>
+#include <unistd.h>
 #include <sys/prctl.h>
 
+#include <cstdio>
 #include <cstring>
 #include <ctime>
 
@@ -221,6 +224,28 @@ bool GpioBoard::wait(uint64_t deadline_us) {
     }
     if (woke) return true;
   }
+}
+
+bool GpioBoard::store_settings(const uint8_t* data, size_t size) {
+  if (settings_path_.empty()) return false;
+  const std::string temporary = settings_path_ + ".new";
+  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) return false;
+  const bool written = ::write(fd, data, size) == static_cast<ssize_t>(size) && ::fsync(fd) == 0;
+  if (::close(fd) != 0 || !written || std::rename(temporary.c_str(), settings_path_.c_str()) != 0) {
+    ::unlink(temporary.c_str());
+    return false;
+  }
+  return true;
+}
+
+size_t GpioBoard::load_settings(uint8_t* data, size_t capacity) {
+  if (settings_path_.empty()) return 0;
+  const int fd = ::open(settings_path_.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return 0;
+  const ssize_t got = ::read(fd, data, capacity);
+  ::close(fd);
+  return got > 0 ? static_cast<size_t>(got) : 0;
 }
 
 }  // namespace dg::gadget

@@ -29,6 +29,11 @@ class GpioBoard final : public hal::Board {
   size_t link_write(const uint8_t* data, size_t size) override { return link_.write(data, size); }
   size_t link_read(uint8_t* data, size_t capacity) override { return link_.read(data, capacity); }
   bool wait(uint64_t deadline_us) override;
+  // The settings (the calibration's summary) in a file, where one is named: written to a file
+  // beside it, synced and renamed over it, so a power cut leaves the old or the new one whole.
+  void keep_settings_in(const std::string& path) { settings_path_ = path; }
+  bool store_settings(const uint8_t* data, size_t size) override;
+  size_t load_settings(uint8_t* data, size_t capacity) override;
 
   // Step timer ticks, and those that fired later than 50 us past due (a loaded Linux is not an MCU).
   uint64_t timer_ticks() const { return timer_ticks_; }
@@ -64,6 +69,7 @@ class GpioBoard final : public hal::Board {
   uint64_t dropped_clock_edges_ = 0;
   bool in_clock_edge_ = false;
   uint64_t epoch_ns_ = 0;
+  std::string settings_path_;
 };
 
 }  // namespace dg::gadget

@@ -48,6 +48,9 @@ int main(int argc, char** argv) {
   bool simulate = false, caliper = false, no_homing = false;
   app.add_option("--ffs", ffs_dir, "use the FunctionFS instance mounted at DIR (the gadget is made elsewhere)");
   app.add_option("--udc", settings.udc, "bind to this USB device controller (default: the first in /sys/class/udc)");
+  std::string settings_file;
+  app.add_option("--settings-file", settings_file,
+                 "keep the device's settings (the calibration's summary) in FILE through a restart (default: none kept)");
   app.add_option("--serial", settings.serial, "the USB serial number (default: the board's serial or machine id)");
   app.add_option("--pin", pin_specs,
                  "KEY=LINE wires a pin: KEY is step_x dir_x step_y dir_y req ck data limit_x limit_y estop touch "
@@ -119,6 +122,7 @@ int main(int argc, char** argv) {
     config = dg::hardware_device_config(caliper);
     config.device_id = settings.serial.c_str();
     config.require_homing = homing;
+    if (!settings_file.empty()) gpio_board->keep_settings_in(settings_file);
     board = gpio_board.get();
   }
   config.board = simulate ? "gadget (sim)" : "linux-gadget";

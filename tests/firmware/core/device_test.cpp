@@ -688,3 +688,49 @@ TEST(DeviceLink, HelloCarriesTheBoardsWholeName) {
   CHECK(hello != nullptr);
   STRCMP_EQUAL("stm32f411-blackpill (no crystal: HSI clock)", hello->body.hello.board);
 }
+
+TEST_GROUP(DeviceCalibration){};
+
+// The summary a host sets is in every status after it, stored on the board's settings flash, and
+// read back by the firmware after a reset; a summary without a version is refused.
+TEST(DeviceCalibration, KeepsTheSummaryItIsGivenThroughAResetAndShowsItInStatus) {
+  Bench bench;
+  bench.hello(1);
+  bench.command(digitizer_CommandKind_CMD_STATUS, 2);
+  bench.run_for(100000);
+  const digitizer_Envelope* before = bench.host.last(digitizer_Envelope_status_tag);
+  CHECK(before != nullptr);
+  CHECK_FALSE(before->body.status.has_calibration);
+  digitizer_Envelope m = digitizer_Envelope_init_zero;
+  m.id = 3;
+  m.which_body = digitizer_Envelope_command_tag;
+  m.body.command.kind = digitizer_CommandKind_CMD_SET_CALIBRATION;
+  m.body.command.has_calibration = true;
+  m.body.command.calibration.version = 3;
+  m.body.command.calibration.created_unix_s = 1795000000;
+  m.body.command.calibration.file_crc32 = 0xdeadbeef;
+  m.body.command.calibration.parts = digitizer_CalibrationPart_CALIBRATED_TRAVEL | digitizer_CalibrationPart_CALIBRATED_LEAD;
+  bench.host.send(m);
+  bench.command(digitizer_CommandKind_CMD_STATUS, 4);
+  bench.run_for(100000);
+  CHECK(bench.fault_for(3) == nullptr);
+  const digitizer_Envelope* after = bench.host.last(digitizer_Envelope_status_tag);
+  CHECK(after != nullptr && after != before);
+  CHECK(after->body.status.has_calibration && after->body.status.calibration_kept);
+  LONGS_EQUAL(0xdeadbeef, after->body.status.calibration.file_crc32);
+  bench.restart_firmware();
+  bench.new_host();
+  bench.hello(2);
+  bench.command(digitizer_CommandKind_CMD_STATUS, 5);
+  bench.run_for(100000);
+  const digitizer_Envelope* restarted = bench.host.last(digitizer_Envelope_status_tag);
+  CHECK(restarted != nullptr && restarted != after);
+  CHECK(restarted->body.status.has_calibration);
+  CHECK(1795000000 == restarted->body.status.calibration.created_unix_s);
+  LONGS_EQUAL(3, restarted->body.status.calibration.version);
+  m.id = 6;
+  m.body.command.calibration.version = 0;
+  bench.host.send(m);
+  bench.run_for(100000);
+  CHECK(bench.fault_for(6) != nullptr);
+}
