@@ -266,6 +266,14 @@ Point2 sphere_position(const std::string& text) {
 int calibrate_sphere(const CalibrateArgs& a) {
   if (!(a.diameter_mm > 0)) throw std::invalid_argument("--artefact sphere needs --diameter-mm, the sphere's certified diameter");
   if (a.sphere_at.empty()) throw std::invalid_argument("--artefact sphere needs --sphere-at X,Y, where the sphere's top stands");
+  // Fewer than four readings a turn cannot tell the screw's sine from its cosine, or from a
+  // shorter lead's alias: refused before the table moves.
+  if (a.lead_mm > 0 && a.from.empty() && a.ball_step_mm > a.lead_mm / 4) {
+    char words[200];
+    std::snprintf(words, sizeof words, "--lead-mm %g needs the sphere scanned at a quarter of the lead or finer: --ball-step %g or less "
+                  "(it is %g)", a.lead_mm, a.lead_mm / 4, a.ball_step_mm);
+    throw std::invalid_argument(words);
+  }
   const Point2 at = sphere_position(a.sphere_at);
   TableCalibration c = existing_calibration(a, "the gauge's tilt");
   // The cap the fit uses (55 degrees from the top) and 3 mm for where the sphere was said to be.

@@ -315,6 +315,14 @@ TEST(SimCalibration, TheScrewsPeriodicErrorIsMeasuredOnASphereAndTakenOutOfADome
   const std::string machine = "lead_error_um=4,lead_mm=8,noise_um=0.5";
   const std::string cal = temp_path("lead.cal.json"), part = temp_path("lead-dome.scan");
   const CalibrateArgs flat = calibrate_small_flat(machine, 81, cal);
+  CalibrateArgs coarse = sphere_args(flat, machine, 82, 8);
+  coarse.ball_step_mm = 2.5;  // 3.2 readings a turn of the screw
+  try {
+    run_calibrate(coarse);
+    FAIL("a screw's error was fitted from too few readings a turn");
+  } catch (const std::invalid_argument& error) {
+    STRCMP_CONTAINS("--ball-step 2 or less (it is 2.5)", error.what());
+  }
   LONGS_EQUAL(0, run_calibrate(sphere_args(flat, machine, 82, 8)));
   const TableCalibration c = read_calibration_file(cal);
   CHECK(c.lead.measured);
