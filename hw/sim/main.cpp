@@ -87,8 +87,9 @@ int main(int argc, char** argv) {
           const std::string temporary = path + ".new";
           FILE* out = std::fopen(temporary.c_str(), "wb");
           const bool written = out != nullptr && std::fwrite(data, 1, size, out) == size;
-          if (out != nullptr && std::fclose(out) == 0 && written && std::rename(temporary.c_str(), path.c_str()) == 0) return;
+          if (out != nullptr && std::fclose(out) == 0 && written && std::rename(temporary.c_str(), path.c_str()) == 0) return true;
           std::fprintf(stderr, "digitizer-sim: could not keep the settings in %s\n", path.c_str());
+          return false;
         },
         &options.settings_file);
   }

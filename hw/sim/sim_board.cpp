@@ -285,8 +285,7 @@ bool SimBoard::store_bytes(const uint8_t* data, size_t size) {
 
 bool SimBoard::store_settings(const uint8_t* data, size_t size) {
   if (!store_bytes(data, size)) return false;
-  if (settings_hook_ != nullptr) settings_hook_(data, size, settings_context_);
-  return true;
+  return settings_hook_ != nullptr && settings_hook_(data, size, settings_context_);
 }
 
 size_t SimBoard::load_settings(uint8_t* data, size_t capacity) {

@@ -93,11 +93,12 @@ class SimBoard final : public hal::Board {
   hal::ResetCause reset_cause() override { return reset_cause_; }
   // The MCU's settings flash: kept through a watchdog reset (the same SimBoard), and, where the
   // simulator program keeps a file of it, through a restart: preload_settings() puts the file's
-  // bytes in at power-up and the hook is told of every store.
+  // bytes in at power-up and the hook keeps every store (true: kept). Without a hook, a store says
+  // it is not kept through a power-off, which is the truth for a simulator that ends.
   bool store_settings(const uint8_t* data, size_t size) override;
   size_t load_settings(uint8_t* data, size_t capacity) override;
   void preload_settings(const uint8_t* data, size_t size) { store_bytes(data, size); }
-  void on_settings_stored(void (*hook)(const uint8_t* data, size_t size, void* context), void* context) {
+  void on_settings_stored(bool (*hook)(const uint8_t* data, size_t size, void* context), void* context) {
     settings_hook_ = hook, settings_context_ = context;
   }
   // The watchdog reset the board: the firmware starts again from scratch (its RAM is gone), while
@@ -176,7 +177,7 @@ class SimBoard final : public hal::Board {
   bool store_bytes(const uint8_t* data, size_t size);
   uint8_t settings_[64] = {};
   size_t settings_size_ = 0;
-  void (*settings_hook_)(const uint8_t*, size_t, void*) = nullptr;
+  bool (*settings_hook_)(const uint8_t*, size_t, void*) = nullptr;
   void* settings_context_ = nullptr;
   uint64_t steps_ = 0;
   uint64_t last_link_poll_ns_ = 0;

@@ -695,6 +695,13 @@ TEST_GROUP(DeviceCalibration){};
 // read back by the firmware after a reset; a summary without a version is refused.
 TEST(DeviceCalibration, KeepsTheSummaryItIsGivenThroughAResetAndShowsItInStatus) {
   Bench bench;
+  size_t stored_bytes = 0;  // the board's flash keeps what it is given, as a file would
+  bench.board.on_settings_stored(
+      [](const uint8_t*, size_t size, void* context) {
+        *static_cast<size_t*>(context) = size;
+        return true;
+      },
+      &stored_bytes);
   bench.hello(1);
   bench.command(digitizer_CommandKind_CMD_STATUS, 2);
   bench.run_for(100000);
@@ -718,6 +725,7 @@ TEST(DeviceCalibration, KeepsTheSummaryItIsGivenThroughAResetAndShowsItInStatus)
   CHECK(after != nullptr && after != before);
   CHECK(after->body.status.has_calibration && after->body.status.calibration_kept);
   LONGS_EQUAL(0xdeadbeef, after->body.status.calibration.file_crc32);
+  CHECK(stored_bytes > 0);
   bench.restart_firmware();
   bench.new_host();
   bench.hello(2);
@@ -733,4 +741,23 @@ TEST(DeviceCalibration, KeepsTheSummaryItIsGivenThroughAResetAndShowsItInStatus)
   bench.host.send(m);
   bench.run_for(100000);
   CHECK(bench.fault_for(6) != nullptr);
+}
+
+// A board that stores no settings still shows the summary until it restarts, and says it is not kept.
+TEST(DeviceCalibration, ABoardThatStoresNothingSaysTheSummaryIsNotKept) {
+  Bench bench;
+  bench.hello(1);
+  digitizer_Envelope m = digitizer_Envelope_init_zero;
+  m.id = 2;
+  m.which_body = digitizer_Envelope_command_tag;
+  m.body.command.kind = digitizer_CommandKind_CMD_SET_CALIBRATION;
+  m.body.command.has_calibration = true;
+  m.body.command.calibration.version = 1;
+  bench.host.send(m);
+  bench.command(digitizer_CommandKind_CMD_STATUS, 3);
+  bench.run_for(100000);
+  const digitizer_Envelope* status = bench.host.last(digitizer_Envelope_status_tag);
+  CHECK(status != nullptr);
+  CHECK(status->body.status.has_calibration);
+  CHECK_FALSE(status->body.status.calibration_kept);
 }
