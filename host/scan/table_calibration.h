@@ -54,10 +54,10 @@ struct LeadError {
   double dx_mm(double x_mm) const { return term(x_sin_um, x_cos_um, x_mm); }
   double dy_mm(double y_mm) const { return term(y_sin_um, y_cos_um, y_mm); }
   double amplitude_x_um() const { return std::hypot(x_sin_um, x_cos_um); }
+  double amplitude_y_um() const { return std::hypot(y_sin_um, y_cos_um); }
   // The standard uncertainty of dx_mm and dy_mm there (mm): each term's u by its own factor.
   double u_dx_mm(double x_mm) const { return u_term(u_x_um, x_mm); }
   double u_dy_mm(double y_mm) const { return u_term(u_y_um, y_mm); }
-  double amplitude_y_um() const { return std::hypot(y_sin_um, y_cos_um); }
 
  private:
   double term(double sin_um, double cos_um, double t_mm) const {

@@ -144,6 +144,19 @@ struct Bench {
     m.body.command.kind = kind;
     host.send(m);
   }
+  // CMD_SET_CALIBRATION with a summary of `version` (0: none, which the device refuses).
+  void set_calibration(uint32_t id, uint32_t version, uint64_t created_unix_s = 0, uint32_t file_crc32 = 0, uint32_t parts = 0) {
+    digitizer_Envelope m = digitizer_Envelope_init_zero;
+    m.id = id;
+    m.which_body = digitizer_Envelope_command_tag;
+    m.body.command.kind = digitizer_CommandKind_CMD_SET_CALIBRATION;
+    m.body.command.has_calibration = true;
+    m.body.command.calibration.version = version;
+    m.body.command.calibration.created_unix_s = created_unix_s;
+    m.body.command.calibration.file_crc32 = file_crc32;
+    m.body.command.calibration.parts = parts;
+    host.send(m);
+  }
   const digitizer_Envelope* fault_for(uint32_t id) const {
     for (auto m = host.received.rbegin(); m != host.received.rend(); ++m) {
       if (m->which_body == digitizer_Envelope_fault_tag && m->body.fault.request_id == id) return &*m;
@@ -708,16 +721,8 @@ TEST(DeviceCalibration, KeepsTheSummaryItIsGivenThroughAResetAndShowsItInStatus)
   const digitizer_Envelope* before = bench.host.last(digitizer_Envelope_status_tag);
   CHECK(before != nullptr);
   CHECK_FALSE(before->body.status.has_calibration);
-  digitizer_Envelope m = digitizer_Envelope_init_zero;
-  m.id = 3;
-  m.which_body = digitizer_Envelope_command_tag;
-  m.body.command.kind = digitizer_CommandKind_CMD_SET_CALIBRATION;
-  m.body.command.has_calibration = true;
-  m.body.command.calibration.version = 3;
-  m.body.command.calibration.created_unix_s = 1795000000;
-  m.body.command.calibration.file_crc32 = 0xdeadbeef;
-  m.body.command.calibration.parts = digitizer_CalibrationPart_CALIBRATED_TRAVEL | digitizer_CalibrationPart_CALIBRATED_LEAD;
-  bench.host.send(m);
+  bench.set_calibration(3, 3, 1795000000, 0xdeadbeef,
+                        digitizer_CalibrationPart_CALIBRATED_TRAVEL | digitizer_CalibrationPart_CALIBRATED_LEAD);
   bench.command(digitizer_CommandKind_CMD_STATUS, 4);
   bench.run_for(100000);
   CHECK(bench.fault_for(3) == nullptr);
@@ -736,9 +741,7 @@ TEST(DeviceCalibration, KeepsTheSummaryItIsGivenThroughAResetAndShowsItInStatus)
   CHECK(restarted->body.status.has_calibration);
   CHECK(1795000000 == restarted->body.status.calibration.created_unix_s);
   LONGS_EQUAL(3, restarted->body.status.calibration.version);
-  m.id = 6;
-  m.body.command.calibration.version = 0;
-  bench.host.send(m);
+  bench.set_calibration(6, 0);
   bench.run_for(100000);
   CHECK(bench.fault_for(6) != nullptr);
 }
@@ -747,13 +750,7 @@ TEST(DeviceCalibration, KeepsTheSummaryItIsGivenThroughAResetAndShowsItInStatus)
 TEST(DeviceCalibration, ABoardThatStoresNothingSaysTheSummaryIsNotKept) {
   Bench bench;
   bench.hello(1);
-  digitizer_Envelope m = digitizer_Envelope_init_zero;
-  m.id = 2;
-  m.which_body = digitizer_Envelope_command_tag;
-  m.body.command.kind = digitizer_CommandKind_CMD_SET_CALIBRATION;
-  m.body.command.has_calibration = true;
-  m.body.command.calibration.version = 1;
-  bench.host.send(m);
+  bench.set_calibration(2, 1);
   bench.command(digitizer_CommandKind_CMD_STATUS, 3);
   bench.run_for(100000);
   const digitizer_Envelope* status = bench.host.last(digitizer_Envelope_status_tag);
