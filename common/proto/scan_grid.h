@@ -18,6 +18,10 @@ struct ScanGrid {
   uint64_t readings() const { return points() + references; }
 };
 
+// How fast a dial gauge's plunger falls after a part that drops away, when a fly scan's request
+// does not say (ScanRequest.plunger_follow_um_s): 50 mm/s.
+constexpr uint32_t kDefaultPlungerFollowUmS = 50000;
+
 // False when the request has no extent, max < min, or a zero step.
 bool scan_grid(const digitizer_ScanRequest& request, ScanGrid* grid);
 

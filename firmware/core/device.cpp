@@ -663,7 +663,7 @@ DeviceConfig hardware_device_config(bool caliper) {
   config.capabilities = (caliper ? digitizer_Capability_CAP_CALIPER_24BIT : digitizer_Capability_CAP_DIGIMATIC) |
                         digitizer_Capability_CAP_DEVICE_FIT | digitizer_Capability_CAP_RESUME |
                         digitizer_Capability_CAP_HOMING | digitizer_Capability_CAP_TOUCH_PROBE |
-                        digitizer_Capability_CAP_CALIBRATION_SUMMARY;
+                        digitizer_Capability_CAP_CALIBRATION_SUMMARY | digitizer_Capability_CAP_FLY_SCAN;
   config.require_homing = true;
   // A hung main loop resets the board (the steps stop; the drivers' enable line falls back to its
   // reset state), and status says so after.

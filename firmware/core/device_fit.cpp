@@ -18,7 +18,8 @@ void DeviceFit::begin(const digitizer_ScanRequest& request) {
 void DeviceFit::add(const PointSample& point) {
   // A reference reading repeats the scan's first point to measure drift; it is no new point of
   // the surface.
-  if (!started_ || (point.flags & digitizer_PointFlag_POINT_REFERENCE) != 0) return;
+  // Nor is a reading taken with the plunger off the part (on the fly).
+  if (!started_ || (point.flags & (digitizer_PointFlag_POINT_REFERENCE | digitizer_PointFlag_POINT_LIFTED)) != 0) return;
   // A point the fixed-point sums cannot hold is counted as rejected by the fit and reported; the
   // point itself is stored and sent like any other.
   (void)bezier_.add(point.x_nm, point.y_nm, point.z_nm);

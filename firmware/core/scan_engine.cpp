@@ -50,7 +50,23 @@ digitizer_FaultCode ScanEngine::start(const digitizer_ScanRequest& request, uint
     *reason = "scan extent outside the table";
     return digitizer_FaultCode_FAULT_SOFT_LIMIT;
   }
+  const bool fly = request.mode == digitizer_ScanMode_SCAN_MODE_FLY;
+  if (fly && (*reason = fly_refusal(request)) != nullptr) return digitizer_FaultCode_FAULT_BAD_REQUEST;
+  if (!fly && request.mode != digitizer_ScanMode_SCAN_MODE_STOP) {
+    *reason = "unknown scan mode";
+    return digitizer_FaultCode_FAULT_BAD_REQUEST;
+  }
   request_ = request;
+  fly_ = fly;
+  fly_lo_steps_ = x0, fly_hi_steps_ = x1;
+  fly_reading_ = fly_held_ = fly_waiting_ = false;
+  fly_failures_ = 0;
+  plunger_um_s_ = request.plunger_follow_um_s != 0 ? request.plunger_follow_um_s : kDefaultPlungerFollowUmS;
+  {
+    // The run-up: the distance the table needs to reach the fastest feed (v^2 / 2a), and a step.
+    const uint64_t v = m.max_rate_steps_s, a = m.accel_steps_s2 > 0 ? m.accel_steps_s2 : 1;
+    fly_runup_steps_ = static_cast<int32_t>(v * v / (2 * a) + 1);
+  }
   count_x_ = static_cast<uint32_t>(grid.points_per_line);
   count_y_ = static_cast<uint32_t>(grid.lines);
   references_total_ = static_cast<uint32_t>(grid.references);
@@ -130,7 +146,21 @@ int64_t ScanEngine::point_value() const {
   return z_sum_nm_ >= 0 ? (z_sum_nm_ + n / 2) / n : -((-z_sum_nm_ + n / 2) / n);
 }
 
+uint32_t ScanEngine::line_first_seq(uint32_t line) const {
+  if (fly_) {
+    // A line more than kFlyLinesKept back: its points are acknowledged long since; the oldest kept.
+    const uint32_t oldest = iy_ >= kFlyLinesKept ? iy_ - kFlyLinesKept + 1 : 0;
+    return fly_first_seq_[(line < oldest ? oldest : line) % kFlyLinesKept];
+  }
+  const uint32_t every = request_.reference_every_lines;
+  return first_seq_ + line * count_x_ + (every > 0 ? line / every : 0);
+}
+
 void ScanEngine::begin_point() {
+  if (fly_) {
+    begin_fly_line();
+    return;
+  }
   if (reference_due_) {
     begin_reference();
     return;
@@ -214,6 +244,7 @@ void ScanEngine::abort() {
 uint64_t ScanEngine::deadline_us() const {
   if (phase_ == Phase::kSettling) return settle_until_us_;
   if (phase_ == Phase::kReading) return gauge_.deadline_us();
+  if ((phase_ == Phase::kTiming || phase_ == Phase::kFlying) && fly_reading_) return gauge_.deadline_us();
   return UINT64_MAX;
 }
 
@@ -227,11 +258,28 @@ void ScanEngine::poll(PointSink& sink) {
       case Phase::kFinished:
         // A scan aborted while its last point waited for room in the ring: the point was measured,
         // so it goes in as soon as there is room (the ScanDone waits for it: holding_point()).
-        if (holding_ && sink.accept(pending_)) {
+        // On the fly the line's held point follows it.
+        while (holding_ && sink.accept(pending_)) {
           holding_ = false;
-          count_emitted();
+          if (fly_) {
+            ++next_seq_, ++points_done_;
+          } else {
+            count_emitted();
+          }
+          if (fly_held_) {
+            pending_ = fly_point_;
+            pending_.seq = next_seq_;
+            pending_.flags |= digitizer_PointFlag_POINT_LINE_END;
+            fly_held_ = false;
+            holding_ = true;
+          }
         }
         return;
+      case Phase::kRunUp:
+      case Phase::kTiming:
+      case Phase::kFlying:
+        poll_fly(sink);
+        break;
       case Phase::kApproaching:
         if (abort_requested_) {
           finish(digitizer_ScanEnd_SCAN_ABORTED, digitizer_FaultCode_FAULT_NONE);

@@ -32,7 +32,12 @@ struct ScanLimits {
 
 class ScanEngine {
  public:
-  enum class Phase : uint8_t { kIdle, kApproaching, kMoving, kSettling, kReading, kEmitting, kPaused, kFinished };
+  enum class Phase : uint8_t {
+    kIdle, kApproaching, kMoving, kSettling, kReading, kEmitting, kPaused, kFinished,
+    kRunUp,   // on the fly: to the line's start, a run-up before its extent
+    kTiming,  // on the fly, once: one reading at rest times the gauge's cycle, which sets the feed
+    kFlying,  // on the fly: the line at constant feed, readings back to back
+  };
 
   ScanEngine(hal::Board& board, StepGenerator& motion, Probe& gauge, ScanLimits limits);
 
@@ -57,20 +62,23 @@ class ScanEngine {
   bool finished() const { return phase_ == Phase::kFinished; }
   void acknowledge_finished() { phase_ = Phase::kIdle; }
   // An aborted scan's last measured point still waits for room in the ring: its ScanDone waits too.
-  bool holding_point() const { return holding_; }
+  bool holding_point() const { return holding_ || fly_held_; }
   digitizer_ScanEnd end_reason() const { return end_; }
   digitizer_FaultCode fault() const { return fault_; }
   uint32_t scan_id() const { return request_.scan_id; }
   uint32_t points_done() const { return points_done_; }
-  // The grid's points and the reference readings (ScanRequest.reference_every_lines).
+  // The grid's points and the reference readings (ScanRequest.reference_every_lines); on the fly,
+  // the points the lines would hold at step_x_nm apart (the gauge's cycle decides).
   uint32_t points_total() const { return count_x_ * count_y_ + references_total(); }
   uint32_t lines_done() const { return lines_done_; }
-  // Sequence number of the first point of grid line `line`: every line has the same length, and a
-  // reference reading ends every reference_every_lines-th line.
-  uint32_t line_first_seq(uint32_t line) const {
-    const uint32_t every = request_.reference_every_lines;
-    return first_seq_ + line * count_x_ + (every > 0 ? line / every : 0);
-  }
+  // Sequence number of the first point of line `line`. On a grid every line has the same length and
+  // a reference reading ends every reference_every_lines-th line; on the fly the engine remembers
+  // the last kFlyLinesKept lines' (older lines' points have long left the ring).
+  uint32_t line_first_seq(uint32_t line) const;
+  bool flying() const { return fly_; }
+  // On the fly: the gauge's cycle measured at rest (us) and the feed it set (steps/s).
+  uint32_t gauge_cycle_us() const { return cycle_us_; }
+  uint32_t fly_rate_steps_s() const { return fly_rate_steps_s_; }
   uint64_t duration_us() const { return finished_us_ - started_us_; }
   int32_t last_z_nm() const { return last_z_nm_; }
 
@@ -94,6 +102,16 @@ class ScanEngine {
   // The pending point went into the ring: count it and step the grid index.
   void count_emitted();
   int32_t to_steps(int64_t nm) const;
+  // On the fly (fly_scan.cpp): checks a request for flying; starts a line; runs the line's phases.
+  const char* fly_refusal(const digitizer_ScanRequest& request) const;
+  void begin_fly_line();
+  void poll_fly(PointSink& sink);
+  void start_fly_reading();
+  void take_fly_reading(int64_t value_nm);
+  // Offers pending_ to the sink; false (and fly_waiting_) while it has no room.
+  bool offer_fly_point(PointSink& sink);
+  // The held point goes out as the line's last; then the next line, or the end.
+  void end_fly_line(PointSink& sink);
 
   hal::Board& board_;
   StepGenerator& motion_;
@@ -128,6 +146,25 @@ class ScanEngine {
   int32_t last_z_nm_ = 0;
   digitizer_ScanEnd end_ = digitizer_ScanEnd_SCAN_COMPLETED;
   digitizer_FaultCode fault_ = digitizer_FaultCode_FAULT_NONE;
+  // On the fly.
+  static constexpr uint32_t kFlyLinesKept = 8;
+  bool fly_ = false;
+  bool fly_reading_ = false;   // a reading runs; it was requested at fly_req_us_ at fly_req_x_
+  bool fly_held_ = false;      // fly_point_ waits for the next reading or the line's end
+  bool fly_waiting_ = false;   // pending_ waits for room in the ring (no new reading meanwhile)
+  bool fly_first_ = true;      // the line's next point is its first
+  int8_t fly_dir_ = 1;
+  int32_t fly_lo_steps_ = 0, fly_hi_steps_ = 0;  // the scan's extent along x
+  int32_t fly_runup_steps_ = 0;
+  uint32_t fly_rate_steps_s_ = 0;
+  uint32_t cycle_us_ = 0;
+  uint32_t fly_failures_ = 0;  // failed readings in a row
+  uint32_t plunger_um_s_ = 0;
+  int32_t fly_req_x_ = 0;
+  uint64_t fly_req_us_ = 0;
+  PointSample fly_point_{};
+  uint32_t fly_first_seq_[kFlyLinesKept] = {};
 };
+
 
 }  // namespace dg

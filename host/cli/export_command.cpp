@@ -23,6 +23,7 @@
 #include "host/scan/scan_uncertainty.h"
 #include "host/scan/table_calibration.h"
 #include "host/scan/drift_removal.h"
+#include "host/scan/fly_correction.h"
 #include "host/scan/scan_file.h"
 
 namespace dg::host {
@@ -224,6 +225,7 @@ int run_export(const ExportArgs& a) {
   // in the scan file); the readings themselves are no points.
   ScanPointSigmas sigmas = scan_point_sigmas(data);
   remove_drift(data, &sigmas.sigma_mm, input);
+  if (const auto fly = correct_fly_scan(data, &sigmas.sigma_mm, input)) std::printf("%s\n", fly_summary(*fly).c_str());
   const std::optional<TableCalibration> calibration = correct_by_record(data, &sigmas.sigma_mm, input);
   add_position_uncertainty(data, table_position(data, calibration), sigmas.sigma_mm);
   // --format names the format whatever the output's extension (a Klipper profile saved as .txt, say).

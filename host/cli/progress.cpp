@@ -8,6 +8,9 @@ namespace dg::host {
 
 std::string progress_text(uint32_t points, uint32_t total, double seconds, bool bar, uint32_t first) {
   char text[160];
+  // A scan on the fly has as many points as the gauge's cycle gives: its total is an estimate,
+  // which the count may pass.
+  if (total > 0 && points > total) total = points;
   const double rate = seconds > 0 && points > first ? (points - first) / seconds : 0;
   const double share = total > 0 ? std::min(1.0, static_cast<double>(points) / total) : 0;
   std::string eta = "-";

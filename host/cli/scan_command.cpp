@@ -21,6 +21,7 @@
 #include "host/fit/device_fit_surface.h"
 #include "host/fit/propagated_uncertainty.h"
 #include "host/scan/drift_removal.h"
+#include "host/scan/fly_correction.h"
 #include "host/scan/point_reader.h"
 #include "host/scan/table_calibration.h"
 #include "host/cad/surface_json.h"
@@ -97,6 +98,20 @@ digitizer_ScanRequest request_from(const ScanArgs& a) {
   request.pattern = a.pattern == "raster" ? digitizer_ScanPattern_PATTERN_RASTER
                                           : digitizer_ScanPattern_PATTERN_SERPENTINE;
   request.feed_um_s = static_cast<uint32_t>(a.feed_mm_s * 1000.0);
+  if (a.mode == "fly") {
+    // On the fly the device sets the feed that gives one reading every --step; --feed caps it.
+    request.mode = digitizer_ScanMode_SCAN_MODE_FLY;
+    if (!a.feed_given) request.feed_um_s = 0;
+    request.plunger_follow_um_s = static_cast<uint32_t>(a.plunger_mm_s * 1000.0 + 0.5);
+    if (a.pattern == "raster") throw std::invalid_argument("--mode fly runs serpentine: its two directions measure the gauge's latch delay");
+    if (a.samples > 1 || a.settle_um > 0 || a.spread_um > 0 || a.median || a.approach_mm > 0 || a.reference_every > 0) {
+      throw std::invalid_argument(
+          "--mode fly takes one reading per point while the table moves: --samples, --settle-um, --spread-um, --median, "
+          "--approach and --reference-every are for stop-and-go scans");
+    }
+  } else if (a.plunger_mm_s > 0) {
+    throw std::invalid_argument("--plunger-mm-s is for --mode fly");
+  }
   request.probe = digitizer_ProbeType_PROBE_DIGIMATIC;
   request.samples_per_point = a.samples;
   request.settle_ms = a.settle_ms;
@@ -143,6 +158,12 @@ void print_summary(const ScanData& scan, const char* prefix) {
   } catch (const std::invalid_argument& error) {
     std::printf("%swarning: %s\n", prefix, error.what());
   }
+  try {
+    ScanData corrected = scan;
+    if (const auto fly = correct_fly_scan(corrected, nullptr, "the scan", false)) std::printf("%s%s\n", prefix, fly_summary(*fly).c_str());
+  } catch (const std::invalid_argument& error) {
+    std::printf("%swarning: %s\n", prefix, error.what());
+  }
   if (drift) {
     std::printf("%sdrift: the first point read again %zu times: up to %.4f mm, removed when the points are read "
                 "(interpolation error bound %.4f mm)\n",
@@ -179,7 +200,16 @@ CLI::App* add_scan_command(CLI::App& app, ScanArgs& scan) {
   cmd->add_option("--step-y", scan.step_y_mm, "grid step between lines, mm (default: --step)")->check(CLI::PositiveNumber);
   cmd->add_option("--pattern", scan.pattern, "raster or serpentine")
       ->capture_default_str()->check(CLI::IsMember({"raster", "serpentine"}));
-  cmd->add_option("--feed", scan.feed_mm_s, "table speed between points, mm/s")->capture_default_str()->check(CLI::Range(0.01, 200.0));
+  cmd->add_option("--feed", scan.feed_mm_s, "table speed between points, mm/s (on the fly: the most the line's feed may be)")
+      ->capture_default_str()->check(CLI::Range(0.01, 200.0))->each([&scan](const std::string&) { scan.feed_given = true; });
+  cmd->add_option("--mode", scan.mode,
+                  "stop: stop and read at every point; fly: each line at constant feed, readings back to back, one "
+                  "every --step or closer (the feed follows the gauge's cycle)")
+      ->capture_default_str()->check(CLI::IsMember({"stop", "fly"}));
+  cmd->add_option("--plunger-mm-s", scan.plunger_mm_s,
+                  "on the fly: the fastest the gauge's plunger falls after the part, mm/s; readings falling at 80 % of it "
+                  "are flagged as lifted and left out of fits (default: the device's, 50)")
+      ->check(CLI::Range(0.1, 10000.0));
   cmd->add_option("--samples", scan.samples, "gauge readings averaged per point")->capture_default_str()->check(CLI::Range(1, 16));
   cmd->add_option("--settle-ms", scan.settle_ms, "wait after each move before reading")->capture_default_str()->check(CLI::Range(0, 10000));
   cmd->add_option("--settle-um", scan.settle_um, "then read until two readings agree within this, um (0: no)")->check(CLI::Range(0.0, 10000.0));
@@ -277,6 +307,10 @@ int run_scan(const ScanArgs& a) {
     const bool caliper_only = (device.capabilities & digitizer_Capability_CAP_CALIPER_24BIT) != 0 &&
                               (device.capabilities & digitizer_Capability_CAP_DIGIMATIC) == 0;
     request.probe = caliper_only ? digitizer_ProbeType_PROBE_CALIPER_24BIT : digitizer_ProbeType_PROBE_DIGIMATIC;
+  }
+  // A device that does not know the mode would ignore it and stop at every point.
+  if (request.mode == digitizer_ScanMode_SCAN_MODE_FLY && (device.capabilities & digitizer_Capability_CAP_FLY_SCAN) == 0) {
+    throw std::runtime_error(std::string("device ") + device.device_id + " cannot scan on the fly (its firmware is older): use --mode stop");
   }
   if (!a.quiet) {
     std::printf("device %s (%s, firmware %s), table %.0f x %.0f mm, gauge %u nm\n", device.device_id, device.board,

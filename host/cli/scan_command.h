@@ -14,6 +14,9 @@ struct ScanArgs {
   double step_y_mm = 0.0;
   std::string pattern = "serpentine";
   double feed_mm_s = 10.0;
+  bool feed_given = false;  // --feed was given (on the fly the feed otherwise follows the gauge's cycle)
+  std::string mode = "stop";  // stop (stop-and-go) or fly
+  double plunger_mm_s = 0;   // on the fly: the plunger's fastest fall (0: the device's default)
   unsigned samples = 1;
   unsigned settle_ms = 0;
   double settle_um = 0;    // read until two successive readings agree within this

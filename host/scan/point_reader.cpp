@@ -20,6 +20,7 @@
 #include "host/scan/ply_reader.h"
 #include "host/scan/position_uncertainty.h"
 #include "host/scan/drift_removal.h"
+#include "host/scan/fly_correction.h"
 #include "host/scan/scan_file.h"
 #include "host/scan/scan_uncertainty.h"
 #include "host/scan/table_calibration.h"
@@ -308,6 +309,8 @@ PointCloud read_points(const std::string& path, bool as_measured) {
     // The reference readings leave the points, and correct them for the gauge's drift first (the
     // drift is in time; the calibration after it is in place).
     const std::optional<DriftRemoval> drift = remove_drift(data, &sigmas.sigma_mm, path, !as_measured);
+    // On the fly: each point where the gauge latched it, and the readings taken in the air left out.
+    const std::optional<FlyCorrection> fly = as_measured ? std::nullopt : correct_fly_scan(data, &sigmas.sigma_mm, path);
     // The scan's own calibration record corrects the raw points it keeps.
     const std::optional<TableCalibration> calibration = correct_by_record(data, &sigmas.sigma_mm, path);
     // Where the part slopes, the table's own position uncertainty reaches the height too.
@@ -329,6 +332,11 @@ PointCloud read_points(const std::string& path, bool as_measured) {
       }
     }
     if (calibration) cloud.calibration = "the table calibration of " + (calibration->created_utc.empty() ? std::string("unknown date") : calibration->created_utc);
+    if (fly) {
+      cloud.fly = fly_summary(*fly);
+      std::fprintf(stderr, "digitizer: %s: %s\n", path.c_str(), cloud.fly.c_str());
+      if (cloud.sigma) cloud.sigma_from += ", and the latch delay's correction times the slope";
+    }
     if (drift) {
       char text[160];
       std::snprintf(text, sizeof text, "drift removed by %zu reference readings (up to %.4f mm; adds u <= %.4f mm)",

@@ -26,6 +26,7 @@ struct PointCloud {
   std::optional<double> resolution_mm;        // the gauge's reading step, when the file says it
   std::string calibration;                    // the table calibration that corrected z ("" none)
   std::string drift;                          // how the gauge's drift was removed ("" not)
+  std::string fly;                            // a fly scan's latch delay and lifted points ("" not one)
 };
 
 // Picks the reader by extension: .csv, .xyz/.txt, .ply, .scan, and the height maps .probe (bCNC),

@@ -4,7 +4,9 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "common/proto/scan_grid.h"
 #include "host/scan/drift_removal.h"
+#include "host/scan/fly_correction.h"
 #include "host/scan/table_calibration.h"
 
 namespace dg::host {
@@ -12,6 +14,16 @@ namespace dg::host {
 std::string reading_settings(const digitizer_ScanRequest& r) {
   char part[128];
   std::string out;
+  if (r.mode == digitizer_ScanMode_SCAN_MODE_FLY) {
+    std::snprintf(part, sizeof part, "on the fly: one reading per point while the table moves, the feed from the gauge's cycle");
+    out += part;
+    if (r.feed_um_s) {
+      std::snprintf(part, sizeof part, " (at most %.2f mm/s)", r.feed_um_s * 1e-3);
+      out += part;
+    }
+    std::snprintf(part, sizeof part, ", plunger %.1f mm/s", (r.plunger_follow_um_s ? r.plunger_follow_um_s : kDefaultPlungerFollowUmS) * 1e-3);
+    return out + part;
+  }
   if (r.feed_um_s) {
     std::snprintf(part, sizeof part, "feed %.2f mm/s, ", r.feed_um_s * 1e-3);
     out += part;
@@ -64,6 +76,15 @@ std::vector<std::string> scan_facts(const ScanData& data) {
     facts.push_back(line);
   } else {
     facts.push_back("repeatability: not measured before the scan (scan --repeatability N)");
+  }
+  // On the fly: the latch delay the lines measured and the readings taken in the air.
+  if (data.request && data.request->mode == digitizer_ScanMode_SCAN_MODE_FLY) {
+    try {
+      ScanData corrected = data;
+      if (const auto fly = correct_fly_scan(corrected, nullptr, "the scan", false)) facts.push_back("scanned " + fly_summary(*fly));
+    } catch (const std::invalid_argument& error) {
+      facts.push_back(std::string("scanned on the fly: ") + error.what());
+    }
   }
   // Say which calibration corrected the points, or that none did, rather than leave a reader to
   // assume one was. A flat's calibration corrects the travel's height error only.

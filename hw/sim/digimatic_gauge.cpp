@@ -12,7 +12,19 @@ DigimaticGauge::DigimaticGauge(const GaugeConfig& config, uint64_t seed)
 void DigimaticGauge::set_request(bool asserted, uint64_t now_ns, double height_mm) {
   const bool rising = asserted && !request_;
   request_ = asserted;
-  if (rising && !sending_ && !config_.mute) begin_frame(now_ns, height_mm);
+  if (!rising || sending_ || latching_ || config_.mute) return;
+  request_ns_ = now_ns;
+  request_height_mm_ = height_mm;
+  if (config_.latch_delay_us == 0 && config_.latch_jitter_us == 0) {
+    begin_frame(now_ns, height_mm);
+    return;
+  }
+  double delay_us = config_.latch_delay_us;
+  if (config_.latch_jitter_us > 0) delay_us += config_.latch_jitter_us * random_.gaussian();
+  if (delay_us < 0) delay_us = 0;
+  if (delay_us > config_.request_to_clock_us) delay_us = config_.request_to_clock_us;
+  latching_ = true;
+  next_event_ns_ = now_ns + static_cast<uint64_t>(std::llround(delay_us * 1000.0));
 }
 
 void DigimaticGauge::begin_frame(uint64_t now_ns, double height_mm) {
@@ -38,10 +50,16 @@ void DigimaticGauge::begin_frame(uint64_t now_ns, double height_mm) {
   bit_index_ = 0;
   clock_ = true;
   rise_next_ = false;
-  next_event_ns_ = now_ns + uint64_t{config_.request_to_clock_us} * 1000;
+  latched_ns_ = now_ns;
+  next_event_ns_ = request_ns_ + uint64_t{config_.request_to_clock_us} * 1000;
 }
 
-bool DigimaticGauge::advance() {
+bool DigimaticGauge::advance(double height_mm) {
+  if (latching_) {
+    latching_ = false;
+    begin_frame(next_event_ns_, height_mm);
+    return false;
+  }
   if (!sending_) {
     next_event_ns_ = UINT64_MAX;
     return false;

@@ -18,6 +18,11 @@ struct GaugeConfig {
   uint32_t request_to_clock_us = 5000;
   uint32_t clock_low_us = 200;
   uint32_t clock_high_us = 200;
+  // When the gauge takes its reading after REQ rises, and the spread of that moment (a Gaussian
+  // sigma): a gauge latches its count a little after the request, which a table moving under it
+  // turns into a shift along the motion. Must end before the first clock (request_to_clock_us).
+  uint32_t latch_delay_us = 0;
+  uint32_t latch_jitter_us = 0;
   // Fault injection for tests: the rising edge of this bit never happens (-1: none).
   int drop_rising_edge = -1;
   // Fault injection: the gauge never answers REQ.
@@ -28,12 +33,18 @@ class DigimaticGauge {
  public:
   DigimaticGauge(const GaugeConfig& config, uint64_t seed);
 
-  // REQ changed. When asserted, the gauge measures `height_mm` and starts a frame.
+  // REQ changed. When asserted, the gauge reads `height_mm` and starts a frame; with a latch delay
+  // it takes its reading that much later instead (the next event: see advance()).
   void set_request(bool asserted, uint64_t now_ns, double height_mm);
-  // Time of the next CK change, or UINT64_MAX when quiet.
+  // Time of the next event (the latch or a CK change), or UINT64_MAX when quiet.
   uint64_t next_event_ns() const { return next_event_ns_; }
-  // Applies the CK change due at next_event_ns(); returns true on a rising edge.
-  bool advance();
+  // Applies the event due at next_event_ns(): at the latch the gauge reads `height_mm` (where the
+  // plunger is now); returns true on a rising CK edge.
+  bool advance(double height_mm);
+  // The same where nothing moves under the gauge: the latch reads what was there at REQ.
+  bool advance() { return advance(request_height_mm_); }
+  // When the last reading was latched (virtual ns).
+  uint64_t latched_ns() const { return latched_ns_; }
 
   bool clock() const { return clock_; }
   bool data() const { return data_; }
@@ -52,6 +63,10 @@ class DigimaticGauge {
   DigimaticReading reading_{};
   bool request_ = false;
   bool sending_ = false;
+  bool latching_ = false;   // REQ came; the reading is taken at next_event_ns_
+  uint64_t request_ns_ = 0;
+  double request_height_mm_ = 0;
+  uint64_t latched_ns_ = 0;
   bool rise_next_ = false;  // the next CK event is the rising half of the bit
   bool clock_ = true;   // CK idles high
   bool data_ = false;

@@ -38,7 +38,28 @@ double SimBoard::height_under_probe_mm() const {
          tilted_reading_mm(e, [&](double dx_mm, double dy_mm) { return config_.part.height_mm(x_mm + dx_mm, y_mm + dy_mm) + raised_mm; });
 }
 
+void SimBoard::track_plunger() {
+  // Between two calls the table stands still, so the surface under the tip is constant and the
+  // plunger's fall is exact: it lands on the surface or is still above it.
+  const double surface_mm = height_under_probe_mm();
+  double at_mm = surface_mm;
+  if (plunger_known_) {
+    const double fallen_mm = config_.plunger_mm_s * static_cast<double>(now_ns_ - plunger_ns_) * 1e-9;
+    if (plunger_at_mm_ - fallen_mm > surface_mm) at_mm = plunger_at_mm_ - fallen_mm;
+  }
+  plunger_at_mm_ = at_mm;
+  plunger_ns_ = now_ns_;
+  plunger_known_ = true;
+}
+
+double SimBoard::plunger_mm() {
+  if (config_.plunger_mm_s <= 0) return height_under_probe_mm();
+  track_plunger();
+  return plunger_at_mm_;
+}
+
 void SimBoard::step_axis(int axis) {
+  if (config_.plunger_mm_s > 0) track_plunger();
   const bool positive = pins_[index(axis == 0 ? hal::Pin::kDirX : hal::Pin::kDirY)];
   int64_t& position = axis == 0 ? x_steps_ : y_steps_;
   int64_t& motor = motor_[axis];
@@ -77,7 +98,7 @@ void SimBoard::write_pin(hal::Pin pin, bool level) {
     if (config_.caliper) {
       caliper_.set_request(level, now_ns_);
     } else {
-      gauge_.set_request(level, now_ns_, height_under_probe_mm());
+      gauge_.set_request(level, now_ns_, plunger_mm());
     }
   }
 }
@@ -260,7 +281,7 @@ bool SimBoard::wait(uint64_t deadline_us) {
     now_ns_ = next;
     if (next == deadline_ns) return true;
     if (next == gauge_ns) {
-      const bool rising = config_.caliper ? caliper_.advance(height_under_probe_mm()) : gauge_.advance();
+      const bool rising = config_.caliper ? caliper_.advance(plunger_mm()) : gauge_.advance(plunger_mm());
       if (rising && clock_handler_ != nullptr) {
         clock_handler_(clock_context_);
         return true;

@@ -45,6 +45,9 @@ struct SimConfig {
   uint64_t x_wire_cut_at_ns = 0;
   // Electrical noise: a 2 us spike on the limit and e-stop inputs every this long (0: none).
   uint64_t glitch_period_ns = 0;
+  // The fastest the gauge's plunger falls after a part that drops away beneath it, mm/s (its
+  // spring against its own mass and friction); rising, the part pushes it. 0: it follows at once.
+  double plunger_mm_s = 0;
   bool caliper = false;        // the gauge port carries a 24-bit caliper instead of a Digimatic gauge
   // A touch-trigger probe's stylus meets a face at table x >= touch_x_steps (or y >= touch_y_steps);
   // INT32_MAX: no face.
@@ -114,6 +117,8 @@ class SimBoard final : public hal::Board {
   // What the gauge reads: the part where the table really is, plus the travel's height error
   // where the carriage is commanded, plus the stand's drift.
   double height_under_probe_mm() const;
+  // Where the plunger is now: on the part, or above it and falling after it (plunger_mm_s).
+  double plunger_mm();
   const DigimaticGauge& gauge() const { return gauge_; }
   uint64_t step_count() const { return steps_; }
   // Tests: the virtual time of every x step is appended here (null: not kept).
@@ -136,6 +141,11 @@ class SimBoard final : public hal::Board {
   static constexpr uint64_t kLinkPollNs = 1000000;
 
   void step_axis(int axis);
+  // The plunger falls towards the part under it at plunger_mm_s; call before the table moves.
+  void track_plunger();
+  double plunger_at_mm_ = 0;
+  uint64_t plunger_ns_ = 0;
+  bool plunger_known_ = false;
   bool limit_tripped(int axis) const;
   bool glitch() const;
 

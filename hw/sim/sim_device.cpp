@@ -12,7 +12,8 @@ DeviceConfig simulated_device(const SimConfig& config) {
   device.capabilities = (config.caliper ? digitizer_Capability_CAP_CALIPER_24BIT : digitizer_Capability_CAP_DIGIMATIC) |
                         digitizer_Capability_CAP_DEVICE_FIT | digitizer_Capability_CAP_SIMULATED |
                         digitizer_Capability_CAP_RESUME | digitizer_Capability_CAP_HOMING |
-                        digitizer_Capability_CAP_TOUCH_PROBE | digitizer_Capability_CAP_CALIBRATION_SUMMARY;
+                        digitizer_Capability_CAP_TOUCH_PROBE | digitizer_Capability_CAP_CALIBRATION_SUMMARY |
+                        digitizer_Capability_CAP_FLY_SCAN;
   device.gauge_resolution_nm = config.caliper ? (config.gauge.inch ? 12700 : 10000) : (config.gauge.inch ? 2540 : 1000);
   // A 50 ms retransmission timer would fire long before any host could answer (and resend frames
   // the host has, costing wire bytes). 5 s of virtual time is about 25 ms of real time during a

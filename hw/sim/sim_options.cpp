@@ -11,6 +11,8 @@ const char kSimOptionsHelp[] =
     "Simulated device settings (key=value):\n"
     "  part=dome|saddle|canister|flat|ballplate|sphere|stepgauge  seed=N  noise_um=X\n"
     "  outliers=RATE  outlier_mm=X  inch=0|1  gauge_delay_us=N  mute=0|1  drop_edge=BIT  id=NAME\n"
+    "  latch_delay_us=N latch_jitter_us=S (the gauge reads N us after REQ, sigma S)\n"
+    "  plunger_mm_s=V (the plunger falls after the part at most V mm/s; 0: at once)\n"
     "  host_silence_s=N (virtual s, 0 never)  on_host_silence=pause|continue|abort\n"
     "  start_x_mm=X start_y_mm=Y (the table's start)  estop_at_ms=T estop_ms=D\n"
     "  watchdog_ms=T (the firmware's watchdog)  hang_at_ms=T (the firmware's main loop hangs then)\n"
@@ -86,6 +88,12 @@ std::string apply_sim_option(const std::string& pair, SimOptions* options) {
   } else if (key == "gauge_delay_us") {
     if (!parse_u64(value, &u) || u > 1000000) return "gauge_delay_us must be 0..1000000";
     c.gauge.request_to_clock_us = static_cast<uint32_t>(u);
+  } else if (key == "latch_delay_us" || key == "latch_jitter_us") {
+    if (!parse_u64(value, &u) || u > 100000) return key + " must be 0..100000";
+    (key == "latch_delay_us" ? c.gauge.latch_delay_us : c.gauge.latch_jitter_us) = static_cast<uint32_t>(u);
+  } else if (key == "plunger_mm_s") {
+    if (!parse_double(value, &d) || d < 0) return "plunger_mm_s must be >= 0, got '" + value + "'";
+    c.plunger_mm_s = d;
   } else if (key == "mute") {
     if (value != "0" && value != "1") return "mute is 0 or 1, got '" + value + "'";
     c.gauge.mute = value == "1";

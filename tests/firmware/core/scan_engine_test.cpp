@@ -8,46 +8,12 @@
 #include <cstdlib>
 #include <vector>
 
-#include "firmware/core/digimatic_reader.h"
-#include "hw/sim/sim_board.h"
 #include "tests/support/scan_request.h"
+#include "tests/support/scan_rig.h"
 
 namespace {
 
-struct Collect final : dg::PointSink {
-  bool accept(const dg::PointSample& p) override {
-    points.push_back(p);
-    return true;
-  }
-  std::vector<dg::PointSample> points;
-};
-
-struct Rig {
-  explicit Rig(dg::sim::SimConfig c)
-      : board(c, nullptr), motion(board, dg::MotionConfig{}), gauge(board, timing()), scan(board, motion, gauge, dg::ScanLimits{}) {
-    gauge.attach();
-  }
-  static dg::DigimaticTiming timing() {
-    dg::DigimaticTiming t;
-    t.first_clock_timeout_us = 200000;
-    return t;
-  }
-  std::vector<dg::PointSample> run(const digitizer_ScanRequest& r) {
-    const char* reason = "";
-    CHECK(scan.start(r, 1, 10000, &reason) == digitizer_FaultCode_FAULT_NONE);
-    Collect sink;
-    for (int guard = 0; guard < 10000000 && !scan.finished(); ++guard) {
-      scan.poll(sink);
-      if (!scan.finished() && !board.wait(scan.deadline_us())) break;
-    }
-    CHECK(scan.finished());
-    return sink.points;
-  }
-  dg::sim::SimBoard board;
-  dg::StepGenerator motion;
-  dg::DigimaticReader gauge;
-  dg::ScanEngine scan;
-};
+using Rig = dg::test::ScanRig;
 
 dg::sim::SimConfig flat(double noise_um, double outliers) {
   dg::sim::SimConfig c;
