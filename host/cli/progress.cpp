@@ -54,6 +54,7 @@ void ProgressPrinter::update(uint32_t points, uint32_t total) {
 
 void ProgressPrinter::finish() {
   if (terminal_ && drew_) std::fprintf(out_, "\n");
+  drew_ = false;  // once: an adaptive scan finishes its bar before its rounds
 }
 
 }  // namespace dg::host

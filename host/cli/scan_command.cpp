@@ -13,6 +13,7 @@
 #include <optional>
 #include <random>
 
+#include "host/cli/adaptive_scan.h"
 #include "host/cli/progress.h"
 #include "host/cli/units.h"
 #include "host/device/capture.h"
@@ -142,7 +143,38 @@ void measure_first_point(Session& session, const digitizer_Hello& device, const 
 }
 
 std::string resume_hint(const ScanArgs& a) {
-  return "continue with: digitizer scan --resume --device '" + a.device + "' -o " + a.output;
+  char adaptive[96] = "";
+  if (a.adaptive) std::snprintf(adaptive, sizeof adaptive, " --adaptive --tolerance %g", a.tolerance_mm);
+  return "continue with: digitizer scan --resume" + std::string(adaptive) + " --device '" + a.device + "' -o " + a.output;
+}
+
+void print_adaptive(const AdaptiveResult& rounds, double tolerance_mm) {
+  const RefinementPlan& last = rounds.last;
+  if (!rounds.completed) {
+    std::printf("adaptive: stopped in round %d after %zu new points\n", rounds.rounds, rounds.new_points);
+    return;
+  }
+  std::printf("adaptive: %d rounds, %zu new points in %zu passes, a %zu x %zu grid\n", rounds.rounds, rounds.new_points,
+              rounds.passes, last.columns, last.rows);
+  if (last.noise_limited) {
+    std::printf("adaptive: the readings' noise (sigma %.4f mm) alone makes a point miss its neighbours' prediction by up to "
+                "%.4f mm, near or over the tolerance %.4f mm: more points cannot help (average --samples, filter, or give a "
+                "larger tolerance)\n",
+                last.noise_sigma_mm, 3 * 1.39 * last.noise_sigma_mm, tolerance_mm);
+  } else if (last.intervals_at_min > 0) {
+    std::printf("adaptive: at the finest step (--min-step) points are still predicted worse than %.4f mm by their neighbours "
+                "(worst %.4f mm at %.3f, %.3f)\n",
+                tolerance_mm, last.worst_mm, last.worst_at.x, last.worst_at.y);
+  } else {
+    std::printf("adaptive: neighbours predict every point within %.4f mm (worst %.4f mm)\n", tolerance_mm, last.worst_mm);
+  }
+  if (rounds.fit_kept) {
+    std::printf("adaptive: one B-spline surface keeps %.4f mm, validated between the samples (digitizer fit --tolerance %g "
+                "--no-regions)\n",
+                tolerance_mm, tolerance_mm);
+  } else {
+    std::printf("adaptive: one B-spline surface does not keep %.4f mm on these points: %s\n", tolerance_mm, rounds.fit_reason.c_str());
+  }
 }
 
 }  // namespace
@@ -186,7 +218,8 @@ void print_summary(const ScanData& scan, const char* prefix) {
   std::printf("%sextent x %.3f..%.3f  y %.3f..%.3f  z %.3f..%.3f mm\n", prefix, lo[0] * 1e-6,
               hi[0] * 1e-6, lo[1] * 1e-6, hi[1] * 1e-6, lo[2] * 1e-6, hi[2] * 1e-6);
   if (data.done) {
-    std::printf("%sdevice time %.1f s\n", prefix, static_cast<double>(data.done->duration_us) * 1e-6);
+    std::printf("%sdevice time %.1f s%s\n", prefix, static_cast<double>(data.device_time_us) * 1e-6,
+                data.passes.size() > 1 ? (" in " + std::to_string(data.passes.size()) + " passes").c_str() : "");
   }
   for (const auto& w : data.warnings) std::printf("%swarning: %s\n", prefix, w.c_str());
 }
@@ -210,6 +243,12 @@ CLI::App* add_scan_command(CLI::App& app, ScanArgs& scan) {
                   "on the fly: the fastest the gauge's plunger falls after the part, mm/s; readings falling at 80 % of it "
                   "are flagged as lifted and left out of fits (default: the device's, 50)")
       ->check(CLI::Range(0.1, 10000.0));
+  cmd->add_flag("--adaptive", scan.adaptive,
+               "after the --step grid, measure new columns and rows where the part bends: an interval beside a point "
+               "its neighbours predict worse than --tolerance gets one at its middle, round after round, down to --min-step");
+  cmd->add_option("--tolerance", scan.tolerance_mm, "--adaptive: the error, mm, every point must be predicted within")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--min-step", scan.min_step_mm, "--adaptive: the finest step, mm (default --step / 8)")->check(CLI::PositiveNumber);
   cmd->add_option("--samples", scan.samples, "gauge readings averaged per point")->capture_default_str()->check(CLI::Range(1, 16));
   cmd->add_option("--settle-ms", scan.settle_ms, "wait after each move before reading")->capture_default_str()->check(CLI::Range(0, 10000));
   cmd->add_option("--settle-um", scan.settle_um, "then read until two readings agree within this, um (0: no)")->check(CLI::Range(0.0, 10000.0));
@@ -263,15 +302,26 @@ int run_scan(const ScanArgs& a) {
   std::optional<ScanData> stored;
   digitizer_ScanRequest request = digitizer_ScanRequest_init_zero;
   if (a.resume) {
-    stored = read_scan_file(a.output);
+    // As stored: an adaptive scan resumes its last pass, whose points are the file's last ones.
+    stored = read_scan_file(a.output, ScanOrder::kAsStored);
     if (!stored->request) throw ScanFileError(a.output + ": has no scan request; there is nothing to resume");
-    if (stored->done) {
+    if (stored->done && !a.adaptive) {
       if (!a.quiet) std::printf("%s: the scan finished already (%zu points); nothing to resume\n", a.output.c_str(), stored->points.size());
       return 0;
     }
     request = *stored->request;
+    if (stored->passes.size() > 1) {
+      stored->points.erase(stored->points.begin(), stored->points.begin() + static_cast<std::ptrdiff_t>(stored->last_pass_first_point));
+      stored->lines.clear();  // a pass is one line: its LineDone, if any, came with its end
+    }
   } else {
     request = request_from(a);
+    if (a.adaptive) {
+      const std::string refusal = adaptive_refusal(request);
+      if (!refusal.empty()) throw std::invalid_argument(refusal);
+      if (!(a.tolerance_mm > 0)) throw std::invalid_argument("--adaptive needs --tolerance MM: the error every point must be predicted within");
+      if (!a.device_fit.empty()) throw std::invalid_argument("--device-fit fits one pass on the device; an adaptive scan has many: fit on the host");
+    }
     // A scan file is the only record of hours of table time: never replaced without asking, and
     // checked before the device moves.
     struct stat existing {};
@@ -349,8 +399,23 @@ int run_scan(const ScanArgs& a) {
 
   CaptureResult result;
   try {
-    result = stored ? resume_capture(session, *stored, file, options)
-                    : capture_scan(session, device, request, file, options);
+    if (stored && stored->done) {
+      result.done = *stored->done;  // an adaptive scan whose last pass ended: its rounds go on
+      result.points = static_cast<uint32_t>(stored->points.size());
+    } else {
+      result = stored ? resume_capture(session, *stored, file, options)
+                      : capture_scan(session, device, request, file, options);
+    }
+    if (a.adaptive && !result.interrupted && result.done.reason == digitizer_ScanEnd_SCAN_COMPLETED) {
+      progress.finish();
+      AdaptiveOptions adaptive;
+      adaptive.tolerance_mm = a.tolerance_mm;
+      adaptive.min_step_mm = a.min_step_mm;
+      adaptive.quiet = a.quiet;
+      const AdaptiveResult rounds = refine_scan(session, file, a.output, request, adaptive, options);
+      if (!rounds.completed) result = rounds.failed;
+      if (!a.quiet) print_adaptive(rounds, a.tolerance_mm);
+    }
   } catch (const ScanRefused&) {
     throw;
   } catch (const TransportError& e) {

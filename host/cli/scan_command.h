@@ -30,6 +30,9 @@ struct ScanArgs {
   bool resume = false;     // continue the scan in `output` instead of starting one
   bool force = false;  // replace an existing -o
   int reconnect_s = 30;    // how long to try to reach a device again after a pulled cable
+  bool adaptive = false;     // after the grid, new points where the part bends (host/cli/adaptive_scan.h)
+  double tolerance_mm = 0;   // --adaptive: every point predicted by its neighbours within this
+  double min_step_mm = 0;    // --adaptive: the finest step (0: --step / 8)
   std::string device_fit;  // pull the device's fit into this SURF.json after the scan
   std::string device_fit_model = "bezier";
   bool quiet = false;

@@ -344,7 +344,11 @@ CaptureResult capture_scan(Session& session, const digitizer_Hello& device, digi
   message.which_body = digitizer_Envelope_hello_tag;
   message.body.hello = device;
   file.append(message);
+  return capture_pass(session, request, file, options);
+}
 
+CaptureResult capture_pass(Session& session, const digitizer_ScanRequest& request, ScanSink& file,
+                           const CaptureOptions& options) {
   digitizer_Envelope start = digitizer_Envelope_init_zero;
   start.which_body = digitizer_Envelope_scan_request_tag;
   start.body.scan_request = request;
@@ -358,7 +362,7 @@ CaptureResult capture_scan(Session& session, const digitizer_Hello& device, digi
 CaptureResult resume_capture(Session& session, const ScanData& stored, ScanSink& file,
                              const CaptureOptions& options) {
   if (!stored.request) throw ScanRefused(file.path() + ": has no scan request; there is nothing to resume");
-  Capture capture(session, file, options, *stored.request);
+  Capture capture(session, file, options, stored.passes.empty() ? *stored.request : stored.passes.back());
   return capture.resume(stored);
 }
 

@@ -65,6 +65,11 @@ struct CaptureOptions {
 CaptureResult capture_scan(Session& session, const digitizer_Hello& device, digitizer_ScanRequest request,
                            ScanSink& file, const CaptureOptions& options);
 
+// A further pass of a scan already in `file` (scan --adaptive): writes its request only, then as
+// capture_scan. The file's earlier pass must have ended (a reader refuses a request in the middle).
+CaptureResult capture_pass(Session& session, const digitizer_ScanRequest& request, ScanSink& file,
+                           const CaptureOptions& options);
+
 // Continues the scan whose file holds `stored` (read from `file`'s path): the device frees the
 // points the file has and sends the rest from its ring. Throws DeviceError when the device no
 // longer has that scan or those points.

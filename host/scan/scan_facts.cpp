@@ -141,12 +141,15 @@ std::vector<std::string> scan_facts(const ScanData& data) {
   } catch (const std::invalid_argument& error) {
     facts.push_back(std::string("drift: reference readings that cannot be used: ") + error.what());
   }
-  std::snprintf(line, sizeof line, "%zu points in %zu lines", points_only.points.size(), data.lines.size());
+  // An adaptive scan's lines are its rows (each pass added runs to them).
+  std::snprintf(line, sizeof line, "%zu points in %zu lines", points_only.points.size(),
+                data.passes.size() > 1 && !data.points.empty() ? static_cast<size_t>(data.points.back().line) + 1 : data.lines.size());
   facts.push_back(line);
   if (data.done) {
-    std::snprintf(line, sizeof line, "scan %s in %.1f s of device time",
+    std::snprintf(line, sizeof line, "scan %s in %.1f s of device time%s",
                   data.done->reason == digitizer_ScanEnd_SCAN_COMPLETED ? "completed" : "cut short",
-                  static_cast<double>(data.done->duration_us) * 1e-6);
+                  static_cast<double>(data.device_time_us) * 1e-6,
+                  data.passes.size() > 1 ? (" in " + std::to_string(data.passes.size()) + " passes (an adaptive scan)").c_str() : "");
     facts.push_back(line);
   }
   return facts;

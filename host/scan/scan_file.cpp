@@ -10,6 +10,7 @@
 #include <pb_encode.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <vector>
@@ -201,7 +202,13 @@ void ScanFileWriter::sync() {
 
 namespace {
 
-void take(ScanData* data, const digitizer_Envelope& message, const std::string& where) {
+// Where the current pass's points begin in data->points: sequence numbers are checked within a
+// pass (the device may have restarted between two).
+struct PassState {
+  size_t first_point = 0;
+};
+
+void take(ScanData* data, const digitizer_Envelope& message, const std::string& where, PassState* pass) {
   switch (message.which_body) {
     // A scan file holds one scan: a second Hello or request is two files joined (cat a b > c),
     // whose points would read back as one scan.
@@ -210,8 +217,15 @@ void take(ScanData* data, const digitizer_Envelope& message, const std::string& 
       data->device = message.body.hello;
       break;
     case digitizer_Envelope_scan_request_tag:
-      if (data->request) throw ScanFileError(where + ": a second scan request: two scan files joined into one?");
-      data->request = message.body.scan_request;
+      // A further pass of an adaptive scan begins only after the one before it ended; a second
+      // request in the middle of a scan is two files joined.
+      // A pass the device refused left its request and nothing else: the next one takes its place.
+      if (data->passes.size() > 1 && !data->done && data->points.size() == pass->first_point) data->passes.pop_back();
+      else if (data->request && !data->done) throw ScanFileError(where + ": a second scan request: two scan files joined into one?");
+      if (!data->request) data->request = message.body.scan_request;
+      data->passes.push_back(message.body.scan_request);
+      data->done.reset();
+      pass->first_point = data->points.size();
       break;
     case digitizer_Envelope_repeatability_tag:
       if (data->repeatability) throw ScanFileError(where + ": a second repeatability record: two scan files joined into one?");
@@ -224,7 +238,7 @@ void take(ScanData* data, const digitizer_Envelope& message, const std::string& 
         throw ScanFileError(where + ": point batch is inconsistent");
       }
       for (size_t i = 0; i < count; ++i) {
-        if (!data->points.empty() && batch[i].seq != data->points.back().seq + 1) {
+        if (data->points.size() > pass->first_point && batch[i].seq != data->points.back().seq + 1) {
           if (batch[i].seq <= data->points.back().seq) continue;  // stored twice: keep once
           data->warnings.push_back(where + ": points " + std::to_string(data->points.back().seq + 1) +
                                    " to " + std::to_string(batch[i].seq - 1) + " are missing");
@@ -238,6 +252,7 @@ void take(ScanData* data, const digitizer_Envelope& message, const std::string& 
       break;
     case digitizer_Envelope_scan_done_tag:
       data->done = message.body.scan_done;
+      data->device_time_us += message.body.scan_done.duration_us;
       break;
     case digitizer_Envelope_fault_tag:
       data->faults.push_back(message.body.fault);
@@ -247,16 +262,35 @@ void take(ScanData* data, const digitizer_Envelope& message, const std::string& 
   }
 }
 
-}  // namespace
-
-ScanData read_scan_file(const std::string& path) {
-  std::string bytes;
-  if (!read_whole_file(path, &bytes)) throw ScanFileError(path + ": cannot open: " + std::strerror(errno));
-  return parse_scan_bytes(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), path);
+// An adaptive scan's passes each add short runs of points: readers want rows, so the points are
+// put in order of y then x and each distinct y becomes a line, its first and last points flagged.
+void by_rows(ScanData* data) {
+  std::stable_sort(data->points.begin(), data->points.end(), [](const PointSample& a, const PointSample& b) {
+    return a.y_nm != b.y_nm ? a.y_nm < b.y_nm : a.x_nm < b.x_nm;
+  });
+  const uint32_t ends = digitizer_PointFlag_POINT_LINE_START | digitizer_PointFlag_POINT_LINE_END;
+  uint32_t line = 0;
+  for (size_t i = 0; i < data->points.size(); ++i) {
+    PointSample& p = data->points[i];
+    if (i > 0 && p.y_nm != data->points[i - 1].y_nm) ++line;
+    p.line = line;
+    p.flags &= ~ends;
+    if (i == 0 || p.y_nm != data->points[i - 1].y_nm) p.flags |= digitizer_PointFlag_POINT_LINE_START;
+    if (i + 1 == data->points.size() || p.y_nm != data->points[i + 1].y_nm) p.flags |= digitizer_PointFlag_POINT_LINE_END;
+  }
 }
 
-ScanData parse_scan_bytes(const uint8_t* bytes, size_t size, const std::string& path) {
+}  // namespace
+
+ScanData read_scan_file(const std::string& path, ScanOrder order) {
+  std::string bytes;
+  if (!read_whole_file(path, &bytes)) throw ScanFileError(path + ": cannot open: " + std::strerror(errno));
+  return parse_scan_bytes(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), path, order);
+}
+
+ScanData parse_scan_bytes(const uint8_t* bytes, size_t size, const std::string& path, ScanOrder order) {
   ScanData data;
+  PassState pass;
   size_t offset = 0;
   while (offset < size) {
     const std::string where = path + ": record " + std::to_string(data.records + 1) +
@@ -333,11 +367,13 @@ ScanData parse_scan_bytes(const uint8_t* bytes, size_t size, const std::string& 
     if (decode_envelope(envelope_bytes, static_cast<size_t>(envelope_size), &message) != Status::kOk) {
       throw ScanFileError(where + ": message does not decode");
     }
-    take(&data, message, where);
+    take(&data, message, where, &pass);
     ++data.records;
     offset += header + static_cast<size_t>(length);
     data.complete_bytes = offset;
   }
+  data.last_pass_first_point = pass.first_point;
+  if (data.passes.size() > 1 && order == ScanOrder::kRows) by_rows(&data);
   return data;
 }
 

@@ -59,10 +59,14 @@ class ScanFileWriter : public ScanSink {
   uint64_t bytes_ = 0;
 };
 
+// How the points of a scan of several passes come back: in rows (y, then x; a line a row), or as
+// stored (for resuming the last pass).
+enum class ScanOrder { kRows, kAsStored };
+
 // Reads a whole scan file. A damaged record in the middle is an error naming the
 // byte offset; a cut-off final record (a crash while writing) is a warning.
-ScanData read_scan_file(const std::string& path);
+ScanData read_scan_file(const std::string& path, ScanOrder order = ScanOrder::kRows);
 // The same on bytes already in memory; `name` is used in messages.
-ScanData parse_scan_bytes(const uint8_t* bytes, size_t size, const std::string& name);
+ScanData parse_scan_bytes(const uint8_t* bytes, size_t size, const std::string& name, ScanOrder order = ScanOrder::kRows);
 
 }  // namespace dg::host

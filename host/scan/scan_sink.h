@@ -14,11 +14,17 @@ namespace dg::host {
 // Everything a stored scan says, with points expanded.
 struct ScanData {
   std::optional<digitizer_Hello> device;
-  std::optional<digitizer_ScanRequest> request;
+  std::optional<digitizer_ScanRequest> request;  // the first pass's (the whole scan's extent and settings)
+  // Every pass's request in order: one for a plain scan; an adaptive scan (scan --adaptive) adds a
+  // pass for each run of new points, each begun after the one before it ended. The points of a
+  // scan of several passes are read in order of y then x, a line for each y.
+  std::vector<digitizer_ScanRequest> passes;
+  size_t last_pass_first_point = 0;  // where the last pass's points begin, read in stored order
   std::optional<digitizer_Repeatability> repeatability;  // measured at the first point before the scan
   std::vector<PointSample> points;
   std::vector<digitizer_LineDone> lines;
-  std::optional<digitizer_ScanDone> done;
+  std::optional<digitizer_ScanDone> done;  // the last pass's end (none while it runs)
+  uint64_t device_time_us = 0;             // every pass's duration, summed
   std::vector<digitizer_Fault> faults;
   std::vector<std::string> warnings;  // e.g. a cut-off last record
   // The table calibration that corrects the points (the last calibration record's JSON); the

@@ -188,3 +188,95 @@ TEST(ScanFile, ANewWriterNeverReplacesAnExistingFile) {
   CHECK_THROWS(dg::host::ScanFileError, dg::host::ScanFileWriter::when_accepted(path, false));
   LONGS_EQUAL(37, dg::host::read_scan_file(path).points.size());
 }
+
+namespace {
+
+digitizer_Envelope request_message(uint32_t scan_id) {
+  digitizer_Envelope m = digitizer_Envelope_init_zero;
+  m.which_body = digitizer_Envelope_scan_request_tag;
+  m.body.scan_request.scan_id = scan_id;
+  return m;
+}
+
+digitizer_Envelope done_message(uint32_t scan_id, uint64_t duration_us) {
+  digitizer_Envelope m = digitizer_Envelope_init_zero;
+  m.which_body = digitizer_Envelope_scan_done_tag;
+  m.body.scan_done.scan_id = scan_id;
+  m.body.scan_done.duration_us = duration_us;
+  return m;
+}
+
+// A batch of `count` points on row y_mm from x0_mm at step_mm, numbered from first_seq, line 0.
+digitizer_Envelope row_message(uint32_t first_seq, uint32_t count, double y_mm, double x0_mm, double step_mm) {
+  digitizer_Envelope m = digitizer_Envelope_init_zero;
+  m.which_body = digitizer_Envelope_points_tag;
+  dg::point_batch_begin(&m.body.points, first_seq, 0);
+  for (uint32_t i = 0; i < count; ++i) {
+    dg::PointSample p;
+    p.seq = first_seq + i;
+    p.x_nm = static_cast<int32_t>(std::lround((x0_mm + i * step_mm) * 1e6));
+    p.y_nm = static_cast<int32_t>(std::lround(y_mm * 1e6));
+    p.z_nm = 1000;
+    CHECK(dg::point_batch_append(&m.body.points, p) == dg::Status::kOk);
+  }
+  return m;
+}
+
+}  // namespace
+
+TEST(ScanFile, AnAdaptiveScansPassesReadBackAsRows) {
+  {
+    dg::host::ScanFileWriter writer(path);
+    digitizer_Envelope hello = digitizer_Envelope_init_zero;
+    hello.which_body = digitizer_Envelope_hello_tag;
+    writer.append(hello);
+    writer.append(request_message(1));
+    writer.append(row_message(1, 3, 0, 0, 2));  // the coarse grid: rows y = 0 and 2, x = 0, 2, 4
+    writer.append(row_message(4, 3, 2, 0, 2));
+    writer.append(done_message(1, 5000000));
+    writer.append(request_message(2));  // a new row at y = 1
+    writer.append(row_message(1, 3, 1, 0, 2));  // numbered afresh: the device restarted meanwhile
+    writer.append(done_message(2, 2000000));
+    writer.append(request_message(3));  // refused by the device: a request and nothing else
+    writer.append(request_message(4));  // a new column at x = 1
+    writer.append(row_message(4, 1, 0, 1, 1));
+    writer.append(done_message(4, 1000000));
+  }
+  const dg::host::ScanData data = dg::host::read_scan_file(path);
+  LONGS_EQUAL(3, data.passes.size());  // the refused one is gone
+  LONGS_EQUAL(1, data.request->scan_id);
+  LONGS_EQUAL(4, data.passes.back().scan_id);
+  LONGS_EQUAL(10, data.points.size());
+  LONGS_EQUAL(0, data.warnings.size());
+  CHECK(data.done.has_value());
+  LONGS_EQUAL(8000000, data.device_time_us);
+  // Rows in y, each in x, a line each, its ends flagged.
+  const int32_t expect[10][2] = {{0, 0}, {1, 0}, {2, 0}, {4, 0}, {0, 1}, {2, 1}, {4, 1}, {0, 2}, {2, 2}, {4, 2}};
+  for (size_t k = 0; k < 10; ++k) {
+    LONGS_EQUAL(expect[k][0] * 1000000, data.points[k].x_nm);
+    LONGS_EQUAL(expect[k][1] * 1000000, data.points[k].y_nm);
+    LONGS_EQUAL(static_cast<uint32_t>(expect[k][1]), data.points[k].line);
+  }
+  CHECK(data.points[0].flags & digitizer_PointFlag_POINT_LINE_START);
+  CHECK(data.points[3].flags & digitizer_PointFlag_POINT_LINE_END);
+  CHECK_FALSE(data.points[1].flags & (digitizer_PointFlag_POINT_LINE_START | digitizer_PointFlag_POINT_LINE_END));
+  // As stored, for resuming: the last pass's points are the last ones.
+  const dg::host::ScanData stored = dg::host::read_scan_file(path, dg::host::ScanOrder::kAsStored);
+  LONGS_EQUAL(9, stored.last_pass_first_point);
+  LONGS_EQUAL(1000000, stored.points.back().x_nm);
+}
+
+TEST(ScanFile, RefusesASecondRequestInTheMiddleOfAPass) {
+  {
+    dg::host::ScanFileWriter writer(path);
+    writer.append(request_message(1));
+    writer.append(row_message(1, 3, 0, 0, 2));
+    writer.append(request_message(2));
+  }
+  try {
+    dg::host::read_scan_file(path);
+    FAIL("a request in the middle of a pass was read");
+  } catch (const dg::host::ScanFileError& e) {
+    STRCMP_CONTAINS("two scan files joined", e.what());
+  }
+}
