@@ -12,6 +12,7 @@ const char kSimOptionsHelp[] =
     "  part=dome|saddle|canister|flat|ballplate|sphere|stepgauge  seed=N  noise_um=X\n"
     "  outliers=RATE  outlier_mm=X  inch=0|1  gauge_delay_us=N  mute=0|1  drop_edge=BIT  id=NAME\n"
     "  latch_delay_us=N latch_jitter_us=S (the gauge reads N us after REQ, sigma S)\n"
+    "  clock_low_us=N clock_high_us=N (each bit's clock phases; 200 and 200 by default)\n"
     "  plunger_mm_s=V (the plunger falls after the part at most V mm/s; 0: at once)\n"
     "  host_silence_s=N (virtual s, 0 never)  on_host_silence=pause|continue|abort\n"
     "  start_x_mm=X start_y_mm=Y (the table's start)  estop_at_ms=T estop_ms=D\n"
@@ -88,6 +89,9 @@ std::string apply_sim_option(const std::string& pair, SimOptions* options) {
   } else if (key == "gauge_delay_us") {
     if (!parse_u64(value, &u) || u > 1000000) return "gauge_delay_us must be 0..1000000";
     c.gauge.request_to_clock_us = static_cast<uint32_t>(u);
+  } else if (key == "clock_low_us" || key == "clock_high_us") {
+    if (!parse_u64(value, &u) || u < 10 || u > 100000) return key + " must be 10..100000";
+    (key == "clock_low_us" ? c.gauge.clock_low_us : c.gauge.clock_high_us) = static_cast<uint32_t>(u);
   } else if (key == "latch_delay_us" || key == "latch_jitter_us") {
     if (!parse_u64(value, &u) || u > 100000) return key + " must be 0..100000";
     (key == "latch_delay_us" ? c.gauge.latch_delay_us : c.gauge.latch_jitter_us) = static_cast<uint32_t>(u);

@@ -25,7 +25,7 @@ struct SimOptions {
 };
 
 // Applies one "key=value" pair: part, seed, noise_um, outliers, outlier_mm, inch,
-// gauge_delay_us, latch_delay_us and latch_jitter_us (when the gauge takes its reading after REQ),
+// gauge_delay_us, clock_low_us and clock_high_us (each bit's clock phases), latch_delay_us and latch_jitter_us (when the gauge takes its reading after REQ),
 // plunger_mm_s (the plunger's fastest fall after the part), mute (gauge never answers), drop_edge (a CK pulse missing from
 // every frame), id, host_silence_s, on_host_silence (pause, continue, abort), start_x_mm,
 // start_y_mm (where the table starts), estop_at_ms, estop_ms (the e-stop pressed then, that long),
