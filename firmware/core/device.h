@@ -128,6 +128,7 @@ class Device : private PointSink {
   };
 
   bool accept(const PointSample& point) override;
+  uint32_t room() const override { return static_cast<uint32_t>(ring_.capacity() - ring_.size()); }
   void receive();
   void handle(const digitizer_Envelope& message);
   void handle_command(uint32_t id, const digitizer_Command& command);

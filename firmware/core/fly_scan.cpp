@@ -19,7 +19,14 @@ const char* ScanEngine::fly_refusal(const digitizer_ScanRequest& request) const 
 void ScanEngine::begin_fly_line() {
   fly_dir_ = (iy_ & 1u) ? -1 : 1;
   fly_first_ = true;
+  fly_gap_ = fly_again_ = false;
   fly_first_seq_[iy_ % kFlyLinesKept] = next_seq_;
+  begin_fly_run(false);
+}
+
+void ScanEngine::begin_fly_run(bool again) {
+  fly_again_ = again;
+  fly_requested_ = false;
   // The run-up before the extent, as far as the table allows (short of it the first points are
   // taken while the table still speeds up; their positions stay exact, their spacing does not).
   const int32_t start = fly_dir_ > 0 ? fly_lo_steps_ - fly_runup_steps_ : fly_hi_steps_ + fly_runup_steps_;
@@ -33,11 +40,29 @@ void ScanEngine::begin_fly_line() {
   phase_ = Phase::kRunUp;
 }
 
+bool ScanEngine::passed_readings_by(int32_t to_steps) {
+  if (phase_ != Phase::kFlying || !fly_requested_ || fly_gap_) return false;
+  // The stretch of the extent between the last request and `to_steps`: more than two steps of the
+  // line is readings passed by (a wait for room in the ring, failed readings, or a flight that
+  // ended while it waited).
+  auto clamp = [this](int32_t x) { return x < fly_lo_steps_ ? fly_lo_steps_ : x > fly_hi_steps_ ? fly_hi_steps_ : x; };
+  const int64_t passed_nm = static_cast<int64_t>(clamp(to_steps) - clamp(fly_req_x_)) * fly_dir_ * motion_.config().nm_per_step;
+  if (passed_nm <= 2 * static_cast<int64_t>(request_.step_x_nm)) return false;
+  // The rest of the line is flown again after the last point kept.
+  fly_gap_ = true;
+  fly_gap_from_ = fly_held_ ? static_cast<int32_t>(fly_point_.x_nm / static_cast<int32_t>(motion_.config().nm_per_step))
+                            : (fly_dir_ > 0 ? fly_lo_steps_ - 1 : fly_hi_steps_ + 1);
+  return true;
+}
+
 void ScanEngine::start_fly_reading() {
+  const int32_t at = motion_.x_steps();
+  if (passed_readings_by(at)) return;
   // The position is taken with the request: the reading belongs to where the table is now (and to
   // the gauge's latch delay after it, which the host measures).
   fly_req_us_ = board_.now_us();
-  fly_req_x_ = motion_.x_steps();
+  fly_req_x_ = at;
+  fly_requested_ = true;
   fly_reading_ = gauge_.start() == Status::kOk;
 }
 
@@ -52,8 +77,11 @@ bool ScanEngine::offer_fly_point(PointSink& sink) {
 }
 
 void ScanEngine::take_fly_reading(int64_t value_nm) {
-  // Readings requested in the run-up or the run-out are outside the scan.
+  // Readings requested in the run-up or the run-out are outside the scan; flying a line again,
+  // so are the ones short of its gap.
   if ((fly_req_x_ < fly_lo_steps_ || fly_req_x_ > fly_hi_steps_)) return;
+  if (fly_again_ && (fly_dir_ > 0 ? fly_req_x_ <= fly_gap_from_ : fly_req_x_ >= fly_gap_from_)) return;
+  fly_again_ = false;  // past the gap: what follows is this flight's own
   PointSample point{};
   point.line = iy_;
   point.x_nm = static_cast<int32_t>(static_cast<int64_t>(fly_req_x_) * motion_.config().nm_per_step);
@@ -78,6 +106,16 @@ void ScanEngine::take_fly_reading(int64_t value_nm) {
 }
 
 void ScanEngine::end_fly_line(PointSink& sink) {
+  // A flight that ended short of the extent's far end (it waited for room to its end) has a gap too.
+  passed_readings_by(fly_dir_ > 0 ? fly_hi_steps_ : fly_lo_steps_);
+  if (fly_gap_) {
+    // Readings were passed by while the ring was full: the line again from its gap, once there is
+    // room (a host that is gone pauses the scan meanwhile: Device's silence rule).
+    if (sink.room() < kFlyRoomToFlyAgain) return;
+    fly_gap_ = false;
+    begin_fly_run(true);
+    return;
+  }
   if (fly_held_) {
     pending_ = fly_point_;
     pending_.seq = next_seq_;
@@ -162,7 +200,7 @@ void ScanEngine::poll_fly(PointSink& sink) {
     }
   }
   if (motion_.busy()) {
-    start_fly_reading();
+    if (!fly_gap_) start_fly_reading();
     return;
   }
   end_fly_line(sink);

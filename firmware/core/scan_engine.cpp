@@ -149,6 +149,8 @@ int64_t ScanEngine::point_value() const {
 uint32_t ScanEngine::line_first_seq(uint32_t line) const {
   if (fly_) {
     // A line more than kFlyLinesKept back: its points are acknowledged long since; the oldest kept.
+    // The scan's first line starts at its first point, whatever came after.
+    if (line == 0) return first_seq_;
     const uint32_t oldest = iy_ >= kFlyLinesKept ? iy_ - kFlyLinesKept + 1 : 0;
     return fly_first_seq_[(line < oldest ? oldest : line) % kFlyLinesKept];
   }

@@ -15,6 +15,8 @@ namespace dg {
 class PointSink {
  public:
   virtual bool accept(const PointSample& point) = 0;
+  // How many more points it would take now (a scan on the fly flies a line again only with room).
+  virtual uint32_t room() const { return UINT32_MAX; }
 
  protected:
   ~PointSink() = default;
@@ -107,11 +109,17 @@ class ScanEngine {
   void begin_fly_line();
   void poll_fly(PointSink& sink);
   void start_fly_reading();
+  // Whether the flight, from its last request to `to_steps`, passed more than two steps of the
+  // extent without a reading; if so marks the gap (fly_gap_, fly_gap_from_).
+  bool passed_readings_by(int32_t to_steps);
   void take_fly_reading(int64_t value_nm);
   // Offers pending_ to the sink; false (and fly_waiting_) while it has no room.
   bool offer_fly_point(PointSink& sink);
-  // The held point goes out as the line's last; then the next line, or the end.
+  // The held point goes out as the line's last; then the next line, or the end. A line with a gap
+  // is flown again first, once the sink has room.
   void end_fly_line(PointSink& sink);
+  // Moves to the line's run-up (the same line again when `again`).
+  void begin_fly_run(bool again);
 
   hal::Board& board_;
   StepGenerator& motion_;
@@ -148,11 +156,19 @@ class ScanEngine {
   digitizer_FaultCode fault_ = digitizer_FaultCode_FAULT_NONE;
   // On the fly.
   static constexpr uint32_t kFlyLinesKept = 8;
+  // Room the sink must have before a line with a gap is flown again (a quarter of the device's ring).
+  static constexpr uint32_t kFlyRoomToFlyAgain = 32;
   bool fly_ = false;
   bool fly_reading_ = false;   // a reading runs; it was requested at fly_req_us_ at fly_req_x_
   bool fly_held_ = false;      // fly_point_ waits for the next reading or the line's end
   bool fly_waiting_ = false;   // pending_ waits for room in the ring (no new reading meanwhile)
   bool fly_first_ = true;      // the line's next point is its first
+  // The ring was full long enough mid-line for the table to pass readings by: the rest of the line
+  // is flown again, its points taken only beyond fly_gap_from_ (steps, the last point kept).
+  bool fly_gap_ = false;
+  bool fly_again_ = false;     // this flight of the line continues after fly_gap_from_
+  bool fly_requested_ = false; // this flight has requested a reading (fly_req_x_ is its last)
+  int32_t fly_gap_from_ = 0;
   int8_t fly_dir_ = 1;
   int32_t fly_lo_steps_ = 0, fly_hi_steps_ = 0;  // the scan's extent along x
   int32_t fly_runup_steps_ = 0;

@@ -24,21 +24,42 @@ struct FlyLine {
 
 // Position and speed at each request. The table stands on a whole step at every moment, and the
 // step count at the request is where it stood then: the position stays as sent. The speed is the
-// average over the time to the next request (to the previous for a line's last point), so that the
-// position `delay` later is interpolated between the two requests' positions, which follows the
-// table as it speeds up or slows down at a line's end as well as at constant feed.
+// average over the time to the next request (to the previous one for a line's last point, or where
+// the next came after a pause: a line flown again after a gap, whose first flight ended there), so
+// that the position `delay` later is interpolated between two requests of one flight, which
+// follows the table as it speeds up or slows down at a line's end as well as at constant feed. A
+// point with neither neighbour in its flight takes the line's median speed.
 void fit_positions(const std::vector<PointSample>& points, FlyLine* line) {
   const size_t n = line->index.size();
   line->x_mm.resize(n);
-  line->v_mm_s.resize(n);
+  line->v_mm_s.assign(n, 0.0);
+  std::vector<double> dt_s(n > 0 ? n - 1 : 0), speeds;
+  for (size_t i = 0; i + 1 < n; ++i) {
+    const PointSample& a = points[line->index[i]];
+    const PointSample& b = points[line->index[i + 1]];
+    dt_s[i] = (static_cast<double>(b.t_us) - static_cast<double>(a.t_us)) * 1e-6;
+    if (dt_s[i] > 0) speeds.push_back((b.x_nm - a.x_nm) * 1e-6 / dt_s[i]);
+  }
+  std::vector<double> sorted_dt = dt_s;
+  std::sort(sorted_dt.begin(), sorted_dt.end());
+  const double usual_dt = sorted_dt.empty() ? 0 : sorted_dt[sorted_dt.size() / 2];
+  std::sort(speeds.begin(), speeds.end());
+  const double line_speed = speeds.empty() ? 0 : speeds[speeds.size() / 2];
+  auto same_flight = [&](size_t gap) { return dt_s[gap] > 0 && dt_s[gap] <= 2.5 * usual_dt; };
+  auto speed = [&](size_t gap) {
+    const PointSample& a = points[line->index[gap]];
+    const PointSample& b = points[line->index[gap + 1]];
+    return (b.x_nm - a.x_nm) * 1e-6 / dt_s[gap];
+  };
   for (size_t i = 0; i < n; ++i) {
-    const PointSample& p = points[line->index[i]];
-    line->x_mm[i] = p.x_nm * 1e-6;
-    if (n < 2) continue;
-    const PointSample& a = points[line->index[i + 1 < n ? i : i - 1]];
-    const PointSample& b = points[line->index[i + 1 < n ? i + 1 : i]];
-    const double dt_s = (static_cast<double>(b.t_us) - static_cast<double>(a.t_us)) * 1e-6;
-    line->v_mm_s[i] = dt_s > 0 ? (b.x_nm - a.x_nm) * 1e-6 / dt_s : 0;
+    line->x_mm[i] = points[line->index[i]].x_nm * 1e-6;
+    if (i + 1 < n && same_flight(i)) {
+      line->v_mm_s[i] = speed(i);
+    } else if (i > 0 && same_flight(i - 1)) {
+      line->v_mm_s[i] = speed(i - 1);
+    } else {
+      line->v_mm_s[i] = line_speed;
+    }
   }
 }
 

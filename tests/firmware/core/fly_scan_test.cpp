@@ -179,3 +179,57 @@ TEST(FlyScan, AnAbortMidLineKeepsEveryPointAlreadyRead) {
   CHECK(sink.points.back().flags & digitizer_PointFlag_POINT_LINE_END);
   for (size_t i = 1; i < sink.points.size(); ++i) LONGS_EQUAL(sink.points[i - 1].seq + 1, sink.points[i].seq);
 }
+
+namespace {
+
+// A sink whose ring is full while `full` says so: it takes nothing and has no room.
+struct FullWhileTold final : dg::PointSink {
+  bool accept(const dg::PointSample& p) override {
+    if (full) return false;
+    points.push_back(p);
+    return true;
+  }
+  uint32_t room() const override { return full ? 0 : 1000; }
+  bool full = false;
+  std::vector<dg::PointSample> points;
+};
+
+}  // namespace
+
+TEST(FlyScan, ALineTheRingFilledUpIsFlownAgainFromItsGap) {
+  dg::test::ScanRig rig(part(dg::sim::PartKind::kSaddle));
+  const char* reason = "";
+  CHECK(rig.scan.start(fly_lines(20, 2), 1, 10000, &reason) == digitizer_FaultCode_FAULT_NONE);
+  FullWhileTold sink;
+  uint64_t full_until_us = 0;
+  for (int guard = 0; guard < 10000000 && !rig.scan.finished(); ++guard) {
+    // Full for half a second of table time once the first line has 30 points (about 4 mm).
+    if (full_until_us == 0 && sink.points.size() == 30) {
+      sink.full = true;
+      full_until_us = rig.board.now_us() + 500000;
+    }
+    if (sink.full && rig.board.now_us() >= full_until_us) sink.full = false;
+    rig.scan.poll(sink);
+    if (!rig.scan.finished() && !rig.board.wait(sink.full ? full_until_us : rig.scan.deadline_us())) break;
+  }
+  CHECK(rig.scan.finished());
+  LONGS_EQUAL(digitizer_ScanEnd_SCAN_COMPLETED, rig.scan.end_reason());
+  // Every line whole: no two neighbours further apart than two steps, one way, numbered in order.
+  size_t line0 = 0;
+  for (size_t i = 1; i < sink.points.size(); ++i) {
+    const dg::PointSample& a = sink.points[i - 1];
+    const dg::PointSample& b = sink.points[i];
+    LONGS_EQUAL(a.seq + 1, b.seq);
+    if (a.line != b.line) continue;
+    line0 += a.line == 0;
+    const int32_t step = (b.x_nm - a.x_nm) * (a.line % 2 ? -1 : 1);
+    CHECK(step > 0 && step <= 400000);
+  }
+  CHECK(line0 >= 100);  // 20 mm at 0.2 mm or closer
+  // The first line ended at the extent's far end, flagged.
+  for (size_t i = 0; i < sink.points.size(); ++i) {
+    if (sink.points[i].line == 0 && (sink.points[i].flags & digitizer_PointFlag_POINT_LINE_END)) {
+      CHECK(sink.points[i].x_nm >= 22000000 - 200000);
+    }
+  }
+}
