@@ -101,6 +101,31 @@ off_t file_size(const std::string& path) {
   return stat(path.c_str(), &st) == 0 ? st.st_size : 0;
 }
 
+// A first host, in a child process, scans `request` into `path` and is killed (SIGKILL) once the
+// file holds `bytes`.
+void kill_host_scanning(const std::string& uri, const digitizer_ScanRequest& request, const std::string& path, off_t bytes) {
+  const pid_t host = fork();
+  if (host == 0) {
+    try {
+      auto transport = dg::host::open_transport(uri);
+      dg::host::Session session(*transport);
+      const digitizer_Hello hello = session.hello(5000);
+      dg::host::ScanFileWriter file(path);
+      dg::host::capture_scan(session, hello, request, file, dg::host::CaptureOptions{});
+    } catch (...) {
+    }
+    _exit(0);
+  }
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (file_size(path) < bytes && std::chrono::steady_clock::now() < give_up) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  kill(host, SIGKILL);
+  int status = 0;
+  waitpid(host, &status, 0);
+  CHECK(WIFSIGNALED(status));
+}
+
 dg::host::CaptureResult resume(const std::string& uri, const std::string& path) {
   auto transport = dg::host::open_transport(uri);
   dg::host::Session session(*transport);
@@ -119,28 +144,8 @@ TEST(SimResume, EveryPointOnceAfterAKilledHostAndAFaultyLineWithThreePulledCable
   ListeningSim sim("unix:" + socket_path);
   const std::string uri = "unix:" + socket_path;
   const digitizer_ScanRequest request = long_scan();
-  const pid_t host = fork();
-  if (host == 0) {
-    // The first host: scans until it is killed.
-    try {
-      auto transport = dg::host::open_transport(uri);
-      dg::host::Session session(*transport);
-      const digitizer_Hello hello = session.hello(5000);
-      dg::host::ScanFileWriter file(path);
-      dg::host::capture_scan(session, hello, request, file, dg::host::CaptureOptions{});
-    } catch (...) {
-    }
-    _exit(0);
-  }
   // Killed once a fifth of the points or so are stored (about 10 bytes a point).
-  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-  while (file_size(path) < 20000 && std::chrono::steady_clock::now() < give_up) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  }
-  kill(host, SIGKILL);
-  int status = 0;
-  waitpid(host, &status, 0);
-  CHECK(WIFSIGNALED(status));
+  kill_host_scanning(uri, request, path, 20000);
   const dg::host::ScanData before = dg::host::read_scan_file(path);
   CHECK(!before.done.has_value());
   CHECK(!before.points.empty());
@@ -452,25 +457,7 @@ TEST(SimResume, AFlyScanKilledMidLineResumesWithEveryMeasuredPointOnce) {
   request.step_y_nm = 1000000;
   request.feed_um_s = 0;
   request.mode = digitizer_ScanMode_SCAN_MODE_FLY;
-  const pid_t host = fork();
-  if (host == 0) {
-    try {
-      auto transport = dg::host::open_transport(uri);
-      dg::host::Session session(*transport);
-      const digitizer_Hello hello = session.hello(5000);
-      dg::host::ScanFileWriter file(path);
-      dg::host::capture_scan(session, hello, request, file, dg::host::CaptureOptions{});
-    } catch (...) {
-    }
-    _exit(0);
-  }
-  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-  while (file_size(path) < 15000 && std::chrono::steady_clock::now() < give_up) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  }
-  kill(host, SIGKILL);
-  int status = 0;
-  waitpid(host, &status, 0);
+  kill_host_scanning(uri, request, path, 15000);
   CHECK(!dg::host::read_scan_file(path).done.has_value());
 
   const dg::host::CaptureResult result = resume(uri, path);
