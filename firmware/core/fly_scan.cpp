@@ -181,6 +181,10 @@ void ScanEngine::poll_fly(PointSink& sink) {
                                                                                    : digitizer_FaultCode_FAULT_PROBE_FRAME);
         return;
       }
+      if (phase_ == Phase::kTiming) {
+        start_fly_reading();  // the cycle is timed on a reading that arrived
+        return;
+      }
     } else {
       fly_failures_ = 0;
       if (phase_ == Phase::kTiming) {

@@ -61,6 +61,7 @@ digitizer_FaultCode ScanEngine::start(const digitizer_ScanRequest& request, uint
   fly_lo_steps_ = x0, fly_hi_steps_ = x1;
   fly_reading_ = fly_held_ = fly_waiting_ = false;
   fly_failures_ = 0;
+  cycle_us_ = 0;  // every fly scan times the gauge afresh: its step and feed cap set the feed
   plunger_um_s_ = request.plunger_follow_um_s != 0 ? request.plunger_follow_um_s : kDefaultPlungerFollowUmS;
   {
     // The run-up: the distance the table needs to reach the fastest feed (v^2 / 2a), and a step.

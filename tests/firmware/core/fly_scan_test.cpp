@@ -233,3 +233,27 @@ TEST(FlyScan, ALineTheRingFilledUpIsFlownAgainFromItsGap) {
     }
   }
 }
+
+TEST(FlyScan, EachScanTimesTheGaugeAfreshForItsOwnStep) {
+  dg::test::ScanRig rig(part(dg::sim::PartKind::kFlat));
+  rig.run(fly_lines(10, 2));
+  const uint32_t fine_rate = rig.scan.fly_rate_steps_s();
+  digitizer_ScanRequest coarse = fly_lines(10, 2);
+  coarse.step_x_nm = 400000;  // a point every 0.4 mm: twice the feed
+  const std::vector<dg::PointSample> points = rig.run(coarse);
+  DOUBLES_EQUAL(2.0, static_cast<double>(rig.scan.fly_rate_steps_s()) / fine_rate, 0.02);
+  for (size_t i = 1; i < points.size(); ++i) {
+    if (points[i].line == points[i - 1].line) CHECK(std::abs(points[i].x_nm - points[i - 1].x_nm) <= 400000);
+  }
+}
+
+TEST(FlyScan, AGaugeThatFailsWhileTimedIsAskedAgain) {
+  // Every frame loses one clock edge: each reading fails, the timing reading too; it is asked again,
+  // and after the retries the scan ends on the gauge's fault instead of running its lines unread.
+  dg::sim::SimConfig c = part(dg::sim::PartKind::kFlat);
+  c.gauge.drop_rising_edge = 10;
+  dg::test::ScanRig rig(c);
+  rig.run(fly_lines(10, 2));
+  LONGS_EQUAL(digitizer_ScanEnd_SCAN_FAULTED, rig.scan.end_reason());
+  LONGS_EQUAL(0, rig.scan.points_done());
+}
