@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <optional>
 #include <cerrno>
 #include <cstring>
 #include <vector>
@@ -206,6 +207,7 @@ namespace {
 // pass (the device may have restarted between two).
 struct PassState {
   size_t first_point = 0;
+  std::optional<digitizer_ScanDone> previous_done;  // the pass before's end
 };
 
 void take(ScanData* data, const digitizer_Envelope& message, const std::string& where, PassState* pass) {
@@ -224,6 +226,7 @@ void take(ScanData* data, const digitizer_Envelope& message, const std::string& 
       else if (data->request && !data->done) throw ScanFileError(where + ": a second scan request: two scan files joined into one?");
       if (!data->request) data->request = message.body.scan_request;
       data->passes.push_back(message.body.scan_request);
+      if (data->done) pass->previous_done = data->done;
       data->done.reset();
       pass->first_point = data->points.size();
       break;
@@ -371,6 +374,11 @@ ScanData parse_scan_bytes(const uint8_t* bytes, size_t size, const std::string& 
     ++data.records;
     offset += header + static_cast<size_t>(length);
     data.complete_bytes = offset;
+  }
+  // A last pass the device refused (its request and nothing after it): the scan ended with the one before.
+  if (data.passes.size() > 1 && !data.done && data.points.size() == pass.first_point && pass.previous_done) {
+    data.passes.pop_back();
+    data.done = pass.previous_done;
   }
   data.last_pass_first_point = pass.first_point;
   if (data.passes.size() > 1 && order == ScanOrder::kRows) by_rows(&data);

@@ -266,6 +266,21 @@ TEST(ScanFile, AnAdaptiveScansPassesReadBackAsRows) {
   LONGS_EQUAL(1000000, stored.points.back().x_nm);
 }
 
+TEST(ScanFile, AnAdaptiveScanWhoseLastPassWasRefusedEndedWithThePassBefore) {
+  {
+    dg::host::ScanFileWriter writer(path);
+    writer.append(request_message(1));
+    writer.append(row_message(1, 3, 0, 0, 2));
+    writer.append(done_message(1, 5000000));
+    writer.append(request_message(2));  // refused: nothing follows
+  }
+  const dg::host::ScanData data = dg::host::read_scan_file(path);
+  LONGS_EQUAL(1, data.passes.size());
+  CHECK(data.done.has_value());
+  LONGS_EQUAL(1, data.done->scan_id);
+  LONGS_EQUAL(3, data.points.size());
+}
+
 TEST(ScanFile, RefusesASecondRequestInTheMiddleOfAPass) {
   {
     dg::host::ScanFileWriter writer(path);
