@@ -198,6 +198,27 @@ RefinementPlan plan_refinement(const std::vector<Point3>& points, const Sampling
     }
     runs_of(missing, [&](int64_t i, int64_t step, int count) { add(false, i, j, step, count); });
   }
+  // Each run goes towards +x or +y from its start: the next is the one whose start is nearest the
+  // end of the last, from the coarse grid's far corner, where its pass ended.
+  std::vector<SampleRun> ordered;
+  ordered.reserve(plan.runs.size());
+  std::vector<bool> taken(plan.runs.size(), false);
+  double at_x = grid.x1_mm, at_y = grid.y1_mm;
+  for (size_t n = 0; n < plan.runs.size(); ++n) {
+    size_t best = 0;
+    double best_d = HUGE_VAL;
+    for (size_t k = 0; k < plan.runs.size(); ++k) {
+      if (taken[k]) continue;
+      const double d = std::hypot(plan.runs[k].x0_mm - at_x, plan.runs[k].y0_mm - at_y);
+      if (d < best_d) best_d = d, best = k;
+    }
+    taken[best] = true;
+    const SampleRun& run = plan.runs[best];
+    at_x = run.x0_mm + (run.along_y ? 0 : (run.count - 1) * run.step_mm);
+    at_y = run.y0_mm + (run.along_y ? (run.count - 1) * run.step_mm : 0);
+    ordered.push_back(run);
+  }
+  plan.runs = std::move(ordered);
   return plan;
 }
 

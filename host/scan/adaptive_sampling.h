@@ -28,7 +28,7 @@ struct SampleRun {
 };
 
 struct RefinementPlan {
-  std::vector<SampleRun> runs;  // the new points: new columns first (left to right), then new rows
+  std::vector<SampleRun> runs;  // the new points, each run's start the nearest to the last one's end
   size_t new_points = 0;
   size_t columns = 0, rows = 0;          // of the grid measured so far
   size_t new_columns = 0, new_rows = 0;  // the plan adds
