@@ -88,10 +88,9 @@ AdaptiveResult refine_scan(Session& session, ScanSink& file, const std::string& 
         if (std::fabs(fit.distances[k]) > std::fabs(fit.distances[worst])) worst = k;
       }
       if (!fit.distances.empty() && std::fabs(fit.distances[worst]) > adaptive.tolerance_mm) failures.push_back(cloud.points[worst]);
-      if (fit.validation.checked && !fit.validation.passed) {
-        failures.push_back(fit.validation.held_out_worst);
-        if (fit.validation.range_excess_max_mm > 0) failures.push_back(fit.validation.range_worst);
-      }
+      // The validation's worst places, where it measured any (a fit it could not validate names none).
+      if (fit.validation.checked && fit.validation.held_out_max_mm > adaptive.tolerance_mm) failures.push_back(fit.validation.held_out_worst);
+      if (fit.validation.checked && fit.validation.range_excess_max_mm > 0) failures.push_back(fit.validation.range_worst);
       result.last = plan_refinement(points, grid, adaptive.tolerance_mm, failures);
       if (result.last.runs.empty()) return result;
     }
