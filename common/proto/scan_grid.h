@@ -2,6 +2,7 @@
 // host that counts it.
 #pragma once
 #include <cstdint>
+#include <cstring>
 
 #include "digitizer.pb.h"
 
@@ -21,6 +22,16 @@ struct ScanGrid {
 // How fast a dial gauge's plunger falls after a part that drops away, when a fly scan's request
 // does not say (ScanRequest.plunger_follow_um_s): 50 mm/s.
 constexpr uint32_t kDefaultPlungerFollowUmS = 50000;
+
+// The request's mode as sent: nanopb stores any number from the wire in the enum field, and
+// reading a number the enum does not name through its type is undefined, so it is copied out.
+inline int32_t scan_mode_number(const digitizer_ScanRequest& request) {
+  int32_t mode = 0;
+  static_assert(sizeof(request.mode) == sizeof(mode), "nanopb stores an enum in 32 bits");
+  std::memcpy(&mode, &request.mode, sizeof mode);
+  return mode;
+}
+inline bool flies(const digitizer_ScanRequest& request) { return scan_mode_number(request) == digitizer_ScanMode_SCAN_MODE_FLY; }
 
 // False when the request has no extent, max < min, or a zero step.
 bool scan_grid(const digitizer_ScanRequest& request, ScanGrid* grid);

@@ -50,9 +50,9 @@ digitizer_FaultCode ScanEngine::start(const digitizer_ScanRequest& request, uint
     *reason = "scan extent outside the table";
     return digitizer_FaultCode_FAULT_SOFT_LIMIT;
   }
-  const bool fly = request.mode == digitizer_ScanMode_SCAN_MODE_FLY;
+  const bool fly = flies(request);
   if (fly && (*reason = fly_refusal(request)) != nullptr) return digitizer_FaultCode_FAULT_BAD_REQUEST;
-  if (!fly && request.mode != digitizer_ScanMode_SCAN_MODE_STOP) {
+  if (!fly && scan_mode_number(request) != digitizer_ScanMode_SCAN_MODE_STOP) {
     *reason = "unknown scan mode";
     return digitizer_FaultCode_FAULT_BAD_REQUEST;
   }

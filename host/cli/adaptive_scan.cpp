@@ -6,6 +6,7 @@
 #include <random>
 #include <stdexcept>
 
+#include "common/proto/scan_grid.h"
 #include "host/fit/one_surface_fit.h"
 #include "host/scan/point_reader.h"
 #include "host/scan/scan_file.h"
@@ -13,7 +14,7 @@
 namespace dg::host {
 
 std::string adaptive_refusal(const digitizer_ScanRequest& request) {
-  if (request.mode == digitizer_ScanMode_SCAN_MODE_FLY) return "--adaptive refines a stop-and-go grid (not --mode fly)";
+  if (flies(request)) return "--adaptive refines a stop-and-go grid (not --mode fly)";
   if (request.reference_every_lines > 0) return "--adaptive and --reference-every do not go together (the passes are short)";
   if (request.step_x_nm != request.step_y_nm) return "--adaptive halves one step along both axes: give one --step for both";
   return "";

@@ -13,6 +13,7 @@
 #include <optional>
 #include <random>
 
+#include "common/proto/scan_grid.h"
 #include "host/cli/adaptive_scan.h"
 #include "host/cli/progress.h"
 #include "host/cli/units.h"
@@ -359,7 +360,7 @@ int run_scan(const ScanArgs& a) {
     request.probe = caliper_only ? digitizer_ProbeType_PROBE_CALIPER_24BIT : digitizer_ProbeType_PROBE_DIGIMATIC;
   }
   // A device that does not know the mode would ignore it and stop at every point.
-  if (request.mode == digitizer_ScanMode_SCAN_MODE_FLY && (device.capabilities & digitizer_Capability_CAP_FLY_SCAN) == 0) {
+  if (flies(request) && (device.capabilities & digitizer_Capability_CAP_FLY_SCAN) == 0) {
     throw std::runtime_error(std::string("device ") + device.device_id + " cannot scan on the fly (its firmware is older): use --mode stop");
   }
   if (!a.quiet) {

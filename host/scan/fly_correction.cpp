@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <tuple>
 
+#include "common/proto/scan_grid.h"
+
 namespace dg::host {
 namespace {
 
@@ -171,7 +173,7 @@ double median_of(std::vector<double> v) {
 
 std::optional<FlyCorrection> correct_fly_scan(ScanData& scan, std::vector<double>* sigma_mm, const std::string& name,
                                               bool drop_lifted) {
-  if (!scan.request || scan.request->mode != digitizer_ScanMode_SCAN_MODE_FLY) return std::nullopt;
+  if (!scan.request || !flies(*scan.request)) return std::nullopt;
   std::vector<FlyLine> lines;
   std::vector<uint32_t> line_numbers;
   for (size_t i = 0; i < scan.points.size(); ++i) {

@@ -14,7 +14,7 @@ namespace dg::host {
 std::string reading_settings(const digitizer_ScanRequest& r) {
   char part[128];
   std::string out;
-  if (r.mode == digitizer_ScanMode_SCAN_MODE_FLY) {
+  if (flies(r)) {
     std::snprintf(part, sizeof part, "on the fly: one reading per point while the table moves, the feed from the gauge's cycle");
     out += part;
     if (r.feed_um_s) {
@@ -78,7 +78,7 @@ std::vector<std::string> scan_facts(const ScanData& data) {
     facts.push_back("repeatability: not measured before the scan (scan --repeatability N)");
   }
   // On the fly: the latch delay the lines measured and the readings taken in the air.
-  if (data.request && data.request->mode == digitizer_ScanMode_SCAN_MODE_FLY) {
+  if (data.request && flies(*data.request)) {
     try {
       ScanData corrected = data;
       if (const auto fly = correct_fly_scan(corrected, nullptr, "the scan", false)) facts.push_back("scanned " + fly_summary(*fly));

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <vector>
 
 #include "tests/support/scan_request.h"
@@ -153,7 +154,8 @@ TEST(FlyScan, RefusesWhatOnlyStopAndGoCanDo) {
   references.reference_every_lines = 1;
   LONGS_EQUAL(digitizer_FaultCode_FAULT_BAD_REQUEST, rig.scan.start(references, 1, 10000, &reason));
   digitizer_ScanRequest unknown = fly_lines(10, 2);
-  unknown.mode = static_cast<digitizer_ScanMode>(7);
+  const int32_t seven = 7;  // a mode the enum does not name, as it could come off the wire
+  std::memcpy(&unknown.mode, &seven, sizeof seven);
   LONGS_EQUAL(digitizer_FaultCode_FAULT_BAD_REQUEST, rig.scan.start(unknown, 1, 10000, &reason));
 }
 
