@@ -3,6 +3,7 @@
 #pragma once
 #include <cstdint>
 #include <cstring>
+#include <type_traits>
 
 #include "digitizer.pb.h"
 
@@ -26,10 +27,11 @@ constexpr uint32_t kDefaultPlungerFollowUmS = 50000;
 // The request's mode as sent: nanopb stores any number from the wire in the enum field, and
 // reading a number the enum does not name through its type is undefined, so it is copied out.
 inline int32_t scan_mode_number(const digitizer_ScanRequest& request) {
-  int32_t mode = 0;
-  static_assert(sizeof(request.mode) == sizeof(mode), "nanopb stores an enum in 32 bits");
+  // The enum's own size: 4 bytes on the host, 1 where the compiler packs enums (arm-none-eabi).
+  std::underlying_type_t<digitizer_ScanMode> mode = 0;
+  static_assert(sizeof(request.mode) == sizeof(mode), "the field is stored in the enum's underlying type");
   std::memcpy(&mode, &request.mode, sizeof mode);
-  return mode;
+  return static_cast<int32_t>(mode);
 }
 inline bool flies(const digitizer_ScanRequest& request) { return scan_mode_number(request) == digitizer_ScanMode_SCAN_MODE_FLY; }
 

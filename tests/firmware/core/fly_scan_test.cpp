@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <type_traits>
 #include <vector>
 
 #include "tests/support/scan_request.h"
@@ -154,7 +155,7 @@ TEST(FlyScan, RefusesWhatOnlyStopAndGoCanDo) {
   references.reference_every_lines = 1;
   LONGS_EQUAL(digitizer_FaultCode_FAULT_BAD_REQUEST, rig.scan.start(references, 1, 10000, &reason));
   digitizer_ScanRequest unknown = fly_lines(10, 2);
-  const int32_t seven = 7;  // a mode the enum does not name, as it could come off the wire
+  const std::underlying_type_t<digitizer_ScanMode> seven = 7;  // a mode the enum does not name, as off the wire
   std::memcpy(&unknown.mode, &seven, sizeof seven);
   LONGS_EQUAL(digitizer_FaultCode_FAULT_BAD_REQUEST, rig.scan.start(unknown, 1, 10000, &reason));
 }
