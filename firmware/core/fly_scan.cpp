@@ -79,7 +79,7 @@ bool ScanEngine::offer_fly_point(PointSink& sink) {
 void ScanEngine::take_fly_reading(int64_t value_nm) {
   // Readings requested in the run-up or the run-out are outside the scan; flying a line again,
   // so are the ones short of its gap.
-  if ((fly_req_x_ < fly_lo_steps_ || fly_req_x_ > fly_hi_steps_)) return;
+  if (fly_req_x_ < fly_lo_steps_ || fly_req_x_ > fly_hi_steps_) return;
   if (fly_again_ && (fly_dir_ > 0 ? fly_req_x_ <= fly_gap_from_ : fly_req_x_ >= fly_gap_from_)) return;
   fly_again_ = false;  // past the gap: what follows is this flight's own
   PointSample point{};
@@ -96,8 +96,7 @@ void ScanEngine::take_fly_reading(int64_t value_nm) {
     if (fell_nm > 0 && static_cast<uint64_t>(fell_nm) * 1000u * 5u >= uint64_t{plunger_um_s_} * 4u * dt_us) {
       point.flags |= digitizer_PointFlag_POINT_LIFTED;
     }
-    pending_ = fly_point_;
-    pending_.seq = next_seq_;
+    pend_held_point(0);
     fly_waiting_ = true;  // offered by poll_fly
   }
   fly_first_ = false;
@@ -117,10 +116,7 @@ void ScanEngine::end_fly_line(PointSink& sink) {
     return;
   }
   if (fly_held_) {
-    pending_ = fly_point_;
-    pending_.seq = next_seq_;
-    pending_.flags |= digitizer_PointFlag_POINT_LINE_END;
-    fly_held_ = false;
+    pend_held_point(digitizer_PointFlag_POINT_LINE_END);
     if (!offer_fly_point(sink)) return;  // the next poll offers it again, then ends the line
   }
   end_line();
@@ -142,10 +138,7 @@ void ScanEngine::poll_fly(PointSink& sink) {
       fly_waiting_ = false;
       holding_ = true;
     } else if (fly_held_) {
-      pending_ = fly_point_;
-      pending_.seq = next_seq_;
-      pending_.flags |= digitizer_PointFlag_POINT_LINE_END;
-      fly_held_ = false;
+      pend_held_point(digitizer_PointFlag_POINT_LINE_END);
       holding_ = true;
     }
     finish(digitizer_ScanEnd_SCAN_ABORTED, digitizer_FaultCode_FAULT_NONE);

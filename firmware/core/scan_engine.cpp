@@ -270,10 +270,7 @@ void ScanEngine::poll(PointSink& sink) {
             count_emitted();
           }
           if (fly_held_) {
-            pending_ = fly_point_;
-            pending_.seq = next_seq_;
-            pending_.flags |= digitizer_PointFlag_POINT_LINE_END;
-            fly_held_ = false;
+            pend_held_point(digitizer_PointFlag_POINT_LINE_END);
             holding_ = true;
           }
         }

@@ -115,6 +115,13 @@ class ScanEngine {
   void take_fly_reading(int64_t value_nm);
   // Offers pending_ to the sink; false (and fly_waiting_) while it has no room.
   bool offer_fly_point(PointSink& sink);
+  // The held point becomes pending_ (numbered next, with `flags` added); it is held no longer.
+  void pend_held_point(uint32_t flags) {
+    pending_ = fly_point_;
+    pending_.seq = next_seq_;
+    pending_.flags |= flags;
+    fly_held_ = false;
+  }
   // The held point goes out as the line's last; then the next line, or the end. A line with a gap
   // is flown again first, once the sink has room.
   void end_fly_line(PointSink& sink);

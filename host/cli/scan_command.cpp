@@ -161,7 +161,7 @@ void print_adaptive(const AdaptiveResult& rounds, double tolerance_mm) {
     std::printf("adaptive: the readings' noise (sigma %.4f mm) alone makes a point miss its neighbours' prediction by up to "
                 "%.4f mm, near or over the tolerance %.4f mm: more points cannot help (average --samples, filter, or give a "
                 "larger tolerance)\n",
-                last.noise_sigma_mm, 3 * 1.39 * last.noise_sigma_mm, tolerance_mm);
+                last.noise_sigma_mm, last.noise_miss_mm, tolerance_mm);
   } else if (last.intervals_at_min > 0) {
     std::printf("adaptive: at the finest step (--min-step) points are still predicted worse than %.4f mm by their neighbours "
                 "(worst %.4f mm at %.3f, %.3f)\n",
@@ -313,7 +313,9 @@ int run_scan(const ScanArgs& a) {
     request = *stored->request;
     if (stored->passes.size() > 1) {
       stored->points.erase(stored->points.begin(), stored->points.begin() + static_cast<std::ptrdiff_t>(stored->last_pass_first_point));
-      stored->lines.clear();  // a pass is one line: its LineDone, if any, came with its end
+      // Only the last pass's points are the device's to resend; the earlier passes' LineDones are
+      // not its lines (an adaptive file's lines are counted from its rows).
+      stored->lines.clear();
     }
   } else {
     request = request_from(a);

@@ -10,7 +10,14 @@ ToleranceResult fit_one_surface(const PointCloud& cloud, double tolerance_mm, Pa
   *params = parameterize(cloud, Parameterization::kTableXy);
   std::vector<double> weights;
   if (cloud.sigma) {
-    for (double s : *cloud.sigma) weights.push_back(1.0 / (s * s));
+    for (double s : *cloud.sigma) {
+      if (!(s > 0)) {
+        ToleranceResult refused;
+        refused.reason = "a point's sigma is not positive: it cannot weight the fit";
+        return refused;
+      }
+      weights.push_back(1.0 / (s * s));
+    }
   }
   *creases = detect_creases(cloud, *params, estimate_noise(cloud, *params));
   ToleranceOptions options;

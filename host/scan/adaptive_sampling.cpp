@@ -135,7 +135,8 @@ RefinementPlan plan_refinement(const std::vector<Point3>& points, const Sampling
     }
     plan.noise_sigma_mm = difference_noise_sigma(xyz, sequences);
     constexpr double kCubicNoiseGain = 1.39;  // sqrt(1 + (1 + 16 + 16 + 1) / 36)
-    if (3 * kCubicNoiseGain * plan.noise_sigma_mm >= tolerance_mm) {
+    plan.noise_miss_mm = 3 * kCubicNoiseGain * plan.noise_sigma_mm;
+    if (plan.noise_miss_mm >= tolerance_mm) {
       plan.noise_limited = true;
       plan.columns = columns.size();
       plan.rows = rows.size();

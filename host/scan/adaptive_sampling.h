@@ -38,6 +38,7 @@ struct RefinementPlan {
   double worst_mm = 0;          // the largest held-out prediction error of any point
   Point3 worst_at{};            // that point
   double noise_sigma_mm = 0;    // the readings' noise along the rows (fifth differences)
+  double noise_miss_mm = 0;     // what that noise alone makes a held-out point miss by: 3 x 1.39 sigma
   // The noise alone makes a held-out point miss by 3 times 1.39 sigma (the cubic's weights) or more
   // than the tolerance: sampling more cannot bring the prediction within it, and the plan is empty.
   bool noise_limited = false;

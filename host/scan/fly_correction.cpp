@@ -15,10 +15,10 @@ namespace {
 
 bool lifted(const PointSample& p) { return (p.flags & digitizer_PointFlag_POINT_LIFTED) != 0; }
 
-// One line's points in time order: where the table was at each request (fitted), its speed there.
+// One line's points in time order: where the table was at each request, its speed there.
 struct FlyLine {
   std::vector<size_t> index;   // into scan.points
-  std::vector<double> x_mm;    // the fitted position at the request
+  std::vector<double> x_mm;    // the table's position at the request
   std::vector<double> v_mm_s;  // the line's speed there (signed)
   std::vector<double> z_mm;
   std::vector<bool> usable;    // not lifted
@@ -31,7 +31,7 @@ struct FlyLine {
 // that the position `delay` later is interpolated between two requests of one flight, which
 // follows the table as it speeds up or slows down at a line's end as well as at constant feed. A
 // point with neither neighbour in its flight takes the line's median speed.
-void fit_positions(const std::vector<PointSample>& points, FlyLine* line) {
+void positions_and_speeds(const std::vector<PointSample>& points, FlyLine* line) {
   const size_t n = line->index.size();
   line->x_mm.resize(n);
   line->v_mm_s.assign(n, 0.0);
@@ -199,7 +199,7 @@ std::optional<FlyCorrection> correct_fly_scan(ScanData& scan, std::vector<double
   std::vector<FlyLine> measured;  // lines of at least three points
   std::vector<double> dt_s, spacing_mm, feed_mm_s;
   for (auto& line : lines) {
-    fit_positions(scan.points, &line);
+    positions_and_speeds(scan.points, &line);
     for (size_t i = 1; i < line.index.size(); ++i) {
       dt_s.push_back(static_cast<double>(scan.points[line.index[i]].t_us - scan.points[line.index[i - 1]].t_us) * 1e-6);
       spacing_mm.push_back(std::fabs(line.x_mm[i] - line.x_mm[i - 1]));
