@@ -198,10 +198,12 @@ struct NormalSystem {
   std::unique_ptr<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower>> solver;
 };
 
-NormalSystem assemble(const std::vector<Point3>& points, const Parameters& params, const std::vector<double>* weights,
-                      const LsqSpec& spec) {
-  NormalSystem system;
-  BSplineSurface& s = system.shape;
+// The net of `spec`, checked against points whose distinct sites `sites` holds (`point_count` of
+// them): degrees, knots and counts, no control points yet; for a region's net (fill_outside) the
+// control points left outside into *outside. Throws FitError where the points cannot determine it.
+BSplineSurface checked_shape(const LsqSpec& spec, size_t point_count, const SiteIndex& sites, const Parameters& params,
+                             std::vector<char>* outside) {
+  BSplineSurface s;
   s.degree_u = spec.degree_u;
   s.degree_v = spec.degree_v;
   s.knots_u = spec.knots_u;
@@ -213,17 +215,14 @@ NormalSystem assemble(const std::vector<Point3>& points, const Parameters& param
   }
   if (s.count_u <= s.degree_u || s.count_v <= s.degree_v) throw FitError("a net needs at least degree + 1 control points per direction");
   const size_t unknowns = static_cast<size_t>(s.count_u) * s.count_v;
-  std::optional<SiteIndex> own_index;
-  const SiteIndex& sites =
-      spec.sites && &spec.sites->uv() == &params.uv ? *spec.sites : own_index.emplace(params.uv, spec.fill_outside);
-  std::vector<char> outside;
   size_t fitted = unknowns;
+  outside->clear();
   if (spec.fill_outside) {
-    outside = outside_control_points(s.knots_u, s.degree_u, s.knots_v, s.degree_v, sites, spec.outside_below);
-    fitted = static_cast<size_t>(std::count(outside.begin(), outside.end(), 0));
+    *outside = outside_control_points(s.knots_u, s.degree_u, s.knots_v, s.degree_v, sites, spec.outside_below);
+    fitted = static_cast<size_t>(std::count(outside->begin(), outside->end(), 0));
   }
-  if (points.size() < fitted) {
-    throw FitError("not enough points: " + std::to_string(points.size()) + " points for " + std::to_string(s.count_u) +
+  if (point_count < fitted) {
+    throw FitError("not enough points: " + std::to_string(point_count) + " points for " + std::to_string(s.count_u) +
                    " x " + std::to_string(s.count_v) + " control points");
   }
   check_memory(static_cast<int>(unknowns), s.degree_u * s.count_v + s.degree_v, s.count_u, s.count_v);
@@ -232,41 +231,56 @@ NormalSystem assemble(const std::vector<Point3>& points, const Parameters& param
     check_support(s.knots_v, s.degree_v, s.count_v, sites.sites_v(), false, params);
   }
   const std::string problem = net_support_problem(s.knots_u, s.degree_u, s.knots_v, s.degree_v, sites, params,
-                                                  spec.fill_outside ? &outside : nullptr);
+                                                  spec.fill_outside ? outside : nullptr);
   if (!problem.empty()) throw FitError("the points cannot determine this net: " + problem);
+  return s;
+}
 
+// Every point of a cell (a pair of knot spans) touches the same m unknowns, so each cell sums its
+// points' products in a small dense block of its own, contiguous and vectorisable, and the blocks
+// go into the band at the end. The blocks take about as much memory as the band for nets of
+// 40 x 40 and less for larger ones. A block: the lower triangle of the m x m products, then m x 3
+// right-hand sides.
+size_t block_size(const BSplineSurface& s) {
+  const size_t m = static_cast<size_t>(s.degree_u + 1) * (s.degree_v + 1);
+  return m * (m + 1) / 2 + m * 3;
+}
+size_t blocks_total(const BSplineSurface& s) {
+  return static_cast<size_t>(s.count_u - s.degree_u) * (s.count_v - s.degree_v) * block_size(s);
+}
+
+// Each group's sums of its points' products, cell by cell: point k belongs to group group_of(k)
+// in [0, groups), or to none when that is negative.
+template <typename GroupOf>
+std::vector<std::vector<double>> cell_sums(const std::vector<Point3>& points, const Parameters& params,
+                                           const std::vector<double>* weights, const BSplineSurface& s, int groups,
+                                           GroupOf group_of) {
   const bool height_field = params.kind == Parameterization::kTableXy;
   const int rhs_count = height_field ? 1 : 3;
-  const int n = static_cast<int>(unknowns);
-  const int width = s.degree_u * s.count_v + s.degree_v;
-  Band band(n, width);
-  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n, rhs_count);
-  const int pu = s.degree_u + 1, pv = s.degree_v + 1, m = pu * pv;
-  // Every point of a cell (a pair of knot spans) touches the same m unknowns, so each cell sums its
-  // points' products in a small dense block of its own, contiguous and vectorisable, and the blocks
-  // go into the band at the end. The blocks take about as much memory as the band for nets of
-  // 40 x 40 and less for larger ones.
-  const int cells_u = s.count_u - s.degree_u, cells_v = s.count_v - s.degree_v;
-  const size_t block_size = static_cast<size_t>(m) * (m + 1) / 2 + static_cast<size_t>(m) * 3;
-  const size_t blocks_total = static_cast<size_t>(cells_u) * cells_v * block_size;
+  const int m = (s.degree_u + 1) * (s.degree_v + 1);
+  const int cells_v = s.count_v - s.degree_v;
+  const size_t size = block_size(s), total = blocks_total(s) * static_cast<size_t>(groups);
   // Large scans: fixed slices of the points, each summed into blocks of its own on whichever core
   // takes it, then added in slice order, so the sums do not depend on the number of threads. At
   // most 8 slices, 64 MB of blocks, and one slice per 64k points (a small scan is one slice).
   const size_t slices = std::clamp<size_t>(
-      std::min<size_t>(points.size() / 65536, (size_t{64} << 20) / (blocks_total * sizeof(double) + 1)), 1, 8);
+      std::min<size_t>(points.size() / 65536, (size_t{64} << 20) / (total * sizeof(double) + 1)), 1, 8);
   std::vector<std::vector<double>> slice_blocks(slices);
   parallel_for(slices, [&](size_t first, size_t last, unsigned) {
     for (size_t slice = first; slice < last; ++slice) {
       std::vector<double>& blocks = slice_blocks[slice];
-      blocks.assign(blocks_total, 0.0);
+      blocks.assign(total, 0.0);
       const size_t begin = points.size() * slice / slices, end = points.size() * (slice + 1) / slices;
       for (size_t k = begin; k < end; ++k) {
+        const int group = group_of(k);
+        if (group < 0) continue;
         const double w = weights ? (*weights)[k] : 1.0;
         double c[kMaxBasis * kMaxBasis];
         const Cell cell = tensor_basis(s, params.uv[k].u, params.uv[k].v, c);
         const Point3& p = points[k];
         const double value[3] = {height_field ? p.z : p.x, p.y, p.z};
-        double* row = &blocks[(static_cast<size_t>(cell.u) * cells_v + cell.v) * block_size];
+        double* row = &blocks[static_cast<size_t>(group) * (total / static_cast<size_t>(groups)) +
+                              (static_cast<size_t>(cell.u) * cells_v + cell.v) * size];
         double* block_rhs = row + static_cast<size_t>(m) * (m + 1) / 2;
         for (int a = 0; a < m; ++a) {
           const double wc = w * c[a];
@@ -279,13 +293,36 @@ NormalSystem assemble(const std::vector<Point3>& points, const Parameters& param
   }, 1);
   std::vector<double>& blocks = slice_blocks[0];
   for (size_t slice = 1; slice < slices; ++slice) {
-    for (size_t e = 0; e < blocks_total; ++e) blocks[e] += slice_blocks[slice][e];
+    for (size_t e = 0; e < total; ++e) blocks[e] += slice_blocks[slice][e];
   }
+  std::vector<std::vector<double>> sums(static_cast<size_t>(groups));
+  for (int g = 0; g < groups; ++g) {
+    const auto from = blocks.begin() + static_cast<std::ptrdiff_t>(static_cast<size_t>(g) * (total / static_cast<size_t>(groups)));
+    sums[static_cast<size_t>(g)].assign(from, from + static_cast<std::ptrdiff_t>(total / static_cast<size_t>(groups)));
+  }
+  return sums;
+}
+
+// The normal equations of `shape` from its cells' sums, reduced by the ramps' elimination and
+// factorized.
+NormalSystem solve_system(const BSplineSurface& shape, const std::vector<double>& blocks, const std::vector<char>& outside,
+                          bool fill_outside, const SiteIndex& sites, bool height_field) {
+  NormalSystem system;
+  system.shape = shape;
+  const BSplineSurface& s = system.shape;
+  const int rhs_count = height_field ? 1 : 3;
+  const int n = s.count_u * s.count_v;
+  const int width = s.degree_u * s.count_v + s.degree_v;
+  Band band(n, width);
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n, rhs_count);
+  const int pu = s.degree_u + 1, pv = s.degree_v + 1, m = pu * pv;
+  const int cells_u = s.count_u - s.degree_u, cells_v = s.count_v - s.degree_v;
+  const size_t size = block_size(s);
   // Block unknown a of cell (cu, cv) is control point (cu + a / pv, cv + a % pv); indices ascend with
   // a, so (a, b <= a) lies in the lower band.
   for (int cu = 0; cu < cells_u; ++cu) {
     for (int cv = 0; cv < cells_v; ++cv) {
-      const double* row = &blocks[(static_cast<size_t>(cu) * cells_v + cv) * block_size];
+      const double* row = &blocks[(static_cast<size_t>(cu) * cells_v + cv) * size];
       const double* block_rhs = row + static_cast<size_t>(m) * (m + 1) / 2;
       int index[kMaxBasis * kMaxBasis];
       for (int a = 0; a < m; ++a) index[a] = (cu + a / pv) * s.count_v + (cv + a % pv);
@@ -296,7 +333,7 @@ NormalSystem assemble(const std::vector<Point3>& points, const Parameters& param
       }
     }
   }
-  if (spec.fill_outside && std::count(outside.begin(), outside.end(), 1) > 0) add_membrane(band, s, outside);
+  if (fill_outside && std::count(outside.begin(), outside.end(), 1) > 0) add_membrane(band, s, outside);
   // No regularization: a net the points do not determine is refused, not smoothed into shape. The
   // pivots of the factorization say whether it is determined; one far below the largest (relative
   // to the rounding of a double over the matrix's size) means a control point the data leaves free.
@@ -332,21 +369,26 @@ NormalSystem assemble(const std::vector<Point3>& points, const Parameters& param
   return system;
 }
 
-}  // namespace
+NormalSystem assemble(const std::vector<Point3>& points, const Parameters& params, const std::vector<double>* weights,
+                      const LsqSpec& spec) {
+  std::optional<SiteIndex> own_index;
+  const SiteIndex& sites =
+      spec.sites && &spec.sites->uv() == &params.uv ? *spec.sites : own_index.emplace(params.uv, spec.fill_outside);
+  std::vector<char> outside;
+  const BSplineSurface shape = checked_shape(spec, points.size(), sites, params, &outside);
+  const std::vector<std::vector<double>> sums = cell_sums(points, params, weights, shape, 1, [](size_t) { return 0; });
+  return solve_system(shape, sums[0], outside, spec.fill_outside, sites, params.kind == Parameterization::kTableXy);
+}
 
-BSplineSurface fit_least_squares(const std::vector<Point3>& points, const Parameters& params,
-                                 const std::vector<double>* weights, const LsqSpec& spec) {
-  NormalSystem system = assemble(points, params, weights, spec);
+// The system's solution as the net's control points.
+BSplineSurface solved_surface(const NormalSystem& system, const Parameters& params) {
   BSplineSurface s = system.shape;
   const bool height_field = params.kind == Parameterization::kTableXy;
   const size_t unknowns = static_cast<size_t>(s.count_u) * s.count_v;
   auto& solver = *system.solver;
   const Eigen::MatrixXd reduced_solution = solver.solve(system.rhs);
-  const bool eliminate = system.eliminate;
-  const Eigen::SparseMatrix<double>& map = system.map;
   if (solver.info() != Eigen::Success || !reduced_solution.allFinite()) throw FitError("solving the normal equations failed");
-  const Eigen::MatrixXd solution = eliminate ? Eigen::MatrixXd(map * reduced_solution) : reduced_solution;
-
+  const Eigen::MatrixXd solution = system.eliminate ? Eigen::MatrixXd(system.map * reduced_solution) : reduced_solution;
   s.control.resize(unknowns);
   for (int i = 0; i < s.count_u; ++i) {
     for (int j = 0; j < s.count_v; ++j) {
@@ -364,6 +406,68 @@ BSplineSurface fit_least_squares(const std::vector<Point3>& points, const Parame
   return s;
 }
 
+}  // namespace
+
+BSplineSurface fit_least_squares(const std::vector<Point3>& points, const Parameters& params,
+                                 const std::vector<double>* weights, const LsqSpec& spec) {
+  return solved_surface(assemble(points, params, weights, spec), params);
+}
+
+std::vector<FoldRefit> fit_least_squares_by_folds(const std::vector<Point3>& points, const Parameters& params,
+                                                  const std::vector<double>* weights, const LsqSpec& spec,
+                                                  const std::vector<int>& fold,
+                                                  const std::vector<const SiteIndex*>& kept_sites,
+                                                  size_t one_pass_bytes) {
+  const int folds = static_cast<int>(kept_sites.size());
+  std::vector<FoldRefit> refits(static_cast<size_t>(folds));
+  std::vector<size_t> held(static_cast<size_t>(folds), 0);
+  for (int f : fold) {
+    if (f >= 0 && f < folds) ++held[static_cast<size_t>(f)];
+  }
+  // Each fold's checks first: a net its remaining points cannot determine is its answer.
+  std::vector<BSplineSurface> shapes(static_cast<size_t>(folds));
+  std::vector<std::vector<char>> outside(static_cast<size_t>(folds));
+  std::vector<char> ready(static_cast<size_t>(folds), 0);
+  for (int f = 0; f < folds; ++f) {
+    try {
+      shapes[static_cast<size_t>(f)] = checked_shape(spec, points.size() - held[static_cast<size_t>(f)],
+                                                     *kept_sites[static_cast<size_t>(f)], params, &outside[static_cast<size_t>(f)]);
+      ready[static_cast<size_t>(f)] = 1;
+    } catch (const FitError& e) {
+      refits[static_cast<size_t>(f)].error = e.what();
+    }
+  }
+  if (std::count(ready.begin(), ready.end(), 1) == 0) return refits;
+  const BSplineSurface& shape = shapes[static_cast<size_t>(std::find(ready.begin(), ready.end(), 1) - ready.begin())];
+  const bool height_field = params.kind == Parameterization::kTableXy;
+  // Group f + 1 holds fold f's points, group 0 those of no fold. A fold's refit sums every group
+  // but its own, all from one pass over the points.
+  const int groups = folds + 1;
+  const bool one_pass = blocks_total(shape) * static_cast<size_t>(groups) * sizeof(double) <= one_pass_bytes;
+  std::vector<std::vector<double>> sums;
+  if (one_pass) sums = cell_sums(points, params, weights, shape, groups, [&](size_t k) { return std::max(fold[k], -1) + 1; });
+  for (int f = 0; f < folds; ++f) {
+    if (!ready[static_cast<size_t>(f)]) continue;
+    std::vector<double> blocks;
+    if (one_pass) {
+      blocks.assign(sums[0].size(), 0.0);
+      for (int g = 0; g < groups; ++g) {
+        if (g == f + 1) continue;
+        for (size_t e = 0; e < blocks.size(); ++e) blocks[e] += sums[static_cast<size_t>(g)][e];
+      }
+    } else {
+      blocks = cell_sums(points, params, weights, shape, 1, [&](size_t k) { return fold[k] == f ? -1 : 0; })[0];
+    }
+    try {
+      const NormalSystem system = solve_system(shapes[static_cast<size_t>(f)], blocks, outside[static_cast<size_t>(f)],
+                                               spec.fill_outside, *kept_sites[static_cast<size_t>(f)], height_field);
+      refits[static_cast<size_t>(f)].surface = solved_surface(system, params);
+    } catch (const FitError& e) {
+      refits[static_cast<size_t>(f)].error = e.what();
+    }
+  }
+  return refits;
+}
 
 namespace {
 

@@ -1,6 +1,7 @@
 // Least-squares B-spline surfaces of any degree for scattered points (Koivunen and Bajcsy 1992, section 5.4).
 #pragma once
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "host/geometry/bspline_surface.h"
@@ -38,6 +39,22 @@ struct LsqSpec {
 // lines or positions can determine), or a vanishing pivot (a hole the net spans).
 BSplineSurface fit_least_squares(const std::vector<Point3>& points, const Parameters& params,
                                  const std::vector<double>* weights, const LsqSpec& spec);
+
+// The net of `spec` fitted again without each validation fold's points (fold[k] = f: point k is
+// left out of refit f; -1: in every refit), all from one pass over the points: the normal equations
+// are sums over the points, so a refit's are the sums of the other folds'. kept_sites[f] indexes
+// the points that remain in refit f (FoldSupport). A refit its points cannot determine comes back
+// with the reason in `error` and no surface. Where the folds' sums would take more than
+// `one_pass_bytes` (very large nets), each refit makes a pass of its own over the points instead.
+struct FoldRefit {
+  BSplineSurface surface;
+  std::string error;
+};
+std::vector<FoldRefit> fit_least_squares_by_folds(const std::vector<Point3>& points, const Parameters& params,
+                                                  const std::vector<double>* weights, const LsqSpec& spec,
+                                                  const std::vector<int>& fold,
+                                                  const std::vector<const SiteIndex*>& kept_sites,
+                                                  size_t one_pass_bytes = size_t{256} << 20);
 
 // The standard uncertainty of the fitted surface from the points' noise: the coefficients' covariance
 // (C^T W C)^-1 (weights 1 / sigma_i^2) or sigma^2 (C^T C)^-1 (no weights, points of standard

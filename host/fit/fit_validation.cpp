@@ -10,6 +10,7 @@
 #include "host/fit/fit_error.h"
 #include "host/fit/knot_support.h"
 #include "host/geometry/closest_point.h"
+#include "host/geometry/curvature_bound.h"
 #include "host/parallel/parallel_for.h"
 #include "host/scan/neighbours.h"
 #include "host/scan/sorted_lines.h"
@@ -58,6 +59,9 @@ struct RangeWorst {
   size_t checks = 0;
   double excess_mm = 0;
   Point3 where{};
+  // A unit whose bound is below this (or below excess_mm) cannot be the worst: it is certified
+  // instead of evaluated. Not merged.
+  double floor_mm = 0;
   // Keeps the first of equal worsts, as one thread going through the units in order would.
   void merge(const RangeWorst& later) {
     checks += later.checks;
@@ -65,32 +69,71 @@ struct RangeWorst {
   }
 };
 
+// Each check compares the surface between some samples with their box widened by the slack. Where
+// the curvature bound and the surface's distance from the samples themselves show that no place
+// between them can leave that box by more than the worst excess found so far, the places are
+// counted as checked and not evaluated: the figures are the same as evaluating every one (a
+// surface within its samples' noise and curvature certifies nearly everywhere, which is what made
+// the check of a million points cost seconds).
 class NeighbourCheck {
  public:
-  NeighbourCheck(const BSplineSurface& surface, const PointCloud& cloud, const Parameters& params, double slack)
-      : surface_(surface), cloud_(cloud), params_(params), slack_(slack) {}
+  NeighbourCheck(const BSplineSurface& surface, const PointCloud& cloud, const Parameters& params, double slack,
+                 bool certify)
+      : surface_(surface), cloud_(cloud), params_(params), slack_(slack), certify_(certify), curvature_(surface),
+        off_(certify ? parameter_distances(surface, cloud.points, params) : std::vector<double>{}) {}
 
   // Samples the surface at `samples` parameters strictly between points a and b; `bulge` is how
   // far a smooth surface through them may rise above their box (from the curvature around them).
   void segment(size_t a, size_t b, int samples, double bulge, RangeWorst& out) const {
+    const UV& p = params_.uv[a];
+    const UV& q = params_.uv[b];
+    if (certify_ && inside(p) && inside(q)) {
+      // Off its chord by at most M h^2 / 8 (M along the segment, h its length).
+      const double h_sq = (q.u - p.u) * (q.u - p.u) + (q.v - p.v) * (q.v - p.v);
+      const double m = curvature_.along_any_direction(p.u, q.u, p.v, q.v);
+      if (certified(std::max(off_[a], off_[b]) + m * h_sq / 8, bulge, out)) {
+        out.checks += static_cast<size_t>(samples);
+        return;
+      }
+    }
     const Point3* corners[2] = {&cloud_.points[a], &cloud_.points[b]};
     for (int k = 1; k <= samples; ++k) {
       const double t = static_cast<double>(k) / (samples + 1);
-      check(lerp(params_.uv[a], params_.uv[b], t), corners, 2, bulge, out);
+      check(lerp(p, q, t), corners, 2, bulge, out);
     }
   }
   // The centre of the cell of four neighbours.
   void cell(size_t a, size_t b, size_t c, size_t d, double bulge, RangeWorst& out) const {
+    const UV* uv[4] = {&params_.uv[a], &params_.uv[b], &params_.uv[c], &params_.uv[d]};
+    const UV centre{(uv[0]->u + uv[1]->u + uv[2]->u + uv[3]->u) / 4, (uv[0]->v + uv[1]->v + uv[2]->v + uv[3]->v) / 4};
+    if (certify_ && inside(*uv[0]) && inside(*uv[1]) && inside(*uv[2]) && inside(*uv[3])) {
+      // Within M/2 times the corners' mean squared distance from the centre of the corners' mean.
+      double u0 = uv[0]->u, u1 = u0, v0 = uv[0]->v, v1 = v0, mean_sq = 0, off = 0;
+      const size_t index[4] = {a, b, c, d};
+      for (int k = 0; k < 4; ++k) {
+        u0 = std::min(u0, uv[k]->u), u1 = std::max(u1, uv[k]->u), v0 = std::min(v0, uv[k]->v), v1 = std::max(v1, uv[k]->v);
+        mean_sq += ((uv[k]->u - centre.u) * (uv[k]->u - centre.u) + (uv[k]->v - centre.v) * (uv[k]->v - centre.v)) / 4;
+        off = std::max(off, off_[index[k]]);
+      }
+      if (certified(off + curvature_.along_any_direction(u0, u1, v0, v1) * mean_sq / 2, bulge, out)) {
+        ++out.checks;
+        return;
+      }
+    }
     const Point3* corners[4] = {&cloud_.points[a], &cloud_.points[b], &cloud_.points[c], &cloud_.points[d]};
-    const UV& p = params_.uv[a];
-    const UV& q = params_.uv[b];
-    const UV& r = params_.uv[c];
-    const UV& s = params_.uv[d];
-    check({(p.u + q.u + r.u + s.u) / 4, (p.v + q.v + r.v + s.v) / 4}, corners, 4, bulge, out);
+    check(centre, corners, 4, bulge, out);
   }
 
  private:
   static UV lerp(const UV& a, const UV& b, double t) { return {a.u + (b.u - a.u) * t, a.v + (b.v - a.v) * t}; }
+  static bool inside(const UV& p) { return p.u >= 0 && p.u <= 1 && p.v >= 0 && p.v <= 1; }
+  // `reach`: how far the surface may be from the samples' box at the places between them, in
+  // every coordinate. True when that cannot exceed the slack by the worst excess found so far
+  // (strictly less, so an equal excess is still evaluated and the first of equals kept).
+  bool certified(double reach, double bulge, const RangeWorst& out) const {
+    const double bound = reach - (slack_ + bulge);
+    return bound <= 0 || bound < std::max(out.excess_mm, out.floor_mm);
+  }
   void check(const UV& uv, const Point3* const* corners, int count, double bulge, RangeWorst& out) const {
     const Point3 s = surface_.evaluate(std::clamp(uv.u, 0.0, 1.0), std::clamp(uv.v, 0.0, 1.0));
     const double excess = box_excess(s, corners, count, slack_ + bulge);
@@ -104,23 +147,39 @@ class NeighbourCheck {
   const PointCloud& cloud_;
   const Parameters& params_;
   double slack_;
+  bool certify_;
+  CurvatureBound curvature_;
+  std::vector<double> off_;  // each sample's distance from the surface at its own parameters
 };
 
-// Runs unit(i, worst) for i in [0, n) on every core, in fixed blocks of units with a RangeWorst
-// each, and merges the blocks in order into `out`: the figures do not depend on the number of threads.
+// Runs unit(i, worst) for every `stride`-th i in [0, n) on every core, in fixed blocks of units
+// with a RangeWorst each (starting from `floor_mm`), and merges the blocks in order: the figures
+// do not depend on the number of threads.
 template <typename Unit>
-void check_units(size_t n, Unit unit, FitValidation& out) {
+RangeWorst run_units(size_t n, size_t stride, double floor_mm, Unit& unit) {
   constexpr size_t kBlock = 64;
-  std::vector<RangeWorst> worst((n + kBlock - 1) / kBlock);
+  const size_t units = (n + stride - 1) / stride;
+  std::vector<RangeWorst> worst((units + kBlock - 1) / kBlock);
+  for (RangeWorst& w : worst) w.floor_mm = floor_mm;
   parallel_for(worst.size(), [&](size_t begin, size_t end, unsigned) {
     for (size_t b = begin; b < end; ++b) {
-      for (size_t i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i) unit(i, worst[b]);
+      for (size_t i = b * kBlock; i < std::min(units, (b + 1) * kBlock); ++i) unit(i * stride, worst[b]);
     }
   }, 1);
   RangeWorst all;
+  for (const RangeWorst& w : worst) all.merge(w);
+  return all;
+}
+
+// Every unit's checks into `out`. A first look at every 16th unit finds a worst excess that lets
+// the full pass certify most units below it.
+template <typename Unit>
+void check_units(size_t n, Unit unit, FitValidation& out) {
+  const RangeWorst first_look = run_units(n, 16, 0.0, unit);
+  RangeWorst all;
   all.excess_mm = out.range_excess_max_mm;
   all.where = out.range_worst;
-  for (const RangeWorst& w : worst) all.merge(w);
+  all.merge(run_units(n, 1, first_look.excess_mm, unit));
   out.neighbour_checks += all.checks;
   out.range_excess_max_mm = all.excess_mm;
   out.range_worst = all.where;
@@ -128,7 +187,7 @@ void check_units(size_t n, Unit unit, FitValidation& out) {
 
 void check_neighbours(const BSplineSurface& surface, const PointCloud& cloud, const Parameters& params,
                       const ValidationOptions& options, FitValidation& out) {
-  const NeighbourCheck check(surface, cloud, params, options.tolerance_mm);
+  const NeighbourCheck check(surface, cloud, params, options.tolerance_mm, options.certify_by_curvature);
   if (cloud.line) {
     const std::vector<std::vector<size_t>> lines = lines_of(cloud);
     // Each line's points by their parameter along the line, to pair a point with the nearest one
@@ -178,11 +237,12 @@ void check_neighbours(const BSplineSurface& surface, const PointCloud& cloud, co
   // Scattered points: each point and its four nearest neighbours in the parameter plane.
   std::vector<Point3> plane(cloud.points.size());
   for (size_t i = 0; i < plane.size(); ++i) plane[i] = {params.uv[i].u, params.uv[i].v, 0.0};
-  std::vector<std::vector<size_t>> near;
-  nearest_neighbourhoods(plane, 5, near);
-  check_units(near.size(), [&](size_t i, RangeWorst& worst) {
-    for (size_t j : near[i]) {
-      if (j > i) check.segment(i, j, options.samples_between, 0.0, worst);
+  // Taken in the buckets' order, so each point's neighbours are mostly in the cache already.
+  const Neighbourhoods near = nearest_neighbours(plane, 5);
+  check_units(near.order.size(), [&](size_t position, RangeWorst& worst) {
+    const size_t i = near.order[position];
+    for (const size_t* j = near.of(i); j != near.of(i) + near.k; ++j) {
+      if (*j > i) check.segment(i, *j, options.samples_between, 0.0, worst);
     }
   }, out);
 }
@@ -277,32 +337,24 @@ FitValidation validate_fit(const PointCloud& cloud, const Parameters& params, co
   spec.knots_u = surface.knots_u;
   spec.knots_v = surface.knots_v;
   spec.fill_outside = options.fill_outside;
+  // The refits use each fold's index of its remaining points: the caller's, or built here.
+  std::optional<FoldSupport> own_support;
+  if (!support && options.folds >= 1) support = &own_support.emplace(cloud, params, options.folds, options.fill_outside);
+  std::vector<const SiteIndex*> kept_sites;
+  for (int f = 0; f < options.folds; ++f) kept_sites.push_back(&support->kept_sites(f));
+  const std::vector<FoldRefit> refits = fit_least_squares_by_folds(cloud.points, params, weights, spec, fold, kept_sites);
   double sum_sq = 0;
   for (int f = 0; f < options.folds; ++f) {
-    std::vector<Point3> kept;
-    Parameters own_params = params;
-    own_params.uv.clear();
-    std::vector<double> kept_weights;
     std::vector<size_t> held;
     for (size_t i = 0; i < fold.size(); ++i) {
-      if (fold[i] == f) {
-        held.push_back(i);
-        continue;
-      }
-      kept.push_back(cloud.points[i]);
-      if (!support) own_params.uv.push_back(params.uv[i]);
-      if (weights) kept_weights.push_back((*weights)[i]);
+      if (fold[i] == f) held.push_back(i);
     }
-    const Parameters& kept_params = support ? support->kept_params(f) : own_params;
-    spec.sites = support ? &support->kept_sites(f) : nullptr;
     if (held.empty()) continue;
-    BSplineSurface refit;
-    try {
-      refit = fit_least_squares(kept, kept_params, weights ? &kept_weights : nullptr, spec);
-    } catch (const FitError& e) {
+    const FoldRefit& refit = refits[static_cast<size_t>(f)];
+    if (!refit.error.empty()) {
       out.problem = "cannot be validated: with fold " + std::to_string(f + 1) + " of " + std::to_string(options.folds) +
                     (cloud.line ? " (every " + std::to_string(options.folds) + "th scan line)" : "") +
-                    " held out, " + e.what();
+                    " held out, " + refit.error;
       // The folds measured so far are no figure for the fit: none is reported.
       out.held_out_points = 0;
       out.held_out_max_mm = 0;
@@ -312,7 +364,7 @@ FitValidation validate_fit(const PointCloud& cloud, const Parameters& params, co
     parallel_for(held.size(), [&](size_t begin, size_t end, unsigned) {
       for (size_t n = begin; n < end; ++n) {
         const size_t i = held[n];
-        distance[n] = std::fabs(closest_point(refit, cloud.points[i], params.uv[i].u, params.uv[i].v).distance);
+        distance[n] = std::fabs(closest_point(refit.surface, cloud.points[i], params.uv[i].u, params.uv[i].v).distance);
       }
     }, 1024);
     for (size_t n = 0; n < held.size(); ++n) {

@@ -58,21 +58,23 @@ double typical_spacing(size_t points) { return 1.0 / std::max(1.0, std::sqrt(sta
 // million, so the loop first runs on an evenly strided sample of the points and the full set starts
 // from the knots it reached. The full set then confirms (or refines further): the contract is
 // judged on every point as before. The sample has a quarter of options.sample_above points; lines
-// are left out of it, since its points are no longer neighbours along a line.
+// are left out of it, since its points are no longer neighbours along a line. The sample's pass
+// gives knots only (`knots_only`): its surface is neither measured exactly nor validated, since the
+// full set's is.
 ToleranceResult refine(const PointCloud& cloud, const Parameters& params, const std::vector<double>* weights,
-                       const ToleranceOptions& options, bool sample_first);
+                       const ToleranceOptions& options, bool sample_first, bool knots_only);
 
 }  // namespace
 
 ToleranceResult fit_to_tolerance(const PointCloud& cloud, const Parameters& params, const std::vector<double>* weights,
                                  const ToleranceOptions& options) {
-  return refine(cloud, params, weights, options, true);
+  return refine(cloud, params, weights, options, true, false);
 }
 
 namespace {
 
 ToleranceResult refine(const PointCloud& cloud, const Parameters& params, const std::vector<double>* weights,
-                       const ToleranceOptions& options, bool sample_first) {
+                       const ToleranceOptions& options, bool sample_first, bool knots_only) {
   if (!(options.tolerance_mm > 0)) throw FitError("the tolerance must be a positive number of mm");
   std::vector<double> sampled_knots_u, sampled_knots_v;
   int sampled_iterations = 0;
@@ -88,7 +90,7 @@ ToleranceResult refine(const PointCloud& cloud, const Parameters& params, const 
       if (weights) sample_weights.push_back((*weights)[k]);
     }
     try {
-      const ToleranceResult coarse = refine(sample, sample_params, weights ? &sample_weights : nullptr, options, false);
+      const ToleranceResult coarse = refine(sample, sample_params, weights ? &sample_weights : nullptr, options, false, true);
       sampled_knots_u = coarse.surface.knots_u;
       sampled_knots_v = coarse.surface.knots_v;
       sampled_iterations = coarse.iterations;
@@ -257,6 +259,7 @@ ToleranceResult refine(const PointCloud& cloud, const Parameters& params, const 
     if (iteration == options.max_iterations) refusal = "no convergence in " + std::to_string(options.max_iterations) + " refinements";
   }
   if (best.surface.control.empty()) throw FitError(refusal.empty() ? "no fit" : refusal);
+  if (knots_only) return best;
   best.distances = orthogonal_distances(best.surface, points, params);
   best.max_distance_mm = 0;
   for (double d : best.distances) best.max_distance_mm = std::max(best.max_distance_mm, std::fabs(d));

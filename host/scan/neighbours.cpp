@@ -11,9 +11,9 @@
 
 namespace dg::host {
 
-void nearest_neighbourhoods(const std::vector<Point3>& points, size_t k, std::vector<std::vector<size_t>>& out) {
-  out.assign(points.size(), {});
-  if (points.empty()) return;
+Neighbourhoods nearest_neighbours(const std::vector<Point3>& points, size_t k) {
+  Neighbourhoods out;
+  if (points.empty()) return out;
   double x0 = HUGE_VAL, x1 = -HUGE_VAL, y0 = HUGE_VAL, y1 = -HUGE_VAL;
   for (const auto& p : points) x0 = std::min(x0, p.x), x1 = std::max(x1, p.x), y0 = std::min(y0, p.y), y1 = std::max(y1, p.y);
   const double area = std::max((x1 - x0) * (y1 - y0), 1e-12);
@@ -34,7 +34,12 @@ void nearest_neighbourhoods(const std::vector<Point3>& points, size_t k, std::ve
     for (size_t i = 0; i < points.size(); ++i) members[fill[static_cast<size_t>(row_of(points[i].y) * columns + column_of(points[i].x))]++] = i;
   }
   k = std::min(k, points.size());
-  if (k == 0) return;
+  out.k = k;
+  out.nearest.resize(points.size() * k);
+  if (k == 0) {
+    out.order = std::move(members);
+    return out;
+  }
   // The points' XY in cell order: a cell's candidates are then read from one run of memory, not
   // from wherever the cloud keeps them (for a million points that was most of the time).
   std::vector<double> cell_xy(2 * points.size());
@@ -84,10 +89,18 @@ void nearest_neighbourhoods(const std::vector<Point3>& points, size_t k, std::ve
         const double reach = static_cast<double>(ring) * cell;
         if ((best.size() == k && best.back().first <= reach * reach) || seen == points.size()) break;
       }
-      out[i].reserve(k);
-      for (const auto& [distance, j] : best) out[i].push_back(j);
+      size_t* nearest = out.nearest.data() + i * k;
+      for (const auto& [distance, j] : best) *nearest++ = j;
     }
   }, 64);
+  out.order = std::move(members);
+  return out;
+}
+
+void nearest_neighbourhoods(const std::vector<Point3>& points, size_t k, std::vector<std::vector<size_t>>& out) {
+  const Neighbourhoods flat = nearest_neighbours(points, k);
+  out.assign(points.size(), {});
+  for (size_t i = 0; i < points.size(); ++i) out[i].assign(flat.of(i), flat.of(i) + flat.k);
 }
 
 }  // namespace dg::host

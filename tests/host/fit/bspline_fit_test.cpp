@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <memory>
 #include <random>
 
 #include "host/geometry/closest_point.h"
@@ -220,4 +221,68 @@ TEST(BSplineFit, OneThreadAndFourGiveTheSameNetToTheBit) {
   double sum_sq = 0;
   for (double d : d_one) sum_sq += d * d;
   DOUBLES_EQUAL(0.002, std::sqrt(sum_sq / static_cast<double>(d_one.size())), 0.0002);
+}
+
+TEST(BSplineFit, RefitsWithoutEachFoldFromOnePassAreTheRefitsOfTheRemainingPoints) {
+  // The one-pass refits against fitting each fold's remaining points afresh, and the same with a
+  // pass per fold (no memory for one); a fold whose remaining points leave a control point free
+  // says so and the others are still fitted.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> along(0.0, 1.0);
+  std::normal_distribution<double> noise(0.0, 0.003);
+  PointCloud c;
+  for (int k = 0; k < 6000; ++k) {
+    const double x = 40 * along(rng), y = 30 * along(rng);
+    c.points.push_back({x, y, 2 + 0.01 * x * y / 30 + std::sin(x / 7) + noise(rng)});
+  }
+  const Parameters p = parameterize(c, Parameterization::kTableXy);
+  std::vector<double> weights(c.points.size());
+  for (double& w : weights) w = 0.5 + along(rng);
+  std::vector<int> fold(c.points.size());
+  for (size_t k = 0; k < fold.size(); ++k) fold[k] = static_cast<int>(k % 4) - 1;  // -1: in every refit
+  LsqSpec spec;
+  spec.knots_u = clamped_uniform_knots(12, 3);
+  spec.knots_v = clamped_uniform_knots(9, 3);
+  std::vector<Parameters> kept_params(3, p);
+  std::vector<std::unique_ptr<SiteIndex>> indexes;
+  std::vector<const SiteIndex*> kept_sites;
+  std::vector<BSplineSurface> afresh;
+  for (int f = 0; f < 3; ++f) {
+    std::vector<Point3> kept;
+    std::vector<double> kept_weights;
+    kept_params[static_cast<size_t>(f)].uv.clear();
+    for (size_t k = 0; k < fold.size(); ++k) {
+      if (fold[k] == f) continue;
+      kept.push_back(c.points[k]);
+      kept_weights.push_back(weights[k]);
+      kept_params[static_cast<size_t>(f)].uv.push_back(p.uv[k]);
+    }
+    indexes.push_back(std::make_unique<SiteIndex>(kept_params[static_cast<size_t>(f)].uv));
+    kept_sites.push_back(indexes.back().get());
+    afresh.push_back(fit_least_squares(kept, kept_params[static_cast<size_t>(f)], &kept_weights, spec));
+  }
+  for (size_t budget : {size_t{256} << 20, size_t{0}}) {
+    const std::vector<FoldRefit> refits = fit_least_squares_by_folds(c.points, p, &weights, spec, fold, kept_sites, budget);
+    LONGS_EQUAL(3, refits.size());
+    for (size_t f = 0; f < 3; ++f) {
+      STRCMP_EQUAL("", refits[f].error.c_str());
+      LONGS_EQUAL(afresh[f].control.size(), refits[f].surface.control.size());
+      for (size_t k = 0; k < afresh[f].control.size(); ++k) DOUBLES_EQUAL(afresh[f].control[k].z, refits[f].surface.control[k].z, 1e-9);
+    }
+  }
+  // Fold 1 now holds every point with x < 10 mm: without them nothing determines the net's left columns.
+  for (size_t k = 0; k < fold.size(); ++k) {
+    if (c.points[k].x < 10 && fold[k] != 1) fold[k] = 1;
+  }
+  kept_params[1].uv.clear();
+  for (size_t k = 0; k < fold.size(); ++k) {
+    if (fold[k] != 1) kept_params[1].uv.push_back(p.uv[k]);
+  }
+  indexes[1] = std::make_unique<SiteIndex>(kept_params[1].uv);
+  kept_sites[1] = indexes[1].get();
+  const std::vector<FoldRefit> refits = fit_least_squares_by_folds(c.points, p, &weights, spec, fold, kept_sites);
+  STRCMP_CONTAINS("control point", refits[1].error.c_str());
+  CHECK(refits[1].surface.control.empty());
+  STRCMP_EQUAL("", refits[0].error.c_str());
+  STRCMP_EQUAL("", refits[2].error.c_str());
 }

@@ -102,3 +102,26 @@ TEST(FitValidation, ABumpOnOneLineThatTheOthersDoNotShowIsCaught) {
   DOUBLES_EQUAL(20.0, bumped.held_out_worst.y, 1e-9);
   CHECK(bumped.held_out_max_mm > 0.25);
 }
+
+TEST(FitValidation, PlacesTheCurvatureBoundCertifiesGiveTheFiguresOfEvaluatingEveryPlace) {
+  // Certifying places from the curvature bound may spare their evaluation but not change a figure:
+  // measuring (no tolerance), judging (a tolerance), and a net that rings between the samples (a
+  // 60 x 20 net over a one-line bump) give what evaluating every place gives.
+  for (bool lines : {true, false}) {
+    PointCloud c = cloud(lines, 6);
+    const Parameters p = parameterize(c, Parameterization::kTableXy);
+    for (size_t k = 0; k < c.points.size(); k += 97) c.points[k].z += 0.05;  // scattered spikes to leave the range at
+    for (int net : {12, 60}) {
+      const BSplineSurface s = fit(c, p, net, net == 60 ? 20 : 10);
+      for (double tolerance : {0.0, 0.02}) {
+        ValidationOptions certified{tolerance, 5, 3, false};
+        ValidationOptions every = certified;
+        every.certify_by_curvature = false;
+        const FitValidation a = validate_fit(c, p, nullptr, s, certified), b = validate_fit(c, p, nullptr, s, every);
+        check_same(a, b);
+        CHECK(a.neighbour_checks > 20000);
+        if (tolerance == 0.0) CHECK(a.range_excess_max_mm > 0.01);  // the spikes: there is a worst to find
+      }
+    }
+  }
+}

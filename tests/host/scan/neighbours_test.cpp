@@ -5,6 +5,7 @@
 #include <CppUTest/TestHarness.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 
 using namespace dg::host;
@@ -51,4 +52,31 @@ TEST(Neighbours, PointsOnOneLineGetTheirTrueNearestWithoutEndlessRings) {
   std::vector<Point3> p;
   for (int i = 0; i < 2000; ++i) p.push_back({0.5 * i, 3.0, 0});
   check_against_brute_force(p, 25);
+}
+
+TEST(Neighbours, TheFlatFormHoldsTheSameNeighboursAndAnOrderOfEveryPoint) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> x(0, 40), y(0, 30);
+  std::vector<Point3> p;
+  for (int i = 0; i < 3000; ++i) p.push_back({x(rng), y(rng), 0});
+  std::vector<std::vector<size_t>> hood;
+  nearest_neighbourhoods(p, 6, hood);
+  const Neighbourhoods flat = nearest_neighbours(p, 6);
+  LONGS_EQUAL(6, flat.k);
+  for (size_t i = 0; i < p.size(); ++i) {
+    for (size_t m = 0; m < 6; ++m) LONGS_EQUAL(hood[i][m], flat.of(i)[m]);
+  }
+  // The order visits every point once, and consecutive points in it lie close together.
+  std::vector<size_t> sorted = flat.order;
+  std::sort(sorted.begin(), sorted.end());
+  for (size_t i = 0; i < sorted.size(); ++i) LONGS_EQUAL(i, sorted[i]);
+  double step_sum = 0;
+  for (size_t n = 1; n < flat.order.size(); ++n) {
+    const Point3 &a = p[flat.order[n - 1]], &b = p[flat.order[n]];
+    step_sum += std::hypot(a.x - b.x, a.y - b.y);
+  }
+  CHECK(step_sum / static_cast<double>(p.size()) < 1.5);  // random order: about 17 mm a step
+  const Neighbourhoods few = nearest_neighbours(std::vector<Point3>{{0, 0, 0}, {1, 0, 0}}, 5);
+  LONGS_EQUAL(2, few.k);
+  LONGS_EQUAL(1, few.of(0)[1]);
 }
