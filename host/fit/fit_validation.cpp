@@ -80,7 +80,13 @@ class NeighbourCheck {
   NeighbourCheck(const BSplineSurface& surface, const PointCloud& cloud, const Parameters& params, double slack,
                  bool certify)
       : surface_(surface), cloud_(cloud), params_(params), slack_(slack), certify_(certify), curvature_(surface),
-        off_(certify ? parameter_distances(surface, cloud.points, params) : std::vector<double>{}) {}
+        off_(certify ? parameter_distances(surface, cloud.points, params) : std::vector<double>{}) {
+    if (!certify) return;
+    span_.resize(params.uv.size());
+    parallel_for(span_.size(), [&](size_t begin, size_t end, unsigned) {
+      for (size_t i = begin; i < end; ++i) span_[i] = {curvature_.span_u(params.uv[i].u), curvature_.span_v(params.uv[i].v)};
+    }, 4096);
+  }
 
   // Samples the surface at `samples` parameters strictly between points a and b; `bulge` is how
   // far a smooth surface through them may rise above their box (from the curvature around them).
@@ -90,7 +96,7 @@ class NeighbourCheck {
     if (certify_ && inside(p) && inside(q)) {
       // Off its chord by at most M h^2 / 8 (M along the segment, h its length).
       const double h_sq = (q.u - p.u) * (q.u - p.u) + (q.v - p.v) * (q.v - p.v);
-      const double m = curvature_.along_any_direction(p.u, q.u, p.v, q.v);
+      const double m = curvature_.over_spans(span_[a].first, span_[b].first, span_[a].second, span_[b].second);
       if (certified(std::max(off_[a], off_[b]) + m * h_sq / 8, bulge, out)) {
         out.checks += static_cast<size_t>(samples);
         return;
@@ -108,14 +114,16 @@ class NeighbourCheck {
     const UV centre{(uv[0]->u + uv[1]->u + uv[2]->u + uv[3]->u) / 4, (uv[0]->v + uv[1]->v + uv[2]->v + uv[3]->v) / 4};
     if (certify_ && inside(*uv[0]) && inside(*uv[1]) && inside(*uv[2]) && inside(*uv[3])) {
       // Within M/2 times the corners' mean squared distance from the centre of the corners' mean.
-      double u0 = uv[0]->u, u1 = u0, v0 = uv[0]->v, v1 = v0, mean_sq = 0, off = 0;
       const size_t index[4] = {a, b, c, d};
+      int su0 = span_[a].first, su1 = su0, sv0 = span_[a].second, sv1 = sv0;
+      double mean_sq = 0, off = 0;
       for (int k = 0; k < 4; ++k) {
-        u0 = std::min(u0, uv[k]->u), u1 = std::max(u1, uv[k]->u), v0 = std::min(v0, uv[k]->v), v1 = std::max(v1, uv[k]->v);
+        const std::pair<int, int>& span = span_[index[k]];
+        su0 = std::min(su0, span.first), su1 = std::max(su1, span.first), sv0 = std::min(sv0, span.second), sv1 = std::max(sv1, span.second);
         mean_sq += ((uv[k]->u - centre.u) * (uv[k]->u - centre.u) + (uv[k]->v - centre.v) * (uv[k]->v - centre.v)) / 4;
         off = std::max(off, off_[index[k]]);
       }
-      if (certified(off + curvature_.along_any_direction(u0, u1, v0, v1) * mean_sq / 2, bulge, out)) {
+      if (certified(off + curvature_.over_spans(su0, su1, sv0, sv1) * mean_sq / 2, bulge, out)) {
         ++out.checks;
         return;
       }
@@ -150,6 +158,7 @@ class NeighbourCheck {
   bool certify_;
   CurvatureBound curvature_;
   std::vector<double> off_;  // each sample's distance from the surface at its own parameters
+  std::vector<std::pair<int, int>> span_;  // each sample's knot spans in u and v
 };
 
 // Runs unit(i, worst) for every `stride`-th i in [0, n) on every core, in fixed blocks of units

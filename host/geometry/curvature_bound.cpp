@@ -79,24 +79,32 @@ CurvatureBound::CurvatureBound(const BSplineSurface& surface) : surface_(surface
   }
 }
 
+int CurvatureBound::span_u(double u) const {
+  const std::vector<double>& k = surface_.knots_u;
+  return fit::find_span(surface_.count_u, surface_.degree_u, std::clamp(u, k.front(), k.back()), k.data());
+}
+
+int CurvatureBound::span_v(double v) const {
+  const std::vector<double>& k = surface_.knots_v;
+  return fit::find_span(surface_.count_v, surface_.degree_v, std::clamp(v, k.front(), k.back()), k.data());
+}
+
 double CurvatureBound::along_any_direction(double u0, double u1, double v0, double v1) const {
-  const BSplineSurface& s = surface_;
-  auto span = [](const BSplineSurface& surface, bool along_u, double t) {
-    const std::vector<double>& knots = along_u ? surface.knots_u : surface.knots_v;
-    const int count = along_u ? surface.count_u : surface.count_v, degree = along_u ? surface.degree_u : surface.degree_v;
-    return fit::find_span(count, degree, std::clamp(t, knots.front(), knots.back()), knots.data());
-  };
-  const int a_u = span(s, true, std::min(u0, u1)), b_u = span(s, true, std::max(u0, u1));
-  const int a_v = span(s, false, std::min(v0, v1)), b_v = span(s, false, std::max(v0, v1));
-  for (int su = a_u + 1; su <= b_u; ++su) {
+  return over_spans(span_u(u0), span_u(u1), span_v(v0), span_v(v1));
+}
+
+double CurvatureBound::over_spans(int su0, int su1, int sv0, int sv1) const {
+  if (su1 < su0) std::swap(su0, su1);
+  if (sv1 < sv0) std::swap(sv0, sv1);
+  for (int su = su0 + 1; su <= su1; ++su) {
     if (kink_before_u_[static_cast<size_t>(su)]) return HUGE_VAL;
   }
-  for (int sv = a_v + 1; sv <= b_v; ++sv) {
+  for (int sv = sv0 + 1; sv <= sv1; ++sv) {
     if (kink_before_v_[static_cast<size_t>(sv)]) return HUGE_VAL;
   }
   double bound = 0;
-  for (int su = a_u; su <= b_u; ++su) {
-    for (int sv = a_v; sv <= b_v; ++sv) bound = std::max(bound, cell_bound_[static_cast<size_t>(su) * cells_v_ + sv]);
+  for (int su = su0; su <= su1; ++su) {
+    for (int sv = sv0; sv <= sv1; ++sv) bound = std::max(bound, cell_bound_[static_cast<size_t>(su) * cells_v_ + sv]);
   }
   return bound;
 }

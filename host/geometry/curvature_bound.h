@@ -24,6 +24,11 @@ class CurvatureBound {
   // direction within [u0, u1] x [v0, v1] (clamped to the domain); +infinity where the box crosses
   // a knot line across which the surface is not C1.
   double along_any_direction(double u0, double u1, double v0, double v1) const;
+  // The same over the knot spans su0..su1 by sv0..sv1 (either order), for callers that find each
+  // parameter's span once and reuse it.
+  int span_u(double u) const;
+  int span_v(double v) const;
+  double over_spans(int su0, int su1, int sv0, int sv1) const;
 
  private:
   const BSplineSurface& surface_;
