@@ -291,11 +291,39 @@ FoldSupport::FoldSupport(const PointCloud& cloud, const Parameters& params, int 
     }
     kept_params_.push_back(std::move(kept));
   }
-  // Only now: each index points at its fold's uv, which no longer moves.
-  // Each index sorts its fold's sites: the folds' on every core.
+  // Each fold's points' parameters are sorted once along each direction (group 0: the points of
+  // no fold); a fold's remaining points' sorted parameters are the merge of the other groups', the
+  // same array their own sort would give, so the sites are those distinct_sites() finds.
+  const size_t groups = static_cast<size_t>(std::max(folds, 0)) + 1;
+  std::vector<std::vector<double>> sorted(2 * groups);  // [direction * groups + group]
+  for (size_t i = 0; i < fold.size(); ++i) {
+    const size_t group = static_cast<size_t>(std::max(fold[i], -1) + 1);
+    sorted[group].push_back(params.uv[i].u);
+    sorted[groups + group].push_back(params.uv[i].v);
+  }
+  const double group_merge = site_merge_distance(fold.size() / groups);
+  parallel_for(sorted.size(), [&](size_t begin, size_t end, unsigned) {
+    for (size_t g = begin; g < end; ++g) sort_site_values(sorted[g], group_merge);
+  }, 1);
+  // Only now: each index points at its fold's uv, which no longer moves. The folds on every core.
   std::vector<std::optional<SiteIndex>> built(kept_params_.size());
   parallel_for(built.size(), [&](size_t begin, size_t end, unsigned) {
-    for (size_t f = begin; f < end; ++f) built[f].emplace(kept_params_[f].uv);
+    for (size_t f = begin; f < end; ++f) {
+      const double merge = site_merge_distance(kept_params_[f].uv.size());
+      std::vector<double> sites[2];
+      for (size_t direction = 0; direction < 2; ++direction) {
+        std::vector<double> merged, next;
+        for (size_t g = 0; g < groups; ++g) {
+          if (g == f + 1) continue;
+          const std::vector<double>& group = sorted[direction * groups + g];
+          next.resize(merged.size() + group.size());
+          std::merge(merged.begin(), merged.end(), group.begin(), group.end(), next.begin());
+          merged.swap(next);
+        }
+        sites[direction] = sites_of_sorted(merged, merge);
+      }
+      built[f].emplace(kept_params_[f].uv, std::move(sites[0]), std::move(sites[1]));
+    }
   }, 1);
   kept_sites_.reserve(kept_params_.size());
   for (std::optional<SiteIndex>& index : built) kept_sites_.push_back(std::move(*index));

@@ -49,6 +49,12 @@ std::vector<double> distinct_sites(const std::vector<UV>& uv, bool along_u, doub
   values.reserve(uv.size());
   for (const UV& p : uv) values.push_back(along_u ? p.u : p.v);
   sort_by_buckets(values, merge);
+  return sites_of_sorted(values, merge);
+}
+
+void sort_site_values(std::vector<double>& values, double merge) { sort_by_buckets(values, merge); }
+
+std::vector<double> sites_of_sorted(const std::vector<double>& values, double merge) {
   std::vector<double> sites;
   size_t start = 0;
   for (size_t k = 1; k <= values.size(); ++k) {

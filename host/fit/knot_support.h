@@ -14,6 +14,11 @@ namespace dg::host {
 // differ only by the table's jitter) are one site, not hundreds. Sorted, each the group's mean.
 std::vector<double> distinct_sites(const std::vector<UV>& uv, bool along_u, double merge);
 
+// distinct_sites() in two steps, for callers that sort once and reuse the order: `values` sorted
+// ascending (`merge` only sizes the buckets of the sort), then the sites of sorted values.
+void sort_site_values(std::vector<double>& values, double merge);
+std::vector<double> sites_of_sorted(const std::vector<double>& sorted, double merge);
+
 // The merge distance for distinct_sites(): a tenth of the spacing of an even grid of that many points.
 double site_merge_distance(size_t points);
 

@@ -19,7 +19,17 @@ SiteIndex::SiteIndex(const std::vector<UV>& uv, bool buckets) : uv_(&uv) {
       (direction == 0 ? sites_u_ : sites_v_) = distinct_sites(uv, direction == 0, merge);
     }
   }, 1);
-  if (!buckets) return;
+  if (buckets) build_buckets();
+}
+
+SiteIndex::SiteIndex(const std::vector<UV>& uv, std::vector<double> sites_u, std::vector<double> sites_v, bool buckets)
+    : uv_(&uv), sites_u_(std::move(sites_u)), sites_v_(std::move(sites_v)) {
+  if (uv.size() >= UINT32_MAX) throw std::length_error("more than 4 billion points");
+  if (buckets) build_buckets();
+}
+
+void SiteIndex::build_buckets() {
+  const std::vector<UV>& uv = *uv_;
   side_ = static_cast<size_t>(std::clamp(std::sqrt(static_cast<double>(uv.size()) / 4.0), 1.0, 2048.0));
   start_.assign(side_ * side_ + 1, 0);
   std::vector<uint32_t> bucket_of(uv.size());

@@ -16,6 +16,9 @@ class SiteIndex {
   // `buckets` false: the sites only, for a check that never visits (visit() then finds nothing).
   explicit SiteIndex(const std::vector<UV>& uv, bool buckets = true);
   explicit SiteIndex(std::vector<UV>&&, bool = true) = delete;  // it would point at a temporary
+  // With the distinct sites (distinct_sites() of uv, site_merge_distance(uv.size())) found by the
+  // caller, who sorted once for several indexes (FoldSupport).
+  SiteIndex(const std::vector<UV>& uv, std::vector<double> sites_u, std::vector<double> sites_v, bool buckets = true);
 
   const std::vector<UV>& uv() const { return *uv_; }
   // distinct_sites() along u and v with site_merge_distance() of this many points.
@@ -49,6 +52,7 @@ class SiteIndex {
     return first + (n % 2 == 1 ? middle + step : middle - step);
   }
   size_t bucket(double t) const;
+  void build_buckets();
 
   const std::vector<UV>* uv_;
   size_t side_ = 1;               // buckets per direction

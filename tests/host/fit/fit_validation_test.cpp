@@ -1,6 +1,7 @@
 // Checks between the samples: hold-out refits and neighbour ranges, the same on any number of
 // threads and with or without the tolerance loop's fold indexes; a bump no neighbour confirms is caught.
 #include "host/fit/fit_validation.h"
+#include "host/fit/knot_support.h"
 
 #include <CppUTest/TestHarness.h>
 
@@ -121,6 +122,25 @@ TEST(FitValidation, PlacesTheCurvatureBoundCertifiesGiveTheFiguresOfEvaluatingEv
         check_same(a, b);
         CHECK(a.neighbour_checks > 20000);
         if (tolerance == 0.0) CHECK(a.range_excess_max_mm > 0.01);  // the spikes: there is a worst to find
+      }
+    }
+  }
+}
+
+TEST(FitValidation, EachFoldsIndexHoldsTheSitesItsRemainingPointsGiveToTheBit) {
+  // The fold indexes merge sorted groups instead of sorting each fold: the same sites as sorting.
+  for (bool lines : {true, false}) {
+    const PointCloud c = cloud(lines, 8);
+    const Parameters p = parameterize(c, Parameterization::kTableXy);
+    const FoldSupport support(c, p, 5);
+    for (int f = 0; f < 5; ++f) {
+      const std::vector<UV>& kept = support.kept_params(f).uv;
+      const double merge = site_merge_distance(kept.size());
+      for (bool along_u : {true, false}) {
+        const std::vector<double> expected = distinct_sites(kept, along_u, merge);
+        const std::vector<double>& got = along_u ? support.kept_sites(f).sites_u() : support.kept_sites(f).sites_v();
+        LONGS_EQUAL(expected.size(), got.size());
+        for (size_t k = 0; k < got.size(); ++k) CHECK(expected[k] == got[k]);
       }
     }
   }
