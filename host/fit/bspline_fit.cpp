@@ -496,23 +496,31 @@ SurfaceUncertainty uncertainty_on_grid(const BSplineSurface& s, double sigma_mm,
   // With weights 1 / sigma_i^2 the variance is the coefficients' covariance itself; without, it
   // is scaled by the points' common variance.
   const double scale = weighted ? 1.0 : sigma_mm * sigma_mm;
-  Eigen::VectorXd b(s.count_u * s.count_v);
+  // Each node is a solve of its own: the rows on every core, then summed in order.
+  std::vector<char> on_face(out.u_mm.size(), 1);
+  parallel_for(static_cast<size_t>(out.rows), [&](size_t first, size_t last, unsigned) {
+    Eigen::VectorXd b(s.count_u * s.count_v);
+    for (size_t r = first; r < last; ++r) {
+      for (int c = 0; c < out.cols; ++c) {
+        const size_t node = r * static_cast<size_t>(out.cols) + static_cast<size_t>(c);
+        const double u = static_cast<double>(c) / (out.cols - 1), v = static_cast<double>(r) / (out.rows - 1);
+        if (counts && !(*counts)(u, v)) {
+          out.u_mm[node] = kOffFace;
+          on_face[node] = 0;
+          continue;
+        }
+        node_basis(s, u, v, b);
+        out.u_mm[node] = std::sqrt(std::max(scale * variance(b), 0.0));
+      }
+    }
+  }, 1);
   double sum = 0;
   size_t counted = 0;
-  for (int r = 0; r < out.rows; ++r) {
-    for (int c = 0; c < out.cols; ++c) {
-      const double u = static_cast<double>(c) / (out.cols - 1), v = static_cast<double>(r) / (out.rows - 1);
-      if (counts && !(*counts)(u, v)) {
-        out.u_mm[static_cast<size_t>(r) * out.cols + c] = kOffFace;
-        continue;
-      }
-      node_basis(s, u, v, b);
-      const double value = std::sqrt(std::max(scale * variance(b), 0.0));
-      out.u_mm[static_cast<size_t>(r) * out.cols + c] = value;
-      out.max_mm = std::max(out.max_mm, value);
-      sum += value;
-      ++counted;
-    }
+  for (size_t node = 0; node < out.u_mm.size(); ++node) {
+    if (!on_face[node]) continue;
+    out.max_mm = std::max(out.max_mm, out.u_mm[node]);
+    sum += out.u_mm[node];
+    ++counted;
   }
   out.mean_mm = counted > 0 ? sum / static_cast<double>(counted) : 0.0;
   return out;
