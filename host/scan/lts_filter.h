@@ -34,7 +34,8 @@ struct LtsResult {
   double sigma_mm = 0;    // robust scale of the residuals
 };
 
-// Filters z. Points on a regular XY grid (every x and y on multiples of one step, holes allowed)
+// Filters z. Points on a regular XY grid (every x and y on multiples of one step, holes allowed
+// but a point in at least a quarter of the cells)
 // use the window x window grid neighbourhood; other points the window^2 nearest points in XY.
 // In each neighbourhood the reference (first the median, then the previous iteration's output)
 // picks the h heights nearest to it; order 0 takes their mean (Koivunen and Bajcsy 1992, section 5.2 exactly), orders

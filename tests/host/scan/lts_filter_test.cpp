@@ -129,3 +129,27 @@ TEST(LtsFilter, RefusesPointsOnOneLineInXY) {
   for (int i = 0; i < 200; ++i) p.push_back({0.5 * i, 3.0, 2.0 + 0.01 * i});
   CHECK_THROWS(std::invalid_argument, lts_filter(p, LtsOptions{}));
 }
+
+// Scattered points written to four decimals all lie on multiples of 0.1 um: a grid of that step
+// whose cells are nearly all empty, in which every window held only its own point and no outlier
+// was ever found. They are scattered points, and their outliers are found.
+TEST(LtsFilter, ScatteredPointsWrittenToFewDecimalsAreNotTakenForAGrid) {
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> x(0.0, 40.0), y(0.0, 30.0);
+  std::normal_distribution<double> noise(0.0, 0.002);
+  std::vector<Point3> p;
+  std::set<size_t> spikes;
+  for (size_t k = 0; k < 3000; ++k) {
+    const double px = std::round(x(rng) * 1e4) / 1e4, py = std::round(y(rng) * 1e4) / 1e4;
+    p.push_back({px, py, bowl(px, py) + noise(rng)});
+    if (k % 100 == 7) {
+      p.back().z += 0.3;
+      spikes.insert(k);
+    }
+  }
+  const LtsResult r = lts_filter(p, LtsOptions{});
+  CHECK(!r.gridded);
+  std::set<size_t> found;
+  for (const auto& o : r.outliers) found.insert(o.index);
+  for (size_t k : spikes) CHECK(found.count(k) == 1);
+}
