@@ -13,7 +13,7 @@ namespace {
 
 double largest_coordinate(const Point3& p) { return std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)}); }
 
-// Scale of the first-difference control point k (Piegl and Tiller 1997, eq. 3.8): degree over
+// Scale of the first-difference control point k (Piegl and Tiller 1997, section 3.3): degree over
 // the width of its basis function's support, 0 where that support is empty (its basis vanishes).
 double first_scale(const std::vector<double>& knots, int degree, int k) {
   const double width = knots[static_cast<size_t>(k + degree + 1)] - knots[static_cast<size_t>(k + 1)];

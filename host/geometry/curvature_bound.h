@@ -7,7 +7,7 @@
 namespace dg::host {
 
 // A B-spline's derivative is a B-spline whose control points are scaled differences of the
-// original ones (Piegl and Tiller 1997, eq. 3.7-3.8 and section 3.3), and a B-spline lies in the
+// original ones (Piegl and Tiller 1997, sections 3.3 and 3.5), and a B-spline lies in the
 // convex hull of the control points that reach a knot cell. So the largest second-difference
 // control point over a cell bounds |S_uu|, |S_vv| and |S_uv| there, each coordinate, without
 // evaluating anything. Along a unit direction e in (u, v), |e^T H e| <= max(|S_uu|, |S_vv|) + |S_uv|.

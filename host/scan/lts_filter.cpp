@@ -72,6 +72,10 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
     }
   });
   std::vector<double> before(points.size(), HUGE_VAL);  // the output two iterations back
+  // A point's next estimate depends on its own reference alone (its window's heights are fixed),
+  // so one whose estimate came out equal to its reference stays there: it is not computed again.
+  // After the first iterations most of a scan has settled so, and only the moving points cost.
+  std::vector<char> settled(points.size(), 0);
   size_t previous_moved = SIZE_MAX;
   double previous_largest = HUGE_VAL;
   for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
@@ -88,6 +92,10 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
       double largest = 0;
       size_t moved_here = 0;
       for (size_t i = begin; i < end; ++i) {
+      if (settled[i]) {
+        next[i] = reference[i];
+        continue;
+      }
       const int n = static_cast<int>(hood[i].size());
       // A truncated window (an edge or a corner of the scan) cannot carry a quadratic robustly: with
       // 9 points a 6-term model fits its own noise. Use a plane below 4/5 of a full window and a
@@ -131,6 +139,7 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
       largest_of[w] = std::max(largest_of[w], largest);
       moved_of[w] += moved_here;
     });
+    for (size_t i = 0; i < points.size(); ++i) settled[i] = next[i] == reference[i];
     const double largest_change = *std::max_element(largest_of.begin(), largest_of.end());
     size_t moved = 0;
     for (size_t m : moved_of) moved += m;
