@@ -373,7 +373,7 @@ NormalSystem assemble(const std::vector<Point3>& points, const Parameters& param
                       const LsqSpec& spec) {
   std::optional<SiteIndex> own_index;
   const SiteIndex& sites =
-      spec.sites && &spec.sites->uv() == &params.uv ? *spec.sites : own_index.emplace(params.uv, spec.fill_outside);
+      spec.sites && &spec.sites->uv() == &params.uv && !spec.sites->subset() ? *spec.sites : own_index.emplace(params.uv, spec.fill_outside);
   std::vector<char> outside;
   const BSplineSurface shape = checked_shape(spec, points.size(), sites, params, &outside);
   const std::vector<std::vector<double>> sums = cell_sums(points, params, weights, shape, 1, [](size_t) { return 0; });

@@ -282,15 +282,6 @@ std::vector<int> validation_folds(const PointCloud& cloud, int folds) {
 FoldSupport::FoldSupport(const PointCloud& cloud, const Parameters& params, int folds, bool fill_outside)
     : fill_outside_(fill_outside) {
   const std::vector<int> fold = validation_folds(cloud, folds);
-  kept_params_.reserve(static_cast<size_t>(std::max(folds, 0)));
-  for (int f = 0; f < folds; ++f) {
-    Parameters kept = params;
-    kept.uv.clear();
-    for (size_t i = 0; i < fold.size(); ++i) {
-      if (fold[i] != f) kept.uv.push_back(params.uv[i]);
-    }
-    kept_params_.push_back(std::move(kept));
-  }
   // Each fold's points' parameters are sorted once along each direction (group 0: the points of
   // no fold); a fold's remaining points' sorted parameters are the merge of the other groups', the
   // same array their own sort would give, so the sites are those distinct_sites() finds.
@@ -305,11 +296,12 @@ FoldSupport::FoldSupport(const PointCloud& cloud, const Parameters& params, int 
   parallel_for(sorted.size(), [&](size_t begin, size_t end, unsigned) {
     for (size_t g = begin; g < end; ++g) sort_site_values(sorted[g], group_merge);
   }, 1);
-  // Only now: each index points at its fold's uv, which no longer moves. The folds on every core.
-  std::vector<std::optional<SiteIndex>> built(kept_params_.size());
+  // The folds on every core.
+  std::vector<std::optional<SiteIndex>> built(static_cast<size_t>(std::max(folds, 0)));
   parallel_for(built.size(), [&](size_t begin, size_t end, unsigned) {
     for (size_t f = begin; f < end; ++f) {
-      const double merge = site_merge_distance(kept_params_[f].uv.size());
+      const size_t kept = fold.size() - sorted[f + 1].size();
+      const double merge = site_merge_distance(kept);
       std::vector<double> sites[2];
       for (size_t direction = 0; direction < 2; ++direction) {
         std::vector<double> merged, next;
@@ -322,10 +314,10 @@ FoldSupport::FoldSupport(const PointCloud& cloud, const Parameters& params, int 
         }
         sites[direction] = sites_of_sorted(merged, merge);
       }
-      built[f].emplace(kept_params_[f].uv, std::move(sites[0]), std::move(sites[1]));
+      built[f].emplace(params.uv, fold, static_cast<int>(f), std::move(sites[0]), std::move(sites[1]));
     }
   }, 1);
-  kept_sites_.reserve(kept_params_.size());
+  kept_sites_.reserve(built.size());
   for (std::optional<SiteIndex>& index : built) kept_sites_.push_back(std::move(*index));
 }
 

@@ -20,21 +20,21 @@ std::vector<int> validation_folds(const PointCloud& cloud, int folds);
 class FoldSupport {
  public:
   // `fill_outside`: a region's net (LsqSpec::fill_outside), whose control points beyond the points
-  // are placed, not fitted; only the others must be determined.
+  // are placed, not fitted; only the others must be determined. The indexes refer to params.uv,
+  // which must outlive the FoldSupport.
   FoldSupport(const PointCloud& cloud, const Parameters& params, int folds, bool fill_outside = false);
-  FoldSupport(const FoldSupport&) = delete;  // its indexes point into its own parameters
+  FoldSupport(const FoldSupport&) = delete;  // one index per fold, built once
   FoldSupport& operator=(const FoldSupport&) = delete;
   std::string problem(const std::vector<double>& knots_u, int degree_u, const std::vector<double>& knots_v,
                       int degree_v) const;
 
-  int folds() const { return static_cast<int>(kept_params_.size()); }
-  // Fold f's remaining points' parameters and their index, for validate_fit's refits.
-  const Parameters& kept_params(int f) const { return kept_params_[static_cast<size_t>(f)]; }
+  int folds() const { return static_cast<int>(kept_sites_.size()); }
+  // Fold f's remaining points, indexed over the whole set's parameters (SiteIndex::subset), for
+  // validate_fit's refits.
   const SiteIndex& kept_sites(int f) const { return kept_sites_[static_cast<size_t>(f)]; }
 
  private:
-  std::vector<Parameters> kept_params_;  // per fold, the parameters of the points that remain
-  std::vector<SiteIndex> kept_sites_;    // per fold, over kept_params_[f].uv
+  std::vector<SiteIndex> kept_sites_;  // per fold, the points that remain
   bool fill_outside_ = false;
 };
 

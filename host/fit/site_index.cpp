@@ -19,28 +19,35 @@ SiteIndex::SiteIndex(const std::vector<UV>& uv, bool buckets) : uv_(&uv) {
       (direction == 0 ? sites_u_ : sites_v_) = distinct_sites(uv, direction == 0, merge);
     }
   }, 1);
-  if (buckets) build_buckets();
+  if (buckets) build_buckets(nullptr, 0);
 }
 
-SiteIndex::SiteIndex(const std::vector<UV>& uv, std::vector<double> sites_u, std::vector<double> sites_v, bool buckets)
-    : uv_(&uv), sites_u_(std::move(sites_u)), sites_v_(std::move(sites_v)) {
+SiteIndex::SiteIndex(const std::vector<UV>& uv, const std::vector<int>& group, int left_out,
+                     std::vector<double> sites_u, std::vector<double> sites_v)
+    : uv_(&uv), subset_(true), sites_u_(std::move(sites_u)), sites_v_(std::move(sites_v)) {
   if (uv.size() >= UINT32_MAX) throw std::length_error("more than 4 billion points");
-  if (buckets) build_buckets();
+  build_buckets(&group, left_out);
 }
 
-void SiteIndex::build_buckets() {
+void SiteIndex::build_buckets(const std::vector<int>* group, int left_out) {
   const std::vector<UV>& uv = *uv_;
-  side_ = static_cast<size_t>(std::clamp(std::sqrt(static_cast<double>(uv.size()) / 4.0), 1.0, 2048.0));
+  auto included = [&](size_t k) { return !group || (*group)[k] != left_out; };
+  size_t count = 0;
+  for (size_t k = 0; k < uv.size(); ++k) count += included(k);
+  side_ = static_cast<size_t>(std::clamp(std::sqrt(static_cast<double>(count) / 4.0), 1.0, 2048.0));
   start_.assign(side_ * side_ + 1, 0);
   std::vector<uint32_t> bucket_of(uv.size());
   for (size_t k = 0; k < uv.size(); ++k) {
+    if (!included(k)) continue;
     bucket_of[k] = static_cast<uint32_t>(bucket(uv[k].v) * side_ + bucket(uv[k].u));
     ++start_[bucket_of[k] + 1];
   }
   for (size_t b = 0; b + 1 < start_.size(); ++b) start_[b + 1] += start_[b];
-  order_.resize(uv.size());
+  order_.resize(count);
   std::vector<uint32_t> next(start_.begin(), start_.end() - 1);
-  for (size_t k = 0; k < uv.size(); ++k) order_[next[bucket_of[k]]++] = static_cast<uint32_t>(k);
+  for (size_t k = 0; k < uv.size(); ++k) {
+    if (included(k)) order_[next[bucket_of[k]]++] = static_cast<uint32_t>(k);
+  }
 }
 
 size_t SiteIndex::bucket(double t) const {

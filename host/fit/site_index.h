@@ -16,9 +16,14 @@ class SiteIndex {
   // `buckets` false: the sites only, for a check that never visits (visit() then finds nothing).
   explicit SiteIndex(const std::vector<UV>& uv, bool buckets = true);
   explicit SiteIndex(std::vector<UV>&&, bool = true) = delete;  // it would point at a temporary
-  // With the distinct sites (distinct_sites() of uv, site_merge_distance(uv.size())) found by the
-  // caller, who sorted once for several indexes (FoldSupport).
-  SiteIndex(const std::vector<UV>& uv, std::vector<double> sites_u, std::vector<double> sites_v, bool buckets = true);
+  // Only the points k with group[k] != left_out (a validation fold's remaining points), whose
+  // distinct sites (distinct_sites() of their uv, site_merge_distance() of their count) the caller
+  // found, having sorted once for several such indexes (FoldSupport). visit() gives their numbers
+  // in uv, the whole set's.
+  SiteIndex(const std::vector<UV>& uv, const std::vector<int>& group, int left_out, std::vector<double> sites_u,
+            std::vector<double> sites_v);
+  // Whether the index holds only some of uv's points.
+  bool subset() const { return subset_; }
 
   const std::vector<UV>& uv() const { return *uv_; }
   // distinct_sites() along u and v with site_merge_distance() of this many points.
@@ -52,9 +57,11 @@ class SiteIndex {
     return first + (n % 2 == 1 ? middle + step : middle - step);
   }
   size_t bucket(double t) const;
-  void build_buckets();
+  // Over the points k with (*group)[k] != left_out, or every point without `group`.
+  void build_buckets(const std::vector<int>* group, int left_out);
 
   const std::vector<UV>* uv_;
+  bool subset_ = false;
   size_t side_ = 1;               // buckets per direction
   std::vector<uint32_t> start_;   // bucket b's points are order_[start_[b] .. start_[b + 1])
   std::vector<uint32_t> order_;

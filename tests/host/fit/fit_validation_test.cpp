@@ -127,14 +127,18 @@ TEST(FitValidation, PlacesTheCurvatureBoundCertifiesGiveTheFiguresOfEvaluatingEv
   }
 }
 
-TEST(FitValidation, EachFoldsIndexHoldsTheSitesItsRemainingPointsGiveToTheBit) {
+TEST(FitValidation, EachFoldsIndexHoldsItsRemainingPointsAndTheirSitesToTheBit) {
   // The fold indexes merge sorted groups instead of sorting each fold: the same sites as sorting.
   for (bool lines : {true, false}) {
     const PointCloud c = cloud(lines, 8);
     const Parameters p = parameterize(c, Parameterization::kTableXy);
     const FoldSupport support(c, p, 5);
+    const std::vector<int> fold = validation_folds(c, 5);
     for (int f = 0; f < 5; ++f) {
-      const std::vector<UV>& kept = support.kept_params(f).uv;
+      std::vector<UV> kept;
+      for (size_t k = 0; k < fold.size(); ++k) {
+        if (fold[k] != f) kept.push_back(p.uv[k]);
+      }
       const double merge = site_merge_distance(kept.size());
       for (bool along_u : {true, false}) {
         const std::vector<double> expected = distinct_sites(kept, along_u, merge);
@@ -142,6 +146,14 @@ TEST(FitValidation, EachFoldsIndexHoldsTheSitesItsRemainingPointsGiveToTheBit) {
         LONGS_EQUAL(expected.size(), got.size());
         for (size_t k = 0; k < got.size(); ++k) CHECK(expected[k] == got[k]);
       }
+      // Its buckets hold those points and no other.
+      std::vector<size_t> visited;
+      support.kept_sites(f).visit(0.0, 1.0, 0.0, 1.0, [&](size_t k) {
+        visited.push_back(k);
+        return true;
+      });
+      LONGS_EQUAL(kept.size(), visited.size());
+      for (size_t k : visited) CHECK(fold[k] != f);
     }
   }
 }
