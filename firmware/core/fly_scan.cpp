@@ -19,6 +19,7 @@ const char* ScanEngine::fly_refusal(const digitizer_ScanRequest& request) const 
 void ScanEngine::begin_fly_line() {
   fly_dir_ = (iy_ & 1u) ? -1 : 1;
   fly_first_ = true;
+  fly_prev_ = false;  // a line's first reading has none before it to be judged against
   fly_gap_ = fly_again_ = false;
   fly_first_seq_[iy_ % kFlyLinesKept] = next_seq_;
   begin_fly_run(false);
@@ -80,6 +81,15 @@ void ScanEngine::take_fly_reading(int64_t value_nm) {
   // Readings requested in the run-up or the run-out are outside the scan; flying a line again,
   // so are the ones short of its gap.
   if (fly_req_x_ < fly_lo_steps_ || fly_req_x_ > fly_hi_steps_) return;
+  // The lift check compares a reading with the one before it in this flight, kept or not: after a
+  // gap the held point is from the flight before, seconds earlier, against which a reading in the
+  // air fell too slowly to be flagged (seen on the dome when a slow host made lines fly again).
+  const bool judged = fly_prev_;
+  const int32_t prev_z_nm = fly_prev_z_nm_;
+  const uint64_t prev_us = fly_prev_us_;
+  fly_prev_ = true;
+  fly_prev_z_nm_ = static_cast<int32_t>(value_nm);
+  fly_prev_us_ = fly_req_us_;
   if (fly_again_ && (fly_dir_ > 0 ? fly_req_x_ <= fly_gap_from_ : fly_req_x_ >= fly_gap_from_)) return;
   fly_again_ = false;  // past the gap: what follows is this flight's own
   PointSample point{};
@@ -89,13 +99,15 @@ void ScanEngine::take_fly_reading(int64_t value_nm) {
   point.z_nm = static_cast<int32_t>(value_nm);
   point.t_us = fly_req_us_;
   point.flags = fly_first_ ? digitizer_PointFlag_POINT_LINE_START : 0;
-  if (fly_held_) {
+  if (judged) {
     // Falling at 80 % of the plunger's speed or faster (nm/us is mm/s): it was probably off the part.
-    const int64_t fell_nm = static_cast<int64_t>(fly_point_.z_nm) - point.z_nm;
-    const uint64_t dt_us = point.t_us - fly_point_.t_us;
+    const int64_t fell_nm = static_cast<int64_t>(prev_z_nm) - point.z_nm;
+    const uint64_t dt_us = point.t_us - prev_us;
     if (fell_nm > 0 && static_cast<uint64_t>(fell_nm) * 1000u * 5u >= uint64_t{plunger_um_s_} * 4u * dt_us) {
       point.flags |= digitizer_PointFlag_POINT_LIFTED;
     }
+  }
+  if (fly_held_) {
     pend_held_point(0);
     fly_waiting_ = true;  // offered by poll_fly
   }

@@ -186,6 +186,11 @@ class ScanEngine {
   int32_t fly_req_x_ = 0;
   uint64_t fly_req_us_ = 0;
   PointSample fly_point_{};
+  // This flight's last reading within the extent, kept or short of its gap: the lift check's
+  // predecessor.
+  bool fly_prev_ = false;
+  int32_t fly_prev_z_nm_ = 0;
+  uint64_t fly_prev_us_ = 0;
   uint32_t fly_first_seq_[kFlyLinesKept] = {};
 };
 
