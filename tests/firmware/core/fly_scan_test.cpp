@@ -260,3 +260,50 @@ TEST(FlyScan, AGaugeThatFailsWhileTimedIsAskedAgain) {
   LONGS_EQUAL(digitizer_ScanEnd_SCAN_FAULTED, rig.scan.end_reason());
   LONGS_EQUAL(0, rig.scan.points_done());
 }
+
+TEST(FlyScan, AReadingInTheAirRightAfterALinesGapIsFlaggedToo) {
+  // The dome's falling flank with a slow plunger, and the ring full for half a second while the
+  // table is over it: the line is flown again from its gap, and the first readings after the gap
+  // are judged against the readings just before them in that flight, not against the point kept
+  // seconds earlier (against which one in the air fell too slowly to be flagged).
+  dg::sim::SimConfig c = part(dg::sim::PartKind::kDome);
+  c.plunger_mm_s = 3;
+  dg::test::ScanRig rig(c);
+  digitizer_ScanRequest r = dg::test::grid_request(5, 0, 40000000, 15000000, 200000, digitizer_ScanPattern_PATTERN_SERPENTINE);
+  r.y.min_nm = 15000000;
+  r.feed_um_s = 0;
+  r.mode = digitizer_ScanMode_SCAN_MODE_FLY;
+  r.plunger_follow_um_s = 3000;
+  const char* reason = "";
+  CHECK(rig.scan.start(r, 1, 10000, &reason) == digitizer_FaultCode_FAULT_NONE);
+  dg::sim::Part dome;
+  dome.kind = dg::sim::PartKind::kDome;
+  FullWhileTold sink;
+  uint64_t full_until_us = 0;
+  bool gap_in_air = false;
+  for (int guard = 0; guard < 10000000 && !rig.scan.finished(); ++guard) {
+    // Full once the kept point is in the air over the flank.
+    if (full_until_us == 0 && !sink.points.empty()) {
+      const dg::PointSample& p = sink.points.back();
+      if ((p.z_nm * 1e-6 - dome.height_mm(p.x_nm * 1e-6, p.y_nm * 1e-6)) * 1e3 > 50) {
+        sink.full = gap_in_air = true;
+        full_until_us = rig.board.now_us() + 500000;
+      }
+    }
+    if (sink.full && rig.board.now_us() >= full_until_us) sink.full = false;
+    rig.scan.poll(sink);
+    if (!rig.scan.finished() && !rig.board.wait(sink.full ? full_until_us : rig.scan.deadline_us())) break;
+  }
+  CHECK(rig.scan.finished());
+  CHECK(gap_in_air);
+  int in_air = 0, in_air_flagged = 0;
+  for (const dg::PointSample& p : sink.points) {
+    const double above_um = (p.z_nm * 1e-6 - dome.height_mm(p.x_nm * 1e-6, p.y_nm * 1e-6)) * 1e3;
+    if (above_um > 20) {
+      ++in_air;
+      in_air_flagged += (p.flags & digitizer_PointFlag_POINT_LIFTED) != 0;
+    }
+  }
+  CHECK(in_air > 10);
+  LONGS_EQUAL(in_air, in_air_flagged);
+}
