@@ -201,8 +201,8 @@ struct NormalSystem {
 // The net of `spec`, checked against points whose distinct sites `sites` holds (`point_count` of
 // them): degrees, knots and counts, no control points yet; for a region's net (fill_outside) the
 // control points left outside into *outside. Throws FitError where the points cannot determine it.
-BSplineSurface checked_shape(const LsqSpec& spec, size_t point_count, const SiteIndex& sites, const Parameters& params,
-                             std::vector<char>* outside) {
+// The net the spec asks for, without control points: its degrees, knots and counts.
+BSplineSurface net_shape(const LsqSpec& spec) {
   BSplineSurface s;
   s.degree_u = spec.degree_u;
   s.degree_v = spec.degree_v;
@@ -214,6 +214,13 @@ BSplineSurface checked_shape(const LsqSpec& spec, size_t point_count, const Site
     throw FitError("degree must be 1.." + std::to_string(fit::kMaxDegree));
   }
   if (s.count_u <= s.degree_u || s.count_v <= s.degree_v) throw FitError("a net needs at least degree + 1 control points per direction");
+  return s;
+}
+
+// Throws the reason when `point_count` points at `sites` cannot determine the net; fills
+// `outside` with the control points no point measures when the spec fills them.
+void check_net(const LsqSpec& spec, const BSplineSurface& s, size_t point_count, const SiteIndex& sites,
+               const Parameters& params, std::vector<char>* outside) {
   const size_t unknowns = static_cast<size_t>(s.count_u) * s.count_v;
   size_t fitted = unknowns;
   outside->clear();
@@ -233,7 +240,6 @@ BSplineSurface checked_shape(const LsqSpec& spec, size_t point_count, const Site
   const std::string problem = net_support_problem(s.knots_u, s.degree_u, s.knots_v, s.degree_v, sites, params,
                                                   spec.fill_outside ? outside : nullptr);
   if (!problem.empty()) throw FitError("the points cannot determine this net: " + problem);
-  return s;
 }
 
 // Every point of a cell (a pair of knot spans) touches the same m unknowns, so each cell sums its
@@ -375,7 +381,8 @@ NormalSystem assemble(const std::vector<Point3>& points, const Parameters& param
   const SiteIndex& sites =
       spec.sites && &spec.sites->uv() == &params.uv && !spec.sites->subset() ? *spec.sites : own_index.emplace(params.uv, spec.fill_outside);
   std::vector<char> outside;
-  const BSplineSurface shape = checked_shape(spec, points.size(), sites, params, &outside);
+  const BSplineSurface shape = net_shape(spec);
+  check_net(spec, shape, points.size(), sites, params, &outside);
   const std::vector<std::vector<double>> sums = cell_sums(points, params, weights, shape, 1, [](size_t) { return 0; });
   return solve_system(shape, sums[0], outside, spec.fill_outside, sites, params.kind == Parameterization::kTableXy);
 }
@@ -424,21 +431,27 @@ std::vector<FoldRefit> fit_least_squares_by_folds(const std::vector<Point3>& poi
   for (int f : fold) {
     if (f >= 0 && f < folds) ++held[static_cast<size_t>(f)];
   }
-  // Each fold's checks first: a net its remaining points cannot determine is its answer.
-  std::vector<BSplineSurface> shapes(static_cast<size_t>(folds));
+  // Every fold refits the same net; each fold's checks come first: a net its remaining points
+  // cannot determine is its answer.
+  BSplineSurface shape;
+  try {
+    shape = net_shape(spec);
+  } catch (const FitError& e) {
+    for (FoldRefit& refit : refits) refit.error = e.what();
+    return refits;
+  }
   std::vector<std::vector<char>> outside(static_cast<size_t>(folds));
   std::vector<char> ready(static_cast<size_t>(folds), 0);
   for (int f = 0; f < folds; ++f) {
     try {
-      shapes[static_cast<size_t>(f)] = checked_shape(spec, points.size() - held[static_cast<size_t>(f)],
-                                                     *kept_sites[static_cast<size_t>(f)], params, &outside[static_cast<size_t>(f)]);
+      check_net(spec, shape, points.size() - held[static_cast<size_t>(f)], *kept_sites[static_cast<size_t>(f)], params,
+                &outside[static_cast<size_t>(f)]);
       ready[static_cast<size_t>(f)] = 1;
     } catch (const FitError& e) {
       refits[static_cast<size_t>(f)].error = e.what();
     }
   }
   if (std::count(ready.begin(), ready.end(), 1) == 0) return refits;
-  const BSplineSurface& shape = shapes[static_cast<size_t>(std::find(ready.begin(), ready.end(), 1) - ready.begin())];
   const bool height_field = params.kind == Parameterization::kTableXy;
   // Group f + 1 holds fold f's points, group 0 those of no fold. A fold's refit sums every group
   // but its own, all from one pass over the points.
@@ -459,7 +472,7 @@ std::vector<FoldRefit> fit_least_squares_by_folds(const std::vector<Point3>& poi
       blocks = cell_sums(points, params, weights, shape, 1, [&](size_t k) { return fold[k] == f ? -1 : 0; })[0];
     }
     try {
-      const NormalSystem system = solve_system(shapes[static_cast<size_t>(f)], blocks, outside[static_cast<size_t>(f)],
+      const NormalSystem system = solve_system(shape, blocks, outside[static_cast<size_t>(f)],
                                                spec.fill_outside, *kept_sites[static_cast<size_t>(f)], height_field);
       refits[static_cast<size_t>(f)].surface = solved_surface(system, params);
     } catch (const FitError& e) {

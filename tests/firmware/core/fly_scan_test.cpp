@@ -23,6 +23,16 @@ digitizer_ScanRequest fly_lines(double length_mm, int lines) {
   return r;
 }
 
+// One fly line across the dome's middle (y = 15 mm), told the plunger follows at 3 mm/s.
+digitizer_ScanRequest across_the_dome() {
+  digitizer_ScanRequest r = dg::test::grid_request(5, 0, 40000000, 15000000, 200000, digitizer_ScanPattern_PATTERN_SERPENTINE);
+  r.y.min_nm = 15000000;
+  r.feed_um_s = 0;
+  r.mode = digitizer_ScanMode_SCAN_MODE_FLY;
+  r.plunger_follow_um_s = 3000;
+  return r;
+}
+
 dg::sim::SimConfig part(dg::sim::PartKind kind) {
   dg::sim::SimConfig c;
   c.part.kind = kind;
@@ -108,12 +118,7 @@ TEST(FlyScan, FlagsTheReadingsAPlungerTooSlowToFollowTheDomeTook) {
   dg::sim::SimConfig c = part(dg::sim::PartKind::kDome);
   c.plunger_mm_s = 3;
   dg::test::ScanRig rig(c);
-  digitizer_ScanRequest r = dg::test::grid_request(5, 0, 40000000, 15000000, 200000, digitizer_ScanPattern_PATTERN_SERPENTINE);
-  r.y.min_nm = 15000000;
-  r.feed_um_s = 0;
-  r.mode = digitizer_ScanMode_SCAN_MODE_FLY;
-  r.plunger_follow_um_s = 3000;
-  const std::vector<dg::PointSample> points = rig.run(r);
+  const std::vector<dg::PointSample> points = rig.run(across_the_dome());
   dg::sim::Part dome;
   dome.kind = dg::sim::PartKind::kDome;
   int in_air = 0, in_air_flagged = 0;
@@ -269,11 +274,7 @@ TEST(FlyScan, AReadingInTheAirRightAfterALinesGapIsFlaggedToo) {
   dg::sim::SimConfig c = part(dg::sim::PartKind::kDome);
   c.plunger_mm_s = 3;
   dg::test::ScanRig rig(c);
-  digitizer_ScanRequest r = dg::test::grid_request(5, 0, 40000000, 15000000, 200000, digitizer_ScanPattern_PATTERN_SERPENTINE);
-  r.y.min_nm = 15000000;
-  r.feed_um_s = 0;
-  r.mode = digitizer_ScanMode_SCAN_MODE_FLY;
-  r.plunger_follow_um_s = 3000;
+  const digitizer_ScanRequest r = across_the_dome();
   const char* reason = "";
   CHECK(rig.scan.start(r, 1, 10000, &reason) == digitizer_FaultCode_FAULT_NONE);
   dg::sim::Part dome;
