@@ -23,6 +23,8 @@ namespace {
 
 // Rounds of testing the points beside suspects again without them.
 constexpr int kSuspectRounds = 4;
+// A line through a point judges with at least this many degrees of freedom left to its quadratic.
+constexpr int kThroughLineDof = 3;
 
 }  // namespace
 
@@ -429,6 +431,38 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
     });
     for (size_t i = 0; i < points.size(); ++i) condemned[i] = condemned[i] || newly[i];
     clear_by_lines(condemned, a_line_clears);
+  }
+  // A row, column or diagonal through the point that is one smooth curve on both sides of it and
+  // puts it far off condemns it, whatever the windows said: on a sliver of plate one point wide
+  // along the scan's edge beside the dome's rim, an outlier 84 sigma low lay on the cap's sphere
+  // continued, and every window, mostly cap, vouched for it, while the column along the plate read
+  // 2.000 mm on both sides of it.
+  if (result.gridded) {
+    std::vector<char> by_line(points.size(), 0);
+    parallel_for(points.size(), [&](size_t begin, size_t end, unsigned) {
+      for (size_t i = begin; i < end; ++i) {
+        if (condemned[i]) continue;
+        // Unless a line from one side vouches: a row that crosses a crease at the point (the dome's
+        // rim between two grid points) can be a quadratic within the noise that misses the point at
+        // the kink, where the line along the cap's side still predicts it.
+        PointTest one_sided = tests[i];
+        bool lines_added = false;
+        for (int d = 0; d + 1 < kLines; d += 2) {
+          const LooModel m = through_line_model(points, sides[i][static_cast<size_t>(d)], sides[i][static_cast<size_t>(d + 1)], i, condemned);
+          if (!m.ok || m.dof < kThroughLineDof || m.scale > 2.0 * sigma) continue;
+          const double bound = options.outlier_sigmas * std::sqrt(sigma * sigma * (1 + m.gain) + m.scale * m.scale);
+          if (std::fabs(points[i].z - m.prediction) > std::max(bound, limit)) {
+            if (!lines_added) add_line_models(points, sides[i], i, condemned, sigma, one_sided);
+            lines_added = true;
+            if (a_line_vouches(one_sided, sigma, options.outlier_sigmas)) break;
+            by_line[i] = 1;
+            replacement[i] = m.prediction;
+            break;
+          }
+        }
+      }
+    });
+    for (size_t i = 0; i < points.size(); ++i) condemned[i] = condemned[i] || by_line[i];
   }
   for (size_t i = 0; i < points.size(); ++i) {
     const bool outlier = condemned[i];

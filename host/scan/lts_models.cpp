@@ -2,68 +2,90 @@
 #include "host/scan/lts_models.h"
 
 #include <algorithm>
+#include <cmath>
 #include <utility>
 
 #include "host/scan/median.h"
 
 namespace dg::host::lts {
 
+namespace {
+
+// z = a + b t + c t^2 through points at distances t from point i, by its normal equations.
+struct LineQuadratic {
+  bool ok = false;
+  double m[3][3] = {}, rhs[3] = {};
+  double coefficient[3] = {};
+  double det = 0;
+  double scale = 0;  // residual scale over n - 3 degrees of freedom
+  double gain = 0;   // [(X^T X)^-1]_00: the variance of the value at t = 0 over the noise's
+};
+
+LineQuadratic line_quadratic(const std::vector<double>& ts, const std::vector<double>& zs) {
+  LineQuadratic q;
+  const size_t n = ts.size();
+  for (size_t k = 0; k < n; ++k) {
+    const double row[3] = {1, ts[k], ts[k] * ts[k]};
+    for (int a = 0; a < 3; ++a) {
+      q.rhs[a] += row[a] * zs[k];
+      for (int b = 0; b < 3; ++b) q.m[a][b] += row[a] * row[b];
+    }
+  }
+  // Solved by Cramer's rule: the distinct t of at least four points keep them well conditioned.
+  auto det3 = [](const double (&x)[3][3]) {
+    return x[0][0] * (x[1][1] * x[2][2] - x[1][2] * x[2][1]) - x[0][1] * (x[1][0] * x[2][2] - x[1][2] * x[2][0]) +
+           x[0][2] * (x[1][0] * x[2][1] - x[1][1] * x[2][0]);
+  };
+  q.det = det3(q.m);
+  if (n < 4 || !(std::fabs(q.det) > 1e-12)) return q;
+  for (int col = 0; col < 3; ++col) {
+    double x[3][3];
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) x[a][b] = b == col ? q.rhs[a] : q.m[a][b];
+    q.coefficient[col] = det3(x) / q.det;
+  }
+  double ss = 0;
+  for (size_t k = 0; k < n; ++k) {
+    const double r = zs[k] - (q.coefficient[0] + q.coefficient[1] * ts[k] + q.coefficient[2] * ts[k] * ts[k]);
+    ss += r * r;
+  }
+  q.scale = std::sqrt(ss / static_cast<double>(n - 3));
+  // The cofactor over the determinant.
+  q.gain = (q.m[1][1] * q.m[2][2] - q.m[1][2] * q.m[2][1]) / q.det;
+  q.ok = true;
+  return q;
+}
+
+}  // namespace
+
 LooModel line_model(const std::vector<Point3>& points, const std::vector<size_t>& reach, size_t i,
                     const std::vector<char>& suspect, double sigma) {
   LooModel out;
-  std::vector<size_t> side;
+  std::vector<double> ts, zs;
   for (size_t j : reach) {
-    if (!suspect[j] && side.size() < static_cast<size_t>(kLinePoints)) side.push_back(j);
+    if (suspect[j] || ts.size() >= static_cast<size_t>(kLinePoints)) continue;
+    ts.push_back(std::hypot(points[j].x - points[i].x, points[j].y - points[i].y));
+    zs.push_back(points[j].z);
   }
-  const int n = static_cast<int>(side.size());
-  if (n < 4) return out;
-  // Normal equations of z = a + b t + c t^2 in t (mm from point i), solved by Cramer's rule: the
-  // distinct t of at least four points keep them well conditioned.
-  double m[3][3] = {}, rhs[3] = {};
-  std::vector<double> ts;
-  for (size_t j : side) {
-    const double t = std::hypot(points[j].x - points[i].x, points[j].y - points[i].y);
-    ts.push_back(t);
-    const double row[3] = {1, t, t * t};
-    for (int a = 0; a < 3; ++a) {
-      rhs[a] += row[a] * points[j].z;
-      for (int b = 0; b < 3; ++b) m[a][b] += row[a] * row[b];
-    }
-  }
-  auto det3 = [](const double (&q)[3][3]) {
-    return q[0][0] * (q[1][1] * q[2][2] - q[1][2] * q[2][1]) - q[0][1] * (q[1][0] * q[2][2] - q[1][2] * q[2][0]) +
-           q[0][2] * (q[1][0] * q[2][1] - q[1][1] * q[2][0]);
-  };
-  const double det = det3(m);
-  if (!(std::fabs(det) > 1e-12)) return out;
-  double coefficient[3];
-  for (int col = 0; col < 3; ++col) {
-    double q[3][3];
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b) q[a][b] = b == col ? rhs[a] : m[a][b];
-    coefficient[col] = det3(q) / det;
-  }
-  double ss = 0;
-  for (int k = 0; k < n; ++k) {
-    const double t = ts[static_cast<size_t>(k)];
-    const double r = points[side[static_cast<size_t>(k)]].z - (coefficient[0] + coefficient[1] * t + coefficient[2] * t * t);
-    ss += r * r;
-  }
-  out.prediction = coefficient[0];
-  out.scale = std::sqrt(ss / (n - 3));
+  const LineQuadratic q = line_quadratic(ts, zs);
+  if (!q.ok) return out;
+  const int n = static_cast<int>(ts.size());
+  out.prediction = q.coefficient[0];
+  out.scale = q.scale;
   out.near_kept = 4;
-  // [(X^T X)^-1]_00, the cofactor over the determinant. Skipped suspects push the points away and
-  // the gain up; beyond kLineGainMax the prediction is too loose to vouch for anything.
-  out.gain = (m[1][1] * m[2][2] - m[1][2] * m[2][1]) / det;
+  // Skipped suspects push the points away and the gain up; beyond kLineGainMax the prediction is
+  // too loose to vouch for anything.
+  out.gain = q.gain;
   // [(X^T X)^-1]_22 for the quadratic term's standard error.
-  const double curvature_se = sigma * std::sqrt((m[0][0] * m[1][1] - m[0][1] * m[1][0]) / det);
-  if (std::fabs(coefficient[2]) <= 2 * curvature_se) {
+  const auto& m = q.m;
+  const double curvature_se = sigma * std::sqrt((m[0][0] * m[1][1] - m[0][1] * m[1][0]) / q.det);
+  if (std::fabs(q.coefficient[2]) <= 2 * curvature_se) {
     // z = a + b t: [(X^T X)^-1]_00 = sum t^2 / (n sum t^2 - (sum t)^2).
     const double line_det = m[0][0] * m[1][1] - m[0][1] * m[0][1];
-    const double a = (m[1][1] * rhs[0] - m[0][1] * rhs[1]) / line_det, b = (m[0][0] * rhs[1] - m[0][1] * rhs[0]) / line_det;
+    const double a = (m[1][1] * q.rhs[0] - m[0][1] * q.rhs[1]) / line_det, b = (m[0][0] * q.rhs[1] - m[0][1] * q.rhs[0]) / line_det;
     double line_ss = 0;
     for (int k = 0; k < n; ++k) {
-      const double r = points[side[static_cast<size_t>(k)]].z - (a + b * ts[static_cast<size_t>(k)]);
+      const double r = zs[static_cast<size_t>(k)] - (a + b * ts[static_cast<size_t>(k)]);
       line_ss += r * r;
     }
     out.prediction = a;
@@ -71,6 +93,31 @@ LooModel line_model(const std::vector<Point3>& points, const std::vector<size_t>
     out.gain = m[1][1] / line_det;
   }
   out.ok = out.gain <= kLineGainMax;
+  return out;
+}
+
+LooModel through_line_model(const std::vector<Point3>& points, const std::vector<size_t>& before,
+                            const std::vector<size_t>& after, size_t i, const std::vector<char>& suspect) {
+  LooModel out;
+  std::vector<double> ts, zs;
+  for (int side = 0; side < 2; ++side) {
+    size_t taken = 0;
+    for (size_t j : side == 0 ? before : after) {
+      if (suspect[j] || taken == static_cast<size_t>(kThroughLineSide)) continue;
+      ts.push_back((side == 0 ? -1 : 1) * std::hypot(points[j].x - points[i].x, points[j].y - points[i].y));
+      zs.push_back(points[j].z);
+      ++taken;
+    }
+    if (taken < 2) return out;
+  }
+  const LineQuadratic q = line_quadratic(ts, zs);
+  if (!q.ok) return out;
+  out.ok = true;
+  out.prediction = q.coefficient[0];
+  out.scale = q.scale;
+  out.gain = q.gain;
+  out.dof = static_cast<int>(ts.size()) - 3;
+  out.near_kept = 2;
   return out;
 }
 

@@ -68,6 +68,23 @@ TEST(LtsRecall, CatchesEveryOutlierAcrossTheDomesRimAtTwoAndFiveMicrometres) {
   CHECK(s.worst_precision >= 0.95);
 }
 
+TEST(LtsRecall, TwoOutliersSideBySideOnTheCapAreCaughtByTheRowThroughThem) {
+  // Seed 9 plants two outliers side by side on the cap's steep flank, (21, 7) and (22, 7), 52 and
+  // 58 sigma high at 2 um (at 0.5 um only the first): the windows, with both in them, vouched for
+  // them. The row through the pair, without them, is the cap's smooth curve on both sides.
+  for (double sigma_um : {0.5, 2.0}) {
+    const dg::test::Planted p = dg::test::plant_outliers(dg::sim::PartKind::kDome, sigma_um, 9);
+    const LtsResult r = lts_filter(p.points, LtsOptions{});
+    std::set<size_t> found;
+    for (const LtsOutlier& o : r.outliers) found.insert(o.index);
+    for (size_t i : {size_t{305}, size_t{306}}) {
+      if (!p.outliers.count(i)) continue;
+      CHECK(std::fabs(p.points[i].y - 7) < 1e-9);
+      CHECK(found.count(i) == 1);
+    }
+  }
+}
+
 TEST(LtsRecall, WindowsThatKeepAlternatingEndTheIterationWithTheSameOutliers) {
   // Planted outliers on the canister at 2 um: some dozens of windows keep alternating between
   // trimmed subsets, which ran the iteration to its limit of 50 (three quarters of the filter's time
