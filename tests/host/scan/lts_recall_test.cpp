@@ -85,6 +85,20 @@ TEST(LtsRecall, TwoOutliersSideBySideOnTheCapAreCaughtByTheRowThroughThem) {
   }
 }
 
+TEST(LtsRecall, AnOutlierOnTheBasePlatesSliverAlongTheScansEdgeIsCaught) {
+  // At 10 um, seed 2 puts (0, 9) 51 sigma low: on the base plate, which there is a strip one or two
+  // points wide between the scan's edge and the cap's rim. The envelope of the cap's and the
+  // plate's models, whose plate side holds only a few points there, must judge it.
+  const dg::test::Planted p = dg::test::plant_outliers(dg::sim::PartKind::kDome, 10.0, 2);
+  const LtsResult r = lts_filter(p.points, LtsOptions{});
+  const size_t planted = 409;
+  CHECK(p.outliers.count(planted) == 1);
+  CHECK(std::fabs(p.points[planted].x) < 1e-9 && std::fabs(p.points[planted].y - 9) < 1e-9);
+  bool found = false;
+  for (const LtsOutlier& o : r.outliers) found = found || o.index == planted;
+  CHECK(found);
+}
+
 TEST(LtsRecall, WindowsThatKeepAlternatingEndTheIterationWithTheSameOutliers) {
   // Planted outliers on the canister at 2 um: some dozens of windows keep alternating between
   // trimmed subsets, which ran the iteration to its limit of 50 (three quarters of the filter's time
