@@ -181,6 +181,16 @@ bool whole_judges(const PointTest& t, double sigma, double k, const std::vector<
   const LooModel& whole = t.model[0];
   if (!whole.ok || whole.scale > 2.5 * sigma || !std::isfinite(whole.near_worst)) return false;
   const double bound = k * std::hypot(sigma, whole.scale);
+  // A cubic that misses three of the window's points by twice its bound, none of them suspected,
+  // is not one smooth surface: it has trimmed a crease's other side. At the dome's rim, where the
+  // base plate is a strip along the scan's edge, such a cubic was the cap continued below the
+  // plate, and condemned a plate point 0.2 mm above it that the envelope of both predicts.
+  int far_unsuspected = 0;
+  for (int m = 0; m < WindowMisses::kWorst; ++m) {
+    const bool unsuspected = suspect == nullptr || !(*suspect)[t.whole_misses.worst_index[m]];
+    far_unsuspected += unsuspected && t.whole_misses.worst_residual[m] > 2 * bound;
+  }
+  if (far_unsuspected >= 3) return false;
   int passed_over = 0;
   for (int m = 0; m < 4; ++m) {
     if (t.whole_misses.near_residual[m] <= bound) continue;

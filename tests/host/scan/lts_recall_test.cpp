@@ -99,6 +99,18 @@ TEST(LtsRecall, AnOutlierOnTheBasePlatesSliverAlongTheScansEdgeIsCaught) {
   CHECK(found);
 }
 
+TEST(LtsRecall, APlatePointBesideTheRimIsNotJudgedByTheCapContinuedBelowThePlate) {
+  // At 0.5 um, seed 10: (40, 10) is clean, on the base plate's strip between the rim and the scan's
+  // edge. Its whole window's cubic, the cap continued below the plate with the plate's points
+  // trimmed, put it far off; a window that misses three unsuspected points is no one surface.
+  const dg::test::Planted p = dg::test::plant_outliers(dg::sim::PartKind::kDome, 0.5, 10);
+  const LtsResult r = lts_filter(p.points, LtsOptions{});
+  const size_t clean = 450;
+  CHECK(p.outliers.count(clean) == 0);
+  CHECK(std::fabs(p.points[clean].x - 40) < 1e-9 && std::fabs(p.points[clean].y - 10) < 1e-9);
+  for (const LtsOutlier& o : r.outliers) CHECK(o.index != clean);
+}
+
 TEST(LtsRecall, WindowsThatKeepAlternatingEndTheIterationWithTheSameOutliers) {
   // Planted outliers on the canister at 2 um: some dozens of windows keep alternating between
   // trimmed subsets, which ran the iteration to its limit of 50 (three quarters of the filter's time
