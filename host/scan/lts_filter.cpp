@@ -61,9 +61,10 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
 
   std::vector<double> reference(points.size());
   const unsigned workers = worker_count();
-  // Each worker's scratch: (|residual|, neighbour index) pairs, the chosen subset, the window's heights.
+  // Each worker's scratch: (|residual|, neighbour index) pairs, the chosen subset and the one fitted
+  // before it, the window's heights.
   std::vector<std::vector<std::pair<double, size_t>>> by_distance_of(workers);
-  std::vector<std::vector<size_t>> chosen_of(workers);
+  std::vector<std::vector<size_t>> chosen_of(workers), fitted_of(workers);
   std::vector<std::vector<double>> values_of(workers);
   parallel_for(points.size(), [&](size_t begin, size_t end, unsigned w) {
     std::vector<double>& values = values_of[w];
@@ -89,6 +90,7 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
     parallel_for(points.size(), [&](size_t begin, size_t end, unsigned w) {
       std::vector<std::pair<double, size_t>>& by_distance = by_distance_of[w];
       std::vector<size_t>& chosen = chosen_of[w];
+      std::vector<size_t>& fitted = fitted_of[w];
       // Gathered here and stored once a chunk: workers writing neighbouring slots for every point
       // would share their cache line.
       double largest = 0;
@@ -119,10 +121,13 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
       if (order > 0) {
         chosen.clear();
         for (int m = 0; m < h; ++m) chosen.push_back(by_distance[m].second);
+        std::sort(chosen.begin(), chosen.end());
         LocalPolynomial model;
         // Concentration steps: keep the h smallest residuals to the model and refit; never increases
         // the trimmed sum of squares, and two or three steps settle it. A subset that does not
-        // determine the model keeps the trimmed mean.
+        // determine the model keeps the trimmed mean. A step that keeps the subset it was fitted to
+        // ends them: the next would fit the same points, in the same (sorted) order, to the same
+        // model.
         for (int step = 0; step < 4 && fit_local_polynomial(points, chosen, points[i], order, model); ++step) {
           next[i] = model.c[0];
           by_distance.clear();
@@ -131,8 +136,11 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
             by_distance.push_back({std::fabs(r), j});
           }
           std::nth_element(by_distance.begin(), by_distance.begin() + (h - 1), by_distance.end());
+          fitted.swap(chosen);
           chosen.clear();
           for (int m = 0; m < h; ++m) chosen.push_back(by_distance[m].second);
+          std::sort(chosen.begin(), chosen.end());
+          if (chosen == fitted) break;
         }
       }
       largest = std::max(largest, std::fabs(next[i] - reference[i]));
@@ -177,13 +185,14 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
     previous_moved = moved;
     previous_largest = largest_change;
   }
-  // Outliers: leave-one-out residuals from the whole neighbourhood and its four sides (test_point).
+  // Outliers: leave-one-out residuals from the whole neighbourhood and its four sides (test_point),
+  // the whole neighbourhood first.
   std::vector<PointTest> tests(points.size());
   std::vector<double> abs_full(points.size());
   std::vector<char> suspect(points.size(), 0);
   parallel_for(points.size(), [&](size_t begin, size_t end, unsigned) {
     for (size_t i = begin; i < end; ++i) {
-      tests[i] = test_point(points, hood[i], i, reference, suspect);
+      tests[i] = test_point(points, hood[i], i, reference, suspect, Windows::kWholeOnly);
       abs_full[i] = std::fabs(tests[i].residual[0]);
     }
   });
@@ -198,6 +207,18 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
   }
   const double limit = std::max(options.outlier_sigmas * result.sigma_mm, 1e-9);
   const double sigma = std::max(result.sigma_mm, 1e-9);
+  // A point its whole window judges alone and clears (whole_judges) stays cleared whatever the
+  // half-planes say: every later verdict on it asks the whole window first, and suspects only make
+  // that window judge more readily. Its half-planes are not fitted (eight of the nine models), on a
+  // smooth part most of the points.
+  parallel_for(points.size(), [&](size_t begin, size_t end, unsigned) {
+    for (size_t i = begin; i < end; ++i) {
+      const PointTest& t = tests[i];
+      const bool cleared = whole_judges(t, sigma, options.outlier_sigmas) &&
+                           std::fabs(t.residual[0]) <= options.outlier_sigmas * std::hypot(sigma, t.model[0].scale);
+      if (!cleared) tests[i] = test_point(points, hood[i], i, reference, suspect);
+    }
+  });
   // Where outliers crowd a window so that none of its parts describes its own points, the test is
   // made on a window two steps wider, where they are fewer among more.
   std::vector<std::vector<size_t>> wide;

@@ -8,7 +8,7 @@
 namespace dg::host::lts {
 
 PointTest test_point(const std::vector<Point3>& points, const std::vector<size_t>& hood, size_t i,
-                     const std::vector<double>& reference, const std::vector<char>& excluded) {
+                     const std::vector<double>& reference, const std::vector<char>& excluded, Windows which) {
   // Half-planes bounded by the lines through the point along x, y and both diagonals: a crease
   // that crosses the window at any of these angles leaves one of them wholly on the point's side.
   static const double kNormal[8][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, {-1, -1}, {1, -1}, {-1, 1}};
@@ -17,12 +17,13 @@ PointTest test_point(const std::vector<Point3>& points, const std::vector<size_t
   for (size_t j : hood) {
     if (j == i || excluded[j]) continue;
     windows[0].push_back(j);
+    if (which == Windows::kWholeOnly) continue;
     const double dx = points[j].x - points[i].x, dy = points[j].y - points[i].y;
     for (int w = 0; w < 8; ++w) {
       if (kNormal[w][0] * dx + kNormal[w][1] * dy >= -1e-9) windows[w + 1].push_back(j);
     }
   }
-  for (int w = 0; w < kWindows; ++w) {
+  for (int w = 0; w < (which == Windows::kAll ? kWindows : 1); ++w) {
     // The whole neighbourhood, a cubic: at 0.5 um of noise a quadratic's shape error over 5 x 5 mm
     // of the canister's dish is several sigma. A half-plane holds too few points for one.
     t.model[w] = w == 0 ? loo_model(points, windows[w], i, reference, 3, 0.7, &t.whole_misses)

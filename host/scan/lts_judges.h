@@ -28,8 +28,12 @@ struct PointTest {
   WindowMisses whole_misses;  // of model[0]
 };
 
+// Which of a point's windows test_point fits: all nine, or the whole neighbourhood alone (the
+// half-planes' models are then not ok).
+enum class Windows { kAll, kWholeOnly };
 PointTest test_point(const std::vector<Point3>& points, const std::vector<size_t>& hood, size_t i,
-                     const std::vector<double>& reference, const std::vector<char>& excluded);
+                     const std::vector<double>& reference, const std::vector<char>& excluded,
+                     Windows windows = Windows::kAll);
 
 // Some window describes its own neighbours: a trimmed scale that noise gives.
 bool some_window_describes(const PointTest& t, double sigma);
