@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <stdexcept>
@@ -79,6 +80,8 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
   // so one whose estimate came out equal to its reference stays there: it is not computed again.
   // After the first iterations most of a scan has settled so, and only the moving points cost.
   std::vector<char> settled(points.size(), 0);
+  // Each point's last start subset, as a mask over its neighbourhood (0: none yet, or more than 64).
+  std::vector<uint64_t> start_mask(points.size(), 0);
   size_t previous_moved = SIZE_MAX;
   double previous_largest = HUGE_VAL;
   for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
@@ -114,14 +117,27 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
       // reference signal for the next iteration").
       for (size_t j : hood[i]) by_distance.push_back({std::fabs(points[j].z - reference[i]), j});
       std::nth_element(by_distance.begin(), by_distance.begin() + (h - 1), by_distance.end());
+      chosen.clear();
+      for (int m = 0; m < h; ++m) chosen.push_back(by_distance[m].second);
+      std::sort(chosen.begin(), chosen.end());
+      // The estimate is a function of this start subset alone: the one its last computation started
+      // from gave the present reference, so the same start gives it again.
+      if (n <= 64) {
+        uint64_t mask = 0;
+        for (int m = 0; m < n; ++m) {
+          if (std::binary_search(chosen.begin(), chosen.end(), hood[i][static_cast<size_t>(m)])) mask |= uint64_t{1} << m;
+        }
+        if (mask == start_mask[i]) {
+          next[i] = reference[i];
+          continue;
+        }
+        start_mask[i] = mask;
+      }
       double mean = 0;
-      for (int m = 0; m < h; ++m) mean += points[by_distance[m].second].z;
+      for (size_t j : chosen) mean += points[j].z;
       mean /= h;
       next[i] = mean;
       if (order > 0) {
-        chosen.clear();
-        for (int m = 0; m < h; ++m) chosen.push_back(by_distance[m].second);
-        std::sort(chosen.begin(), chosen.end());
         LocalPolynomial model;
         // Concentration steps: keep the h smallest residuals to the model and refit; never increases
         // the trimmed sum of squares, and two or three steps settle it. A subset that does not
