@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <utility>
 
 using namespace dg::host;
 
@@ -36,9 +37,38 @@ void check_against_brute_force(const std::vector<Point3>& p, size_t k) {
   }
 }
 
+// Every point's k nearest exactly, ties to the lower index, by sorting every (distance, index).
+void check_indices_against_brute_force(const std::vector<Point3>& p, size_t k) {
+  const Neighbourhoods flat = nearest_neighbours(p, k);
+  for (size_t i = 0; i < p.size(); ++i) {
+    std::vector<std::pair<double, size_t>> all;
+    for (size_t j = 0; j < p.size(); ++j) {
+      all.push_back({(p[j].x - p[i].x) * (p[j].x - p[i].x) + (p[j].y - p[i].y) * (p[j].y - p[i].y), j});
+    }
+    std::partial_sort(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(k), all.end());
+    for (size_t m = 0; m < k; ++m) LONGS_EQUAL(all[m].second, flat.of(i)[m]);
+  }
+}
+
 }  // namespace
 
 TEST_GROUP(Neighbours){};
+
+TEST(Neighbours, TheFiveNearestAreExactWithTiesToTheLowerIndexOnScatteredPointsAndOnAGrid) {
+  // Only the cells around a point that may hold a nearer point are searched; a grid's many equal
+  // distances must still go to the lower index, as a full search gives them.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> x(0, 40), y(0, 30);
+  std::vector<Point3> scattered;
+  for (int i = 0; i < 2000; ++i) scattered.push_back({x(rng), y(rng), 0});
+  check_indices_against_brute_force(scattered, 5);
+  std::vector<Point3> grid;
+  for (int row = 0; row < 31; ++row) {
+    for (int column = 0; column < 41; ++column) grid.push_back({0.2 * column, 0.2 * row, 0});
+  }
+  check_indices_against_brute_force(grid, 5);
+  check_indices_against_brute_force(grid, 9);
+}
 
 TEST(Neighbours, ScatteredPointsGetTheirTrueNearest) {
   std::mt19937 rng(3);
