@@ -111,6 +111,22 @@ TEST(LtsRecall, APlatePointBesideTheRimIsNotJudgedByTheCapContinuedBelowThePlate
   for (const LtsOutlier& o : r.outliers) CHECK(o.index != clean);
 }
 
+TEST(LtsRecall, AStepGaugesStepsAndOutliersDoNotPassForItsNoise) {
+  // Rows along x cross a 2 mm step every 6 mm, so most of their fifth differences span one, and
+  // the planted outliers spoil a quarter of the rest: started from their median, the noise came
+  // out at 53.5 um for 5 um (and 65 um for 10), and outliers up to 50 sigma passed. (The outliers
+  // alone lift the estimate by about 10 %, on the flat too.)
+  for (double sigma_um : {2.0, 5.0, 10.0}) {
+    const dg::test::Planted p = dg::test::plant_outliers(dg::sim::PartKind::kStepGauge, sigma_um, 1);
+    const LtsResult r = lts_filter(p.points, LtsOptions{});
+    CHECK(r.gridded);
+    DOUBLES_EQUAL(sigma_um, r.sigma_mm * 1e3, 0.15 * sigma_um);
+    size_t hits = 0;
+    for (const LtsOutlier& o : r.outliers) hits += p.outliers.count(o.index);
+    CHECK(hits + 2 >= p.outliers.size());
+  }
+}
+
 TEST(LtsRecall, WindowsThatKeepAlternatingEndTheIterationWithTheSameOutliers) {
   // Planted outliers on the canister at 2 um: some dozens of windows keep alternating between
   // trimmed subsets, which ran the iteration to its limit of 50 (three quarters of the filter's time
