@@ -470,10 +470,9 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
     clear_by_lines(condemned, a_line_clears);
   }
   // A row, column or diagonal through the point that is one smooth curve on both sides of it and
-  // puts it far off condemns it, whatever the windows said: on a sliver of plate one point wide
-  // along the scan's edge beside the dome's rim, an outlier 84 sigma low lay on the cap's sphere
-  // continued, and every window, mostly cap, vouched for it, while the column along the plate read
-  // 2.000 mm on both sides of it.
+  // puts it far off condemns it, whatever the windows said: two outliers side by side on the dome's
+  // steep flank, 52 and 58 sigma high, were vouched for by windows that held both, while the row
+  // through them, without them, was the cap's smooth curve on both sides.
   if (result.gridded) {
     std::vector<char> by_line(points.size(), 0);
     parallel_for(points.size(), [&](size_t begin, size_t end, unsigned) {
