@@ -185,7 +185,7 @@ bool whole_judges(const PointTest& t, double sigma, double k, const std::vector<
   // A cubic that misses three of the window's points by twice its bound, none of them suspected,
   // is not one smooth surface: it has trimmed a crease's other side. At the dome's rim, where the
   // base plate is a strip along the scan's edge, such a cubic was the cap continued below the
-  // plate, and condemned a plate point 0.2 mm above it that the envelope of both predicts.
+  // plate, and condemned a clean plate point 0.2 mm above it.
   int far_unsuspected = 0;
   for (int m = 0; m < WindowMisses::kWorst; ++m) {
     const bool unsuspected = suspect == nullptr || !(*suspect)[t.whole_misses.worst_index[m]];

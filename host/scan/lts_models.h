@@ -49,10 +49,9 @@ LooModel line_model(const std::vector<Point3>& points, const std::vector<size_t>
 
 // A quadratic along a row, column or diagonal through point i, from up to kThroughLineSide
 // neighbours on each side that are not suspected (at least two each): an interpolation, with a
-// gain near 0.5. Where the point's own surface is a sliver one point wide along the scan's edge,
-// beside a crease, every window and half-plane holds mostly the other surface, and an outlier that
-// happens to lie on that surface's continuation passes as one of its points; the line along the
-// sliver still has the point's own surface on both sides. `dof` holds n - 3.
+// gain near 0.5. Where outliers crowd the windows (two side by side on a steep flank), each window
+// holding them bends towards them, while the line without them still follows the surface on both
+// sides of the point. `dof` holds n - 3.
 constexpr int kThroughLineSide = 3;
 LooModel through_line_model(const std::vector<Point3>& points, const std::vector<size_t>& before,
                             const std::vector<size_t>& after, size_t i, const std::vector<char>& suspect);
