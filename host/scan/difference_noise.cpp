@@ -9,7 +9,8 @@
 namespace dg::host {
 
 // The standard deviation of zero-mean normal values among outliers: the RMS of those within 3 s,
-// divided by the RMS a normal distribution has within 3 sigma (0.98655), iterated from the MAD.
+// divided by the RMS a normal distribution has within 3 sigma (0.98655), iterated from the lower
+// quartile of |v|.
 double truncated_sigma(const std::vector<double>& values) {
   std::vector<double> magnitude = values;
   for (double& v : magnitude) v = std::fabs(v);

@@ -15,14 +15,16 @@ constexpr int kNoiseDifferenceOrder = 5;
 
 // The standard deviation of z's noise over `sequences` (indices into points, in order along each).
 // Only windows of six points spaced evenly in XY (within 10 %) count. Their differences' spread is
-// a truncated RMS (values past 3 sigma dropped, iterated from the median, corrected for the
+// a truncated RMS (values past 3 sigma dropped, iterated from the lower quartile, corrected for the
 // truncation), after dropping every window within one window of a value past 3 sigma: a crease or
 // a steep, curved edge shows as a run of large differences whose shoulders are still inflated.
 // Unlike a median it is not quantized by the gauge's reading step. 0 with fewer than 8 windows.
 double difference_noise_sigma(const std::vector<Point3>& points, const std::vector<std::vector<size_t>>& sequences);
 
-// The standard deviation of zero-mean normal values among a minority of outliers: the RMS of those
-// within 3 s divided by the RMS a normal distribution has within 3 sigma, iterated from the MAD.
+// The standard deviation of zero-mean normal values among outliers (fewer than three quarters of
+// them): the RMS of those
+// within 3 s divided by the RMS a normal distribution has within 3 sigma, iterated from the lower
+// quartile of |v| (a median breaks down where steps spoil most differences).
 double truncated_sigma(const std::vector<double>& values);
 
 }  // namespace dg::host
