@@ -22,9 +22,8 @@ constexpr int kNoiseDifferenceOrder = 5;
 double difference_noise_sigma(const std::vector<Point3>& points, const std::vector<std::vector<size_t>>& sequences);
 
 // The standard deviation of zero-mean normal values among outliers (fewer than three quarters of
-// them): the RMS of those
-// within 3 s divided by the RMS a normal distribution has within 3 sigma, iterated from the lower
-// quartile of |v| (a median breaks down where steps spoil most differences).
+// them): the RMS of those within 3 s divided by the RMS a normal distribution has within 3 sigma,
+// iterated from the lower quartile of |v| (a median breaks down where steps spoil most values).
 double truncated_sigma(const std::vector<double>& values);
 
 }  // namespace dg::host
