@@ -97,22 +97,17 @@ Neighbourhoods nearest_neighbours(const std::vector<Point3>& points, size_t k) {
       for (int a = 1; a < count; ++a) {  // insertion sort of at most eight
         for (int b = a; b > 0 && around[b] < around[b - 1]; --b) std::swap(around[b], around[b - 1]);
       }
+      auto take_around = [&](int a) { take_cell(cx + around[a].second % 3 - 1, cy + around[a].second / 3 - 1); };
       int taken = 0;
-      for (; taken < count; ++taken) {
-        if (best.size() == k && around[taken].first > best.back().first) break;
-        const int code = around[taken].second;
-        take_cell(cx + code % 3 - 1, cy + code / 3 - 1);
-      }
+      for (; taken < count && !(best.size() == k && around[taken].first > best.back().first); ++taken) take_around(taken);
       // The cells around not taken are farther than the k-th best; every cell beyond them lies at
       // least a cell and the point's distance to its own cell's nearest side away.
       const double beyond = (1 + std::min({fx, 1 - fx, fy, 1 - fy})) * cell;
-      if ((best.size() == k && best.back().first <= beyond * beyond * kMargin) || seen == points.size()) {
-        size_t* nearest = out.nearest.data() + i * k;
-        for (const auto& [distance, j] : best) *nearest++ = j;
-        continue;
+      bool done = (best.size() == k && best.back().first <= beyond * beyond * kMargin) || seen == points.size();
+      if (!done) {
+        for (; taken < count; ++taken) take_around(taken);
       }
-      for (; taken < count; ++taken) take_cell(cx + around[taken].second % 3 - 1, cy + around[taken].second / 3 - 1);
-      for (long ring = 2;; ++ring) {
+      for (long ring = 2; !done; ++ring) {
         // The cells at Chebyshev distance `ring` from (cx, cy), inside the grid.
         for (long y = std::max(0L, cy - ring); y <= std::min(rows - 1, cy + ring); ++y) {
           if (y == cy - ring || y == cy + ring) {
@@ -123,7 +118,7 @@ Neighbourhoods nearest_neighbours(const std::vector<Point3>& points, size_t k) {
           }
         }
         const double reach = static_cast<double>(ring) * cell;
-        if ((best.size() == k && best.back().first <= reach * reach) || seen == points.size()) break;
+        done = (best.size() == k && best.back().first <= reach * reach) || seen == points.size();
       }
       size_t* nearest = out.nearest.data() + i * k;
       for (const auto& [distance, j] : best) *nearest++ = j;
