@@ -218,15 +218,26 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
   // On a grid the noise comes from fifth differences along rows and columns instead: the local
   // models' residuals also hold their shape errors, which would pass for noise.
   if (result.gridded) {
-    const double from_differences = difference_noise_sigma(points, rows_and_columns);
+    // Without the points their whole window puts more than ten of its residual sigmas off: outliers,
+    // and on a surface steeper than the grid resolves its band, whose differences measure no noise
+    // either. An outlier spoils every difference it is in, and at a difference's light end (weight
+    // 1 of sqrt(252)) it adds too little to be cut. A gap so made breaks the even spacing, and the
+    // differences across it are not counted. Measured on the seven simulated parts, six seeds each,
+    // 5 % of outliers planted: -3 to +36 % off the true noise with them, -9 to +15 % without.
+    const double gross = 10 * result.sigma_mm;
+    std::vector<std::vector<size_t>> clean_lines = rows_and_columns;
+    for (std::vector<size_t>& line : clean_lines) {
+      line.erase(std::remove_if(line.begin(), line.end(), [&](size_t j) { return abs_full[j] > gross; }), line.end());
+    }
+    const double from_differences = difference_noise_sigma(points, clean_lines);
     if (from_differences > 0) result.sigma_mm = from_differences;
   }
   const double limit = std::max(options.outlier_sigmas * result.sigma_mm, 1e-9);
   const double sigma = std::max(result.sigma_mm, 1e-9);
   // A point its whole window judges alone and clears (whole_judges) stays cleared whatever the
   // half-planes say: every later verdict on it asks the whole window first, and suspects only make
-  // that window judge more readily. Its half-planes are not fitted (eight of the nine models), on a
-  // smooth part most of the points.
+  // that window judge more readily (`LtsJudges` checks it). Its half-planes are not fitted (eight
+  // of the nine models), on a smooth part most of the points.
   parallel_for(points.size(), [&](size_t begin, size_t end, unsigned) {
     for (size_t i = begin; i < end; ++i) {
       const PointTest& t = tests[i];
