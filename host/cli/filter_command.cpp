@@ -64,6 +64,16 @@ int run_filter(const FilterArgs& a) {
                 raw[o.index].y, raw[o.index].z, r.z[o.index], o.residual_mm);
   }
   if (r.outliers.size() > 10) std::printf("  ... all in the outliers file\n");
+  if (!r.unjudged.empty()) {
+    std::printf("%zu points not judged, kept as measured: no model of their neighbours describes the surface there "
+                "(steeper or more curved than the grid resolves; scan finer to judge them)\n",
+                r.unjudged.size());
+    for (size_t k = 0; k < r.unjudged.size() && k < 5; ++k) {
+      const Point3& p = raw[r.unjudged[k]];
+      std::printf("  point %zu at (%.3f, %.3f): z %.4f\n", r.unjudged[k] + 1, p.x, p.y, p.z);
+    }
+    if (r.unjudged.size() > 5) std::printf("  ...\n");
+  }
   if (!r.outliers.empty()) {
     // Beside the output; with the output on standard output, in the current directory after the input.
     const std::string list = !a.outliers.empty()            ? a.outliers

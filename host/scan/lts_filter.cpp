@@ -13,6 +13,7 @@
 #include "host/scan/difference_noise.h"
 #include "host/scan/local_polynomial.h"
 #include "host/scan/lts_judges.h"
+#include "host/scan/lts_resolution.h"
 #include "host/scan/median.h"
 #include "host/scan/neighbours.h"
 
@@ -24,8 +25,6 @@ namespace {
 
 // Rounds of testing the points beside suspects again without them.
 constexpr int kSuspectRounds = 4;
-// A line through a point judges with at least this many degrees of freedom left to its quadratic.
-constexpr int kThroughLineDof = 3;
 
 }  // namespace
 
@@ -510,6 +509,28 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
       }
     });
     for (size_t i = 0; i < points.size(); ++i) condemned[i] = condemned[i] || by_line[i];
+  }
+  // A condemned point whose whole window misses its points by far more than the noise, and that no
+  // other model of its neighbours describes either (lts_resolution.h), lies where the grid does not
+  // resolve the surface: its height cannot be told from the part's shape, and it is kept, listed as
+  // not judged. At a sphere's foot (70 degrees and steeper on a 1 mm grid) the judges condemned a
+  // ring of real points, each with a half-plane that had fitted the plate and the ring's neighbours.
+  if (result.gridded) {
+    const std::vector<char> in_groups = in_small_groups(sides, condemned, kOutlierGroupMax);
+    std::vector<char> unjudged(points.size(), 0);
+    parallel_for(points.size(), [&](size_t begin, size_t end, unsigned) {
+      for (size_t i = begin; i < end; ++i) {
+        const LooModel& whole = tests[i].model[0];
+        if (!condemned[i] || (whole.ok && whole.scale <= kUnresolvedScale * sigma)) continue;
+        unjudged[i] = !surface_resolved(points, hood[i], wide[i], sides[i], i, reference, condemned, in_groups, sigma,
+                                        options.outlier_sigmas);
+      }
+    });
+    for (size_t i = 0; i < points.size(); ++i) {
+      if (!unjudged[i]) continue;
+      condemned[i] = 0;
+      result.unjudged.push_back(i);
+    }
   }
   for (size_t i = 0; i < points.size(); ++i) {
     const bool outlier = condemned[i];

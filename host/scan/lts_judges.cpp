@@ -11,16 +11,14 @@ PointTest test_point(const std::vector<Point3>& points, const std::vector<size_t
                      const std::vector<double>& reference, const std::vector<char>& excluded, Windows which) {
   // Half-planes bounded by the lines through the point along x, y and both diagonals: a crease
   // that crosses the window at any of these angles leaves one of them wholly on the point's side.
-  static const double kNormal[8][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, {-1, -1}, {1, -1}, {-1, 1}};
   PointTest t;
   std::vector<size_t> windows[kWindows];
   for (size_t j : hood) {
     if (j == i || excluded[j]) continue;
     windows[0].push_back(j);
     if (which == Windows::kWholeOnly) continue;
-    const double dx = points[j].x - points[i].x, dy = points[j].y - points[i].y;
     for (int w = 0; w < 8; ++w) {
-      if (kNormal[w][0] * dx + kNormal[w][1] * dy >= -1e-9) windows[w + 1].push_back(j);
+      if (in_half_plane(points[i], points[j], w)) windows[w + 1].push_back(j);
     }
   }
   for (int w = 0; w < (which == Windows::kAll ? kWindows : 1); ++w) {

@@ -22,6 +22,13 @@ constexpr double kWindowGainMax = 24;
 // or at the edge of the scan, lies on the model of at least one side; an outlier on none.
 constexpr int kWindows = 9;  // the whole neighbourhood and eight half-planes through the point
 
+// Point q lies in point p's half-plane `w` (0 to 7: +x, -x, +y, -y and the four diagonal sides),
+// bounded by the line through p along y, x or a diagonal.
+inline bool in_half_plane(const Point3& p, const Point3& q, int w) {
+  static constexpr double kNormal[8][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, {-1, -1}, {1, -1}, {-1, 1}};
+  return kNormal[w][0] * (q.x - p.x) + kNormal[w][1] * (q.y - p.y) >= -1e-9;
+}
+
 struct PointTest {
   LooModel model[kWindows + kLines];
   double residual[kWindows + kLines] = {};

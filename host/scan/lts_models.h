@@ -53,6 +53,8 @@ LooModel line_model(const std::vector<Point3>& points, const std::vector<size_t>
 // holding them bends towards them, while the line without them still follows the surface on both
 // sides of the point. `dof` holds n - 3.
 constexpr int kThroughLineSide = 3;
+// A line through a point judges with at least this many degrees of freedom left to its quadratic.
+constexpr int kThroughLineDof = 3;
 LooModel through_line_model(const std::vector<Point3>& points, const std::vector<size_t>& before,
                             const std::vector<size_t>& after, size_t i, const std::vector<char>& suspect);
 

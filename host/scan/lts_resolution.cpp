@@ -1,0 +1,93 @@
+// Whether the grid resolves the surface around a condemned point, from the models of lts_judges.h.
+#include "host/scan/lts_resolution.h"
+
+#include <cmath>
+
+#include "host/scan/lts_judges.h"
+#include "host/scan/lts_models.h"
+
+namespace dg::host::lts {
+
+std::vector<char> in_small_groups(const std::vector<LineSides>& sides, const std::vector<char>& marked, size_t max_size) {
+  std::vector<char> out(marked.size(), 0);
+  std::vector<char> seen(marked.size(), 0);
+  std::vector<size_t> group, stack;
+  for (size_t start = 0; start < marked.size(); ++start) {
+    if (!marked[start] || seen[start]) continue;
+    group.clear();
+    stack.assign(1, start);
+    seen[start] = 1;
+    while (!stack.empty()) {
+      const size_t a = stack.back();
+      stack.pop_back();
+      group.push_back(a);
+      // Each side's first point is the grid neighbour in that direction (a side ends at a gap).
+      for (const std::vector<size_t>& side : sides[a]) {
+        if (side.empty() || !marked[side.front()] || seen[side.front()]) continue;
+        seen[side.front()] = 1;
+        stack.push_back(side.front());
+      }
+    }
+    if (group.size() <= max_size) {
+      for (size_t j : group) out[j] = 1;
+    }
+  }
+  return out;
+}
+
+bool surface_resolved(const std::vector<Point3>& points, const std::vector<size_t>& hood, const std::vector<size_t>& wide,
+                      const LineSides& sides, size_t i, const std::vector<double>& reference,
+                      const std::vector<char>& condemned, const std::vector<char>& in_groups, double sigma, double k) {
+  auto bound = [&](double gain, double scale) { return k * std::sqrt(sigma * sigma * (1 + gain) + scale * scale); };
+  auto describes = [&](const LooModel& m, double within) {
+    return m.ok && m.scale <= within * sigma && m.near_worst <= bound(0, m.scale);
+  };
+  for (const std::vector<size_t>* around : {&hood, &wide}) {
+    if (describes(loo_model(points, others_in(*around, i, condemned), i, reference, 3), 2.5)) return true;
+    const CreaseModel crease =
+        crease_model(points, *around, i, reference, condemned, split_model(points, *around, i, reference, condemned));
+    if (crease.ok && crease.scale <= 2.5 * sigma && crease.near_worst <= bound(crease.gain, crease.scale)) return true;
+  }
+  std::vector<size_t> half;
+  for (int w = 0; w < 8; ++w) {
+    half.clear();
+    for (size_t j : hood) {
+      if (j != i && !in_groups[j] && in_half_plane(points[i], points[j], w)) half.push_back(j);
+    }
+    // Half-planes 0 to 3 are bounded along an axis, 4 to 7 along a diagonal.
+    if (describes(loo_model(points, half, i, reference, w < 4 ? 1 : 2), 2.0)) return true;
+  }
+  for (int d = 0; d + 1 < kLines; d += 2) {
+    const LooModel m = through_line_model(points, sides[static_cast<size_t>(d)], sides[static_cast<size_t>(d + 1)], i, in_groups);
+    if (m.ok && m.dof >= kThroughLineDof && m.scale <= 2.0 * sigma) return true;
+  }
+  // The slope across the point from its neighbours alone, along x (sides 0 and 1) and y (2 and 3).
+  double slope[2] = {0, 0};
+  for (int a = 0; a < 2; ++a) {
+    const std::vector<size_t>& minus = sides[static_cast<size_t>(2 * a)];
+    const std::vector<size_t>& plus = sides[static_cast<size_t>(2 * a + 1)];
+    auto rise = [&](size_t p, size_t q) {
+      return (points[q].z - points[p].z) / std::hypot(points[q].x - points[p].x, points[q].y - points[p].y);
+    };
+    if (!minus.empty() && !plus.empty()) {
+      slope[a] = rise(minus[0], plus[0]);
+    } else if (plus.size() >= 2) {
+      slope[a] = rise(plus[0], plus[1]);
+    } else if (minus.size() >= 2) {
+      slope[a] = rise(minus[1], minus[0]);
+    }
+  }
+  const double steepest = std::hypot(slope[0], slope[1]);
+  for (int d = 0; d < kLines; ++d) {
+    const std::vector<size_t>& side = sides[static_cast<size_t>(d)];
+    if (side.empty()) continue;
+    // Only a line within 30 degrees of the level direction: one down the slope leaves the surface.
+    const double ux = points[side[0]].x - points[i].x, uy = points[side[0]].y - points[i].y;
+    if (steepest > kFlatSlope && std::fabs(ux * slope[0] + uy * slope[1]) > 0.5 * steepest * std::hypot(ux, uy)) continue;
+    const LooModel m = line_model(points, side, i, in_groups, sigma);
+    if (m.ok && m.scale <= 2.0 * sigma && m.gain <= kLineGainMax) return true;
+  }
+  return false;
+}
+
+}  // namespace dg::host::lts
