@@ -10,8 +10,9 @@
 namespace dg::host::lts {
 
 // Marked points in 8-connected groups (along the rows, columns and diagonals of the grid) of at
-// most `max_size`: the planted pairs and triples and chance neighbours among 5 % of outliers make
-// groups of up to four; a band of real points that the judges condemned makes longer ones.
+// most `max_size`: outliers, alone or as pairs, triples and chance neighbours (among 5 % of them
+// mostly up to four; the flat's seed 9 at 2 um has two chains of five, whose points the half-planes
+// and lines here keep in their fits); a band of real points the judges condemned makes longer ones.
 constexpr size_t kOutlierGroupMax = 4;
 std::vector<char> in_small_groups(const std::vector<LineSides>& sides, const std::vector<char>& marked, size_t max_size);
 
