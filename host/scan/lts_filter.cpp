@@ -287,7 +287,7 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
     // scan a whole window's cubic reaches a gain of 9 to 11, and put a clean point 6 sigma off.
     auto beyond_bound = [&](int w) {
       const LooModel& m = tests[i].model[w];
-      const double bound = options.outlier_sigmas * std::sqrt(sigma * sigma * (1 + m.gain) + m.scale * m.scale);
+      const double bound = prediction_bound(options.outlier_sigmas, sigma, m.gain, m.scale);
       return std::fabs(tests[i].residual[w]) > std::max(limit, bound);
     };
     if (beyond_bound(window)) return window;
@@ -395,8 +395,7 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
         // above the plate (the dome's (3, 26) of seed 4 at 0.5 um) was left to the plate's
         // half-planes when an envelope of 2.15 sigma predicted it to 6.5 sigma.
         if (!crease.ok || crease.scale > 2.5 * sigma) continue;
-        const double bound =
-            options.outlier_sigmas * std::sqrt(sigma * sigma * (1 + crease.gain) + crease.scale * crease.scale);
+        const double bound = prediction_bound(options.outlier_sigmas, sigma, crease.gain, crease.scale);
         if (crease.near_worst > bound) continue;
         // An envelope that extrapolates further than a line may (the point at its window's edge)
         // only clears, up to twice that gain and within half its bound: the rim point beside the
@@ -419,7 +418,7 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
       const SplitModels& split = cut_of(1);
       if (split.own.ok && split.own.scale <= 2.0 * sigma && split.other.ok) {
         auto predicts = [&](const LooModel& m, double widen) {
-          const double bound = options.outlier_sigmas * std::sqrt(sigma * sigma * (1 + m.gain) + m.scale * m.scale);
+          const double bound = prediction_bound(options.outlier_sigmas, sigma, m.gain, m.scale);
           return m.gain <= kLineGainMax && std::fabs(points[i].z - m.prediction) <= widen * std::max(bound, limit);
         };
         if (outlier && predicts(split.own, 1)) outlier = false;
@@ -496,7 +495,7 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
         for (int d = 0; d + 1 < kLines; d += 2) {
           const LooModel m = through_line_model(points, sides[i][static_cast<size_t>(d)], sides[i][static_cast<size_t>(d + 1)], i, condemned);
           if (!m.ok || m.dof < kThroughLineDof || m.scale > 2.0 * sigma) continue;
-          const double bound = options.outlier_sigmas * std::sqrt(sigma * sigma * (1 + m.gain) + m.scale * m.scale);
+          const double bound = prediction_bound(options.outlier_sigmas, sigma, m.gain, m.scale);
           if (std::fabs(points[i].z - m.prediction) > std::max(bound, limit)) {
             if (!lines_added) add_line_models(points, sides[i], i, condemned, sigma, one_sided);
             lines_added = true;

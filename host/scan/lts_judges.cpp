@@ -217,7 +217,7 @@ bool vouches(const PointTest& t, int w, double sigma, double k) {
   // cubic over a window at the scan's edge with its suspects left out reached a gain of 30 and a
   // bound of 28 sigma, wide enough to pass an outlier of 18.
   if (!m.ok || m.near_kept < 2 || m.scale > 2.0 * sigma || (w < kWindows && m.gain > kWindowGainMax)) return false;
-  const double bound = w < kWindows ? k * std::sqrt(sigma * sigma * (1 + m.gain) + m.scale * m.scale)
+  const double bound = w < kWindows ? prediction_bound(k, sigma, m.gain, m.scale)
                                      : 0.8 * k * sigma * std::sqrt(1 + m.gain);
   return std::fabs(t.residual[w]) <= bound;
 }

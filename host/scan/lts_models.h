@@ -38,6 +38,13 @@ struct LooModel {
   LocalPolynomial polynomial;  // the model itself (a window's; a constant as a flat plane)
 };
 
+// How far a model's prediction may miss a clean point: k times the prediction's standard error,
+// the scan's noise amplified by the model's gain, with the model's own trimmed scale added for the
+// shape it leaves undescribed.
+inline double prediction_bound(double k, double sigma, double gain, double scale) {
+  return k * std::sqrt(sigma * sigma * (1 + gain) + scale * scale);
+}
+
 // A quadratic in the distance along a line through the points on one side of point i,
 // extrapolated to i; ok only with at least four points (one degree of freedom left to measure
 // how well the quadratic describes them) and a gain of at most kLineGainMax. Where the scan's noise

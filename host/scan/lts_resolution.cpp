@@ -38,15 +38,14 @@ std::vector<char> in_small_groups(const std::vector<LineSides>& sides, const std
 bool surface_resolved(const std::vector<Point3>& points, const std::vector<size_t>& hood, const std::vector<size_t>& wide,
                       const LineSides& sides, size_t i, const std::vector<double>& reference,
                       const std::vector<char>& condemned, const std::vector<char>& in_groups, double sigma, double k) {
-  auto bound = [&](double gain, double scale) { return k * std::sqrt(sigma * sigma * (1 + gain) + scale * scale); };
   auto describes = [&](const LooModel& m, double within) {
-    return m.ok && m.scale <= within * sigma && m.near_worst <= bound(0, m.scale);
+    return m.ok && m.scale <= within * sigma && m.near_worst <= prediction_bound(k, sigma, 0, m.scale);
   };
   for (const std::vector<size_t>* around : {&hood, &wide}) {
     if (describes(loo_model(points, others_in(*around, i, condemned), i, reference, 3), 2.5)) return true;
     const CreaseModel crease =
         crease_model(points, *around, i, reference, condemned, split_model(points, *around, i, reference, condemned));
-    if (crease.ok && crease.scale <= 2.5 * sigma && crease.near_worst <= bound(crease.gain, crease.scale)) return true;
+    if (crease.ok && crease.scale <= 2.5 * sigma && crease.near_worst <= prediction_bound(k, sigma, crease.gain, crease.scale)) return true;
   }
   std::vector<size_t> half;
   for (int w = 0; w < 8; ++w) {
