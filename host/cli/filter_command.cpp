@@ -1,5 +1,6 @@
 // Filtering: outliers are left out of the filtered points (or replaced by the robust local estimate
-// on request) and always listed with their measured values in a file of their own.
+// on request) and always listed with their measured values in a file of their own, as are the
+// points the filter could not judge.
 #include "host/cli/filter_command.h"
 
 #include <cstdio>
@@ -27,6 +28,9 @@ CLI::App* add_filter_command(CLI::App& app, FilterArgs& a) {
   cmd->add_option("--outlier-sigmas", a.options.outlier_sigmas, "report points this many robust sigmas off")
       ->capture_default_str()->check(CLI::PositiveNumber);
   cmd->add_option("--outliers", a.outliers, "the outliers' measured points (.csv; default OUTPUT.outliers.csv)");
+  cmd->add_option("--unjudged", a.unjudged,
+                  "the points kept as measured but not judged, where the grid does not resolve the surface (.csv; default "
+                  "OUTPUT.unjudged.csv)");
   cmd->add_flag("--replace-outliers", a.replace_outliers,
                 "put the local estimate in each outlier's place (default: leave outliers out of the output)");
   return cmd;
@@ -72,18 +76,27 @@ int run_filter(const FilterArgs& a) {
       const Point3& p = raw[r.unjudged[k]];
       std::printf("  point %zu at (%.3f, %.3f): z %.4f\n", r.unjudged[k] + 1, p.x, p.y, p.z);
     }
-    if (r.unjudged.size() > 5) std::printf("  ...\n");
+    if (r.unjudged.size() > 5) std::printf("  ... all in the list of points not judged\n");
   }
+  // A list goes beside the output; with the output on standard output, in the current directory
+  // after the input.
+  auto list_name = [&](const std::string& given, const char* suffix) {
+    return !given.empty()                ? given
+           : is_standard_output(a.output) ? without_extension(base_name(a.input)) + suffix
+                                          : without_extension(a.output) + suffix;
+  };
+  auto write_list = [&](const std::string& path, const std::vector<size_t>& indices, const char* what) {
+    std::vector<Point3> listed;
+    for (size_t i : indices) listed.push_back(raw[i]);
+    write_cloud_csv(path, listed, nullptr);
+    std::printf("wrote the %s (measured values) to %s\n", what, path.c_str());
+  };
   if (!r.outliers.empty()) {
-    // Beside the output; with the output on standard output, in the current directory after the input.
-    const std::string list = !a.outliers.empty()            ? a.outliers
-                             : is_standard_output(a.output) ? without_extension(base_name(a.input)) + ".outliers.csv"
-                                                            : without_extension(a.output) + ".outliers.csv";
-    std::vector<Point3> bad;
-    for (const auto& o : r.outliers) bad.push_back(raw[o.index]);
-    write_cloud_csv(list, bad, nullptr);
-    std::printf("wrote the outliers (measured values) to %s\n", list.c_str());
+    std::vector<size_t> indices;
+    for (const auto& o : r.outliers) indices.push_back(o.index);
+    write_list(list_name(a.outliers, ".outliers.csv"), indices, "outliers");
   }
+  if (!r.unjudged.empty()) write_list(list_name(a.unjudged, ".unjudged.csv"), r.unjudged, "points not judged");
   std::printf("wrote %zu filtered points to %s\n", kept.points.size(), output_name(a.output).c_str());
   return 0;
 }

@@ -8,7 +8,7 @@
 namespace dg::host {
 
 struct FilterArgs {
-  std::string input, output, outliers;
+  std::string input, output, outliers, unjudged;
   bool replace_outliers = false;  // put the estimate in an outlier's place instead of leaving it out
   LtsOptions options;
 };
