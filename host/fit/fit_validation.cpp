@@ -250,7 +250,7 @@ void check_neighbours(const BSplineSurface& surface, const PointCloud& cloud, co
   const Neighbourhoods near = nearest_neighbours(plane, 5);
   check_units(near.order.size(), [&](size_t position, RangeWorst& worst) {
     const size_t i = near.order[position];
-    for (const size_t* j = near.of(i); j != near.of(i) + near.k; ++j) {
+    for (const size_t* j = near.at_position(position); j != near.at_position(position) + near.k; ++j) {
       if (*j > i) check.segment(i, *j, options.samples_between, 0.0, worst);
     }
   }, out);

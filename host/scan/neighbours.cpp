@@ -23,8 +23,9 @@ Neighbourhoods nearest_neighbours(const std::vector<Point3>& points, size_t k) {
   const double n = static_cast<double>(points.size());
   const double cell = std::max({std::sqrt(area * 4.0 / n), 4.0 * std::max(x1 - x0, y1 - y0) / n, 1e-9});
   const long columns = static_cast<long>(std::floor((x1 - x0) / cell)) + 1, rows = static_cast<long>(std::floor((y1 - y0) / cell)) + 1;
-  auto column_of = [&](double x) { return std::min(columns - 1, static_cast<long>(std::floor((x - x0) / cell))); };
-  auto row_of = [&](double y) { return std::min(rows - 1, static_cast<long>(std::floor((y - y0) / cell))); };
+  // Truncation is the floor here (no point lies below x0 or y0), without a call into libm.
+  auto column_of = [&](double x) { return std::min(columns - 1, static_cast<long>((x - x0) / cell)); };
+  auto row_of = [&](double y) { return std::min(rows - 1, static_cast<long>((y - y0) / cell)); };
   // Counting sort of the points by cell: cell c holds members[start[c] .. start[c + 1]).
   std::vector<size_t> start(static_cast<size_t>(columns * rows) + 1, 0), members(points.size());
   for (const Point3& p : points) ++start[static_cast<size_t>(row_of(p.y) * columns + column_of(p.x)) + 1];
@@ -36,6 +37,8 @@ Neighbourhoods nearest_neighbours(const std::vector<Point3>& points, size_t k) {
   k = std::min(k, points.size());
   out.k = k;
   out.nearest.resize(points.size() * k);
+  out.position.resize(points.size());
+  for (size_t m = 0; m < members.size(); ++m) out.position[members[m]] = m;
   if (k == 0) {
     out.order = std::move(members);
     return out;
@@ -54,13 +57,14 @@ Neighbourhoods nearest_neighbours(const std::vector<Point3>& points, size_t k) {
   parallel_for(points.size(), [&](size_t begin, size_t end, unsigned) {
     // The chunk's own list: per-worker lists side by side in one array shared their cache line,
     // and every insert by one core stalled the other.
-    std::vector<std::pair<double, size_t>> best;
-    best.reserve(k + 1);
+    // Kept sorted by hand, the few larger ones shifted up: a handful of moves, no search and no
+    // std::vector bookkeeping.
+    std::vector<std::pair<double, size_t>> best(k);
+    size_t held = 0;
     for (size_t position = begin; position < end; ++position) {
-      const size_t i = members[position];
       const double xi = cell_xy[2 * position], yi = cell_xy[2 * position + 1];
       const long cx = column_of(xi), cy = row_of(yi);
-      best.clear();
+      held = 0;
       size_t seen = 0;
       auto take_cell = [&](long x, long y) {
         const size_t c = static_cast<size_t>(y * columns + x);
@@ -68,11 +72,12 @@ Neighbourhoods nearest_neighbours(const std::vector<Point3>& points, size_t k) {
         for (size_t m = start[c]; m < start[c + 1]; ++m) {
           const double ddx = cell_xy[2 * m] - xi, ddy = cell_xy[2 * m + 1] - yi;
           const double distance = ddx * ddx + ddy * ddy;
-          if (best.size() == k && distance > best.back().first) continue;
+          if (held == k && distance > best[k - 1].first) continue;
           const std::pair<double, size_t> candidate{distance, members[m]};
-          if (best.size() == k && !(candidate < best.back())) continue;
-          if (best.size() == k) best.pop_back();
-          best.insert(std::upper_bound(best.begin(), best.end(), candidate), candidate);
+          if (held == k && !(candidate < best[k - 1])) continue;
+          size_t slot = held < k ? held++ : k - 1;
+          for (; slot > 0 && candidate < best[slot - 1]; --slot) best[slot] = best[slot - 1];
+          best[slot] = candidate;
         }
       };
       take_cell(cx, cy);
@@ -99,11 +104,11 @@ Neighbourhoods nearest_neighbours(const std::vector<Point3>& points, size_t k) {
       }
       auto take_around = [&](int a) { take_cell(cx + around[a].second % 3 - 1, cy + around[a].second / 3 - 1); };
       int taken = 0;
-      for (; taken < count && !(best.size() == k && around[taken].first > best.back().first); ++taken) take_around(taken);
+      for (; taken < count && !(held == k && around[taken].first > best[k - 1].first); ++taken) take_around(taken);
       // The cells around not taken are farther than the k-th best; every cell beyond them lies at
       // least a cell and the point's distance to its own cell's nearest side away.
       const double beyond = (1 + std::min({fx, 1 - fx, fy, 1 - fy})) * cell;
-      bool done = (best.size() == k && best.back().first <= beyond * beyond * kMargin) || seen == points.size();
+      bool done = (held == k && best[k - 1].first <= beyond * beyond * kMargin) || seen == points.size();
       if (!done) {
         for (; taken < count; ++taken) take_around(taken);
       }
@@ -118,10 +123,10 @@ Neighbourhoods nearest_neighbours(const std::vector<Point3>& points, size_t k) {
           }
         }
         const double reach = static_cast<double>(ring) * cell;
-        done = (best.size() == k && best.back().first <= reach * reach) || seen == points.size();
+        done = (held == k && best[k - 1].first <= reach * reach) || seen == points.size();
       }
-      size_t* nearest = out.nearest.data() + i * k;
-      for (const auto& [distance, j] : best) *nearest++ = j;
+      size_t* nearest = out.nearest.data() + position * k;
+      for (size_t b = 0; b < held; ++b) *nearest++ = best[b].second;
     }
   }, 64);
   out.order = std::move(members);

@@ -7,14 +7,20 @@
 
 namespace dg::host {
 
-// Every point's k nearest in XY, in one array.
+// Every point's k nearest in XY, in one array, kept in the buckets' order (the order the search
+// writes them in: written by point number instead, each point's list landed in another cache line,
+// and for a million points in random order those scattered stores took a quarter of the search).
 struct Neighbourhoods {
-  size_t k = 0;                 // per point: the k asked for, capped at the number of points
-  std::vector<size_t> nearest;  // point i's k nearest at [i * k, (i + 1) * k), nearest first, i among them
+  size_t k = 0;  // per point: the k asked for, capped at the number of points
   // Every point once, bucket by bucket along rows of buckets: points near in this order are near in
   // XY, so work taken in it finds each point's neighbours in what the cache already holds.
   std::vector<size_t> order;
-  const size_t* of(size_t i) const { return nearest.data() + i * k; }
+  std::vector<size_t> position;  // point i is order[position[i]]
+  // The k nearest of the point at order[p], nearest first, the point among them.
+  const size_t* at_position(size_t p) const { return nearest.data() + p * k; }
+  // Point i's k nearest, nearest first, i among them.
+  const size_t* of(size_t i) const { return at_position(position[i]); }
+  std::vector<size_t> nearest;  // at_position(p)'s lists one after another
 };
 
 // Found through a bucket grid (ties go to the lower index).
