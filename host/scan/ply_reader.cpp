@@ -88,8 +88,13 @@ class BinaryCursor {
   double read(PlyType t, const std::string& name, const Where& where) {
     const size_t n = type_size(t);
     if (size_ - offset_ < n) throw PointFileError(name + ": file ends inside " + where());
+    // The value's bytes, least significant first; the shifts below then compile to plain loads.
     uint8_t b[8];
-    for (size_t i = 0; i < n; ++i) b[i] = data_[offset_ + (big_ ? n - 1 - i : i)];
+    if (big_) {
+      for (size_t i = 0; i < n; ++i) b[i] = data_[offset_ + n - 1 - i];
+    } else {
+      std::memcpy(b, data_ + offset_, n);
+    }
     offset_ += n;
     switch (t) {
       case PlyType::kInt8: return static_cast<int8_t>(b[0]);
@@ -109,7 +114,7 @@ class BinaryCursor {
       }
       case PlyType::kFloat64: {
         uint64_t u = 0;
-        for (int i = 7; i >= 0; --i) u = u << 8 | b[i];
+        for (int i = 0; i < 8; ++i) u |= static_cast<uint64_t>(b[i]) << (8 * i);
         double d;
         std::memcpy(&d, &u, sizeof d);
         return d;

@@ -17,6 +17,7 @@
 
 #include "host/io/file_name.h"
 #include "host/io/text_field.h"
+#include "host/parallel/parallel_for.h"
 #include "host/scan/ply_reader.h"
 #include "host/scan/position_uncertainty.h"
 #include "host/scan/drift_removal.h"
@@ -149,29 +150,61 @@ uint64_t coordinate_bits(double c) {
 }  // namespace
 
 void check_duplicate_points(const PointCloud& cloud, const std::function<std::string(size_t)>& where_is) {
-  // One pass in file order through an open-addressing table of the points met so far (their
-  // numbers, hashed by their coordinates' bits): the first point found already in the table is
-  // the earliest that repeats an earlier one, and the table holds that earlier one's number. A
-  // sort of the numbers by coordinates did the same in 0.2 s on a million points; this, in a
-  // fraction of it.
+  // Equal points hash alike, so the points are dealt by their hash's top bits into parts small
+  // enough that each part's open-addressing table stays in the cache (one table over a million
+  // points missed it at nearly every probe), and the parts share the cores. Within a part the
+  // points go in file order: the first one found already in the table is the part's earliest
+  // repeat, and the earliest over all parts is the file's, with the table holding the number of
+  // the point it repeats. A sort of the numbers by coordinates did the same in 0.2 s on a million
+  // points; one table, in 0.04 s; this, in less.
   const std::vector<Point3>& p = cloud.points;
   if (p.size() < 2) return;
-  size_t capacity = 16;
-  while (capacity < 2 * p.size()) capacity *= 2;
-  std::vector<size_t> slot(capacity, SIZE_MAX);
-  for (size_t i = 0; i < p.size(); ++i) {
-    const uint64_t hash = mixed(coordinate_bits(p[i].x) ^ mixed(coordinate_bits(p[i].y) ^ mixed(coordinate_bits(p[i].z))));
-    for (size_t s = static_cast<size_t>(hash) & (capacity - 1);; s = (s + 1) & (capacity - 1)) {
-      const size_t held = slot[s];
-      if (held == SIZE_MAX) {
-        slot[s] = i;
-        break;
-      }
-      if (p[held].x == p[i].x && p[held].y == p[i].y && p[held].z == p[i].z) {
-        throw PointFileError(where_is(i) + ": the same point as " + where_is(held));
+  std::vector<uint64_t> hash(p.size());
+  parallel_for(p.size(), [&](size_t begin, size_t end, unsigned) {
+    for (size_t i = begin; i < end; ++i) {
+      hash[i] = mixed(coordinate_bits(p[i].x) ^ mixed(coordinate_bits(p[i].y) ^ mixed(coordinate_bits(p[i].z))));
+    }
+  }, 16384);
+  // About 8k points a part (a 256 KB table), at most 4096 parts.
+  int part_bits = 0;
+  while (part_bits < 12 && (p.size() >> part_bits) > 8192) ++part_bits;
+  const size_t parts = size_t{1} << part_bits;
+  auto part_of = [&](size_t i) { return part_bits == 0 ? size_t{0} : static_cast<size_t>(hash[i] >> (64 - part_bits)); };
+  std::vector<size_t> start(parts + 1, 0), members(p.size());
+  for (size_t i = 0; i < p.size(); ++i) ++start[part_of(i) + 1];
+  for (size_t q = 1; q <= parts; ++q) start[q] += start[q - 1];
+  {
+    std::vector<size_t> fill(start.begin(), start.end() - 1);
+    for (size_t i = 0; i < p.size(); ++i) members[fill[part_of(i)]++] = i;
+  }
+  std::vector<std::pair<size_t, size_t>> repeat(parts, {SIZE_MAX, SIZE_MAX});  // (point, the earlier one)
+  parallel_for(parts, [&](size_t first, size_t last, unsigned) {
+    // A slot holds a point's hash beside its number: the points themselves, scattered over the
+    // file, are read only where the whole hash matches.
+    std::vector<std::pair<uint64_t, size_t>> slot;
+    for (size_t q = first; q < last; ++q) {
+      const size_t count = start[q + 1] - start[q];
+      size_t capacity = 16;
+      while (capacity < 2 * count) capacity *= 2;
+      slot.assign(capacity, {0, SIZE_MAX});
+      for (size_t m = start[q]; m < start[q + 1] && repeat[q].first == SIZE_MAX; ++m) {
+        const size_t i = members[m];
+        for (size_t s = static_cast<size_t>(hash[i]) & (capacity - 1);; s = (s + 1) & (capacity - 1)) {
+          const size_t held = slot[s].second;
+          if (held == SIZE_MAX) {
+            slot[s] = {hash[i], i};
+            break;
+          }
+          if (slot[s].first == hash[i] && p[held].x == p[i].x && p[held].y == p[i].y && p[held].z == p[i].z) {
+            repeat[q] = {i, held};
+            break;
+          }
+        }
       }
     }
-  }
+  }, 1);
+  const auto earliest = std::min_element(repeat.begin(), repeat.end());
+  if (earliest->first != SIZE_MAX) throw PointFileError(where_is(earliest->first) + ": the same point as " + where_is(earliest->second));
 }
 
 PointCloud parse_csv_points(const std::string& text, const std::string& name) {

@@ -75,6 +75,18 @@ TEST(PointReader, NamesTheFirstRepeatInTheFileAndTheEarliestCopyOfIt) {
   CHECK(error_of("x,y,z\n1,1,1\n1,1,2\n1,2,1\n2,1,1\n").empty());
 }
 
+// A large file is checked in parts by hash on both cores: the repeat named is still the first in
+// the file, whichever part it falls in, and a file without one passes.
+TEST(PointReader, NamesTheFirstRepeatInALargeFile) {
+  std::string csv = "x,y,z\n";
+  auto row = [](int i) { return std::to_string(i % 300) + "," + std::to_string(i / 300) + "," + std::to_string(i % 7) + "\n"; };
+  for (int i = 0; i < 60000; ++i) csv += row(i);
+  CHECK(error_of(csv).empty());
+  // Row 60,003 repeats row 30,001, row 60,004 repeats row 11 (file lines are one more: the header).
+  csv += row(60000) + row(60001) + row(30000) + row(10);
+  STRCMP_CONTAINS("in.csv:60004: the same point as in.csv:30002", error_of(csv).c_str());
+}
+
 TEST(PointReader, ReadsWhitespaceXyzAndRefusesShortRows) {
   const dg::host::PointCloud c = dg::host::parse_xyz_points("# comment\n1 2 3\n\t4  5 6\n", "in.xyz");
   LONGS_EQUAL(2, c.points.size());
