@@ -1,6 +1,7 @@
 // Whether the grid resolves the surface around a condemned point, from the models of lts_judges.h.
 #include "host/scan/lts_resolution.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "host/scan/lts_judges.h"
@@ -35,14 +36,60 @@ std::vector<char> in_small_groups(const std::vector<LineSides>& sides, const std
   return out;
 }
 
+namespace {
+
+// Point i's height lies between its nearest neighbours' (those `in_groups` passed over) along each
+// of the four lines through it: a point of a slope, where an outlier stands above or below them.
+bool between_neighbours_on_every_line(const std::vector<Point3>& points, const LineSides& sides, size_t i,
+                                      const std::vector<char>& in_groups) {
+  auto first = [&](const std::vector<size_t>& side) -> const Point3* {
+    for (size_t j : side) {
+      if (!in_groups[j]) return &points[j];
+    }
+    return nullptr;
+  };
+  for (int d = 0; d + 1 < kLines; d += 2) {
+    const Point3* a = first(sides[static_cast<size_t>(d)]);
+    const Point3* b = first(sides[static_cast<size_t>(d + 1)]);
+    if (!a || !b || !((a->z - points[i].z) * (points[i].z - b->z) > 0)) return false;
+  }
+  return true;
+}
+
+// The points of `members` that model `m` describes (within the bound) span more than order + 1
+// distinct columns and rows, so the model's curve along either axis is over-determined by them.
+bool spans_beyond_order(const std::vector<Point3>& points, const std::vector<size_t>& members, const LooModel& m,
+                        int order, double bound) {
+  std::vector<double> xs, ys;
+  for (size_t j : members) {
+    if (std::fabs(points[j].z - m.polynomial.at(points[j].x, points[j].y)) > bound) continue;
+    xs.push_back(points[j].x);
+    ys.push_back(points[j].y);
+  }
+  auto distinct = [](std::vector<double>& values) {
+    std::sort(values.begin(), values.end());
+    size_t n = 0;
+    for (size_t a = 0; a < values.size(); ++a) n += (a == 0 || values[a] - values[a - 1] > 1e-6);
+    return n;
+  };
+  const size_t needed = static_cast<size_t>(order) + 2;
+  return distinct(xs) >= needed && distinct(ys) >= needed;
+}
+
+}  // namespace
+
 bool surface_resolved(const std::vector<Point3>& points, const std::vector<size_t>& hood, const std::vector<size_t>& wide,
                       const LineSides& sides, size_t i, const std::vector<double>& reference,
                       const std::vector<char>& condemned, const std::vector<char>& in_groups, double sigma, double k) {
   auto describes = [&](const LooModel& m, double within) {
     return m.ok && m.scale <= within * sigma && m.near_worst <= prediction_bound(k, sigma, 0, m.scale);
   };
+  const LooModel whole = loo_model(points, others_in(hood, i, condemned), i, reference, 3);
+  if ((!whole.ok || whole.scale > kSlopeScale * sigma) && between_neighbours_on_every_line(points, sides, i, in_groups)) {
+    return false;
+  }
   for (const std::vector<size_t>* around : {&hood, &wide}) {
-    if (describes(loo_model(points, others_in(*around, i, condemned), i, reference, 3), 2.5)) return true;
+    if (describes(around == &hood ? whole : loo_model(points, others_in(*around, i, condemned), i, reference, 3), 2.5)) return true;
     const CreaseModel crease =
         crease_model(points, *around, i, reference, condemned, split_model(points, *around, i, reference, condemned));
     if (crease.ok && crease.scale <= 2.5 * sigma && crease.near_worst <= prediction_bound(k, sigma, crease.gain, crease.scale)) return true;
@@ -54,7 +101,9 @@ bool surface_resolved(const std::vector<Point3>& points, const std::vector<size_
       if (j != i && !in_groups[j] && in_half_plane(points[i], points[j], w)) half.push_back(j);
     }
     // Half-planes 0 to 3 are bounded along an axis, 4 to 7 along a diagonal.
-    if (describes(loo_model(points, half, i, reference, w < 4 ? 1 : 2), 2.0)) return true;
+    const int order = w < 4 ? 1 : 2;
+    const LooModel m = loo_model(points, half, i, reference, order);
+    if (describes(m, 2.0) && spans_beyond_order(points, half, m, order, prediction_bound(k, sigma, 0, m.scale))) return true;
   }
   for (int d = 0; d + 1 < kLines; d += 2) {
     const LooModel m = through_line_model(points, sides[static_cast<size_t>(d)], sides[static_cast<size_t>(d + 1)], i, in_groups);
@@ -84,6 +133,8 @@ bool surface_resolved(const std::vector<Point3>& points, const std::vector<size_
     const double ux = points[side[0]].x - points[i].x, uy = points[side[0]].y - points[i].y;
     if (steepest > kFlatSlope && std::fabs(ux * slope[0] + uy * slope[1]) > 0.5 * steepest * std::hypot(ux, uy)) continue;
     const LooModel m = line_model(points, side, i, in_groups, sigma);
+    // Nor one that itself rises steeply to the point: it runs across a slope steeper still.
+    if (std::fabs(points[side[0]].z - m.prediction) > kLineRiseMax * std::hypot(ux, uy)) continue;
     if (m.ok && m.scale <= 2.0 * sigma && m.gain <= kLineGainMax) return true;
   }
   return false;
