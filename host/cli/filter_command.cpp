@@ -38,7 +38,9 @@ CLI::App* add_filter_command(CLI::App& app, FilterArgs& a) {
 
 int run_filter(const FilterArgs& a) {
   const PointCloud cloud = read_points(a.input);
-  const LtsResult r = lts_filter(cloud.points, a.options);
+  LtsOptions options = a.options;
+  if (cloud.resolution_mm) options.resolution_mm = *cloud.resolution_mm;  // the scan file says it
+  const LtsResult r = lts_filter(cloud.points, options);
   // An outlier's place is left empty unless asked otherwise: near a crease a point on a sliver of
   // surface can be flagged although it is right, and its estimate then comes from the other side
   // of the crease; a missing point costs the fit little, a wrong height is a false measurement.
@@ -57,8 +59,12 @@ int run_filter(const FilterArgs& a) {
     std::snprintf(settled, sizeof settled, r.alternating > 0 ? " (stopped: %zu points alternate between trimmed fits)" : " (not converged)",
                   r.alternating);
   }
-  std::printf("LTS %dx%d (%s neighbourhoods), %d iterations%s, residual sigma %.4f mm\n", a.options.window,
-              a.options.window, r.gridded ? "grid" : "nearest-point", r.iterations, settled, r.sigma_mm);
+  char step[96] = "";
+  if (r.sigma_is_resolution) {
+    std::snprintf(step, sizeof step, " (the reading step's %.4f mm / sqrt(12): the readings scatter less)", r.resolution_mm);
+  }
+  std::printf("LTS %dx%d (%s neighbourhoods), %d iterations%s, residual sigma %.4f mm%s\n", a.options.window,
+              a.options.window, r.gridded ? "grid" : "nearest-point", r.iterations, settled, r.sigma_mm, step);
   std::printf("%zu outliers (|z - estimate| > %.1f sigma)%s\n", r.outliers.size(), a.options.outlier_sigmas,
               r.outliers.empty() ? "" : a.replace_outliers ? ", replaced by the estimate" : ", left out of the output");
   const auto& raw = cloud.points;

@@ -10,6 +10,7 @@
 #include "host/scan/local_polynomial.h"
 #include "host/geometry/vec3.h"
 #include "host/scan/median.h"
+#include "host/scan/reading_step.h"
 
 namespace dg::host {
 
@@ -67,23 +68,6 @@ double from_cells(const PointCloud& cloud, const Parameters& params) {
 }
 
 }  // namespace
-
-double detect_resolution_mm(const std::vector<Point3>& points) {
-  if (points.size() < 8) return 0.0;
-  static const double kSteps[] = {0.01, 0.005, 0.00254, 0.002, 0.00127, 0.001, 0.0005, 0.0001};
-  // A step is the reading's when 99 % of the heights are whole multiples of it; one more than 1 %
-  // that are not rules it out at once (a million unrounded heights took 8 full passes).
-  const size_t allowed = points.size() - points.size() * 99 / 100;
-  for (double q : kSteps) {
-    size_t off = 0;
-    for (const Point3& p : points) {
-      const double k = p.z / q;
-      if (!(std::fabs(k - std::round(k)) < 1e-3) && ++off > allowed) break;
-    }
-    if (off <= allowed) return q;
-  }
-  return 0.0;
-}
 
 NoiseEstimate estimate_gauge_noise(const PointCloud& cloud, const Parameters& params) {
   NoiseEstimate e;

@@ -26,8 +26,4 @@ NoiseEstimate estimate_gauge_noise(const PointCloud& cloud, const Parameters& pa
 // estimate_gauge_noise(...).sigma_mm.
 double estimate_noise(const PointCloud& cloud, const Parameters& params);
 
-// The reading step of values rounded to one: the largest of the usual gauge steps (0.1 um to 10 um,
-// and 0.00005 and 0.0001 inch) that 99 % of the z values are whole multiples of; 0 when none is.
-double detect_resolution_mm(const std::vector<Point3>& points);
-
 }  // namespace dg::host

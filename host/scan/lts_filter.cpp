@@ -16,6 +16,7 @@
 #include "host/scan/lts_resolution.h"
 #include "host/scan/median.h"
 #include "host/scan/neighbours.h"
+#include "host/scan/reading_step.h"
 
 namespace dg::host {
 
@@ -223,13 +224,26 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
     // 1 of sqrt(252)) it adds too little to be cut. A gap so made breaks the even spacing, and the
     // differences across it are not counted. Measured on the seven simulated parts, six seeds each,
     // 5 % of outliers planted: -3 to +36 % off the true noise with them, -9 to +15 % without.
-    const double gross = 10 * result.sigma_mm;
+    // Ten sigmas of the differences over every point at least: where the noise is below the gauge's
+    // reading step most readings repeat, the residuals' median is a small part of the step and ten
+    // of it left out every reading a step off, and with them the noise (a clean flat at 0.5 um and
+    // 1 um readings came out at 0.08 um, and 350 of its 1,271 points were condemned).
+    const double gross = 10 * std::max(result.sigma_mm, difference_noise_sigma(points, rows_and_columns));
     std::vector<std::vector<size_t>> clean_lines = rows_and_columns;
     for (std::vector<size_t>& line : clean_lines) {
       line.erase(std::remove_if(line.begin(), line.end(), [&](size_t j) { return abs_full[j] > gross; }), line.end());
     }
     const double from_differences = difference_noise_sigma(points, clean_lines);
     if (from_differences > 0) result.sigma_mm = from_differences;
+  }
+  // Below the reading step's own uncertainty the scatter is the rounding's, not a measure of how
+  // far a reading may be off: on a clean flat with 0.3 um of noise and 1 um readings nine in ten
+  // read alike, the scatter came out at 0.13 um, and every reading one step off was condemned.
+  result.resolution_mm = options.resolution_mm >= 0 ? options.resolution_mm : detect_resolution_mm(points);
+  const double step_sigma = result.resolution_mm / std::sqrt(12.0);
+  if (result.sigma_mm < step_sigma) {
+    result.sigma_mm = step_sigma;
+    result.sigma_is_resolution = true;
   }
   const double limit = std::max(options.outlier_sigmas * result.sigma_mm, 1e-9);
   const double sigma = std::max(result.sigma_mm, 1e-9);

@@ -17,6 +17,11 @@ struct LtsOptions {
   // |z - filtered| above this many robust sigmas is reported. The scale comes from residuals to
   // estimates that include the point itself, which shrinks it; 5 keeps Gaussian points unflagged.
   double outlier_sigmas = 5.0;
+  // The gauge's reading step in mm: negative to find it in the heights (detect_resolution_mm), 0
+  // for unrounded readings. A reading rounded to a step q is uncertain by q / sqrt(12) however
+  // repeatable it is (a rectangular distribution of half-width q / 2, as the GUM takes a
+  // resolution), and the noise judged by is never taken below that.
+  double resolution_mm = -1;
 };
 
 struct LtsOutlier {
@@ -35,7 +40,9 @@ struct LtsResult {
   int iterations = 0;
   bool converged = false;
   size_t alternating = 0;  // not converged: this many points kept alternating when it stopped
-  double sigma_mm = 0;    // robust scale of the residuals
+  double sigma_mm = 0;    // robust scale of the residuals, at least the reading step's
+  double resolution_mm = 0;  // the reading step used (0: none)
+  bool sigma_is_resolution = false;  // the residuals scattered less than the reading step's q / sqrt(12)
 };
 
 // Filters z. Points on a regular XY grid (every x and y on multiples of one step, holes allowed

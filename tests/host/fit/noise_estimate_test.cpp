@@ -36,13 +36,6 @@ PointCloud scan(dg::sim::PartKind kind, double sigma_um, double step_um, unsigne
 
 TEST_GROUP(NoiseEstimate){};
 
-TEST(NoiseEstimate, FindsTheReadingStepInTheValues) {
-  const PointCloud c = scan(dg::sim::PartKind::kCanister, 2.0, 1.0, 3);
-  DOUBLES_EQUAL(0.001, detect_resolution_mm(c.points), 1e-12);
-  const PointCloud fine = scan(dg::sim::PartKind::kCanister, 2.0, 0.0, 3);
-  DOUBLES_EQUAL(0.0, detect_resolution_mm(fine.points), 0.0);
-}
-
 TEST(NoiseEstimate, IsWithinTenPercentFromHalfAMicrometreToTenOnOneMicrometreReadings) {
   // The median of |third differences| of whole-micrometre readings can only take a few values; the
   // truncated RMS of fifth differences with Sheppard's correction is not tied to them. Each

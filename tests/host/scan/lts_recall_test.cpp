@@ -155,6 +155,23 @@ TEST(LtsRecall, RealPointsAtASpheresFootAreKeptAndListedAsNotJudged) {
   CHECK(r.outliers.size() <= 12);
 }
 
+TEST(LtsRecall, AFlatReadBelowItsGaugesStepLosesNoPoint) {
+  // Noise of 0.3 and 0.5 um on 1 um readings: most read alike, and the scatter of the rest is
+  // smaller than the rounding's own q / sqrt(12). Judged by that scatter, every reading a step off
+  // was condemned (350 of 1,271 points at 0.5 um, seed 5); judged by the reading step's, none is.
+  for (double sigma_um : {0.3, 0.5}) {
+    for (unsigned seed = 1; seed <= 6; ++seed) {
+      dg::test::PartScan s;
+      s.kind = dg::sim::PartKind::kFlat;
+      s.sigma_um = sigma_um;
+      const LtsResult r = lts_filter(dg::test::scan_part(s, seed).points, LtsOptions{});
+      LONGS_EQUAL(0, r.outliers.size());
+      CHECK(r.sigma_mm >= 0.001 / std::sqrt(12.0) - 1e-12);
+      CHECK(r.sigma_mm <= 1.2 * std::sqrt(sigma_um * sigma_um + 1.0 / 12) * 1e-3);
+    }
+  }
+}
+
 TEST(LtsRecall, PlantedOutliersDoNotRaiseTheNoiseEstimate) {
   // Each outlier spoils the ten fifth differences it is in; those it enters at a light end it
   // raises too little to be cut. With them counted the noise came out 11 to 29 % high on these

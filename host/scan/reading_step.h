@@ -1,0 +1,13 @@
+// The gauge's reading step, found in the heights themselves when a file does not say it.
+#pragma once
+#include <vector>
+
+#include "host/geometry/point3.h"
+
+namespace dg::host {
+
+// The reading step of values rounded to one: the largest of the usual gauge steps (0.1 um to 10 um,
+// and 0.00005 and 0.0001 inch) that 99 % of the z values are whole multiples of; 0 when none is.
+double detect_resolution_mm(const std::vector<Point3>& points);
+
+}  // namespace dg::host
