@@ -85,7 +85,14 @@ bool surface_resolved(const std::vector<Point3>& points, const std::vector<size_
     return m.ok && m.scale <= within * sigma && m.near_worst <= prediction_bound(k, sigma, 0, m.scale);
   };
   const LooModel whole = loo_model(points, others_in(hood, i, condemned), i, reference, 3);
-  if ((!whole.ok || whole.scale > kSlopeScale * sigma) && between_neighbours_on_every_line(points, sides, i, in_groups)) {
+  // The grid step: the nearest neighbour along x or y (sides 0 to 3).
+  double step_mm = HUGE_VAL;
+  for (int d = 0; d < 4; ++d) {
+    const std::vector<size_t>& side = sides[static_cast<size_t>(d)];
+    if (!side.empty()) step_mm = std::min(step_mm, std::hypot(points[side[0]].x - points[i].x, points[side[0]].y - points[i].y));
+  }
+  const double slope_scale = std::min(kSlopeScale * sigma, kSlopeStepFraction * step_mm);
+  if ((!whole.ok || whole.scale > slope_scale) && between_neighbours_on_every_line(points, sides, i, in_groups)) {
     return false;
   }
   for (const std::vector<size_t>* around : {&hood, &wide}) {
