@@ -76,10 +76,15 @@ NoiseEstimate estimate_gauge_noise(const PointCloud& cloud, const Parameters& pa
   if (cloud.line) reading = from_lines(cloud);
   if (!(reading > 0)) reading = from_cells(cloud, params);
   if (!(reading > 0)) return e;
+  const double rounding = e.resolution_mm * e.resolution_mm / 12.0;
+  // A reading rounded to q is uncertain by q / sqrt(12) however alike the readings are (the GUM's
+  // rectangular distribution of a resolution): on a flat read with 0.3 um of noise on a 1 um gauge
+  // nine in ten readings agree, their differences came out at 0.13 um, and the surface's stated
+  // uncertainty with them.
+  reading = std::max(reading, std::sqrt(rounding));
   e.reading_sigma_mm = reading;
   // Sheppard's correction: rounding to q adds q^2 / 12 to the readings' variance. Below that the
   // noise cannot be told from the rounding; a quarter of the rounding variance is kept as a floor.
-  const double rounding = e.resolution_mm * e.resolution_mm / 12.0;
   e.sigma_mm = std::sqrt(std::max(reading * reading - rounding, 0.25 * rounding));
   return e;
 }

@@ -61,3 +61,16 @@ TEST(NoiseEstimate, IsWithinTenPercentFromHalfAMicrometreToTenOnOneMicrometreRea
   CHECK(worst_mean <= 0.10);
   CHECK(worst_single <= 0.20);
 }
+
+TEST(NoiseEstimate, ReadingsAlikeBelowTheStepAreUncertainByTheStepAtLeast) {
+  // 0.3 um of noise on a flat read by a 1 um gauge: nine in ten readings agree, and their
+  // differences alone made the readings' scatter 0.13 um. A reading rounded to 1 um is uncertain
+  // by 1 / sqrt(12) um whatever its neighbours read.
+  for (unsigned seed = 1; seed <= 4; ++seed) {
+    const PointCloud c = scan(dg::sim::PartKind::kFlat, 0.3, 1.0, seed);
+    const NoiseEstimate e = estimate_gauge_noise(c, parameterize(c, Parameterization::kTableXy));
+    DOUBLES_EQUAL(0.001, e.resolution_mm, 1e-12);
+    CHECK(e.reading_sigma_mm >= 0.001 / std::sqrt(12.0) - 1e-12);
+    CHECK(e.reading_sigma_mm <= 1.2 * std::sqrt(0.3 * 0.3 + 1.0 / 12) * 1e-3);
+  }
+}
