@@ -8,7 +8,9 @@
 namespace dg::host {
 
 struct FilterArgs {
-  std::string input, output, outliers, unjudged;
+  std::string input, output;
+  std::string outliers;  // where the condemned points go; empty: OUTPUT.outliers.csv
+  std::string unjudged;  // where the points the filter could not judge go; empty: OUTPUT.unjudged.csv
   bool replace_outliers = false;  // put the estimate in an outlier's place instead of leaving it out
   LtsOptions options;
 };

@@ -76,12 +76,13 @@ NoiseEstimate estimate_gauge_noise(const PointCloud& cloud, const Parameters& pa
   if (cloud.line) reading = from_lines(cloud);
   if (!(reading > 0)) reading = from_cells(cloud, params);
   if (!(reading > 0)) return e;
-  const double rounding = e.resolution_mm * e.resolution_mm / 12.0;
+  const double step_sigma = rounding_sigma_mm(e.resolution_mm);
+  const double rounding = step_sigma * step_sigma;
   // A reading rounded to q is uncertain by q / sqrt(12) however alike the readings are (the GUM's
   // rectangular distribution of a resolution): on a flat read with 0.3 um of noise on a 1 um gauge
   // nine in ten readings agree, their differences came out at 0.13 um, and the surface's stated
   // uncertainty with them.
-  reading = std::max(reading, std::sqrt(rounding));
+  reading = std::max(reading, step_sigma);
   e.reading_sigma_mm = reading;
   // Sheppard's correction: rounding to q adds q^2 / 12 to the readings' variance. Below that the
   // noise cannot be told from the rounding; a quarter of the rounding variance is kept as a floor.

@@ -10,7 +10,7 @@ namespace dg::host {
 struct NoiseEstimate {
   double sigma_mm = 0;          // the gauge's noise, with the reading step's share taken out
   double reading_sigma_mm = 0;  // the scatter of the readings: noise and rounding to the step together,
-                                // never below the step's step / sqrt(12)
+                                // never below the reading step / sqrt(12)
   double resolution_mm = 0;     // the reading step (from the file, or found in the values); 0 none
 };
 

@@ -8,6 +8,7 @@
 
 #include "host/scan/difference_noise.h"
 #include "host/scan/local_polynomial.h"
+#include "host/scan/reading_step.h"
 
 namespace dg::host {
 
@@ -93,7 +94,7 @@ TableCalibration calibrate_from_flat(const PointCloud& flat, double flatness_mm,
     for (size_t j = 0; j < c.ny; ++j) lines.back().push_back(j * c.nx + i);
   }
   c.noise_mm = difference_noise_sigma(residual, lines);
-  if (c.noise_mm == 0 && flat.resolution_mm) c.noise_mm = *flat.resolution_mm / std::sqrt(12.0);
+  if (c.noise_mm == 0 && flat.resolution_mm) c.noise_mm = rounding_sigma_mm(*flat.resolution_mm);
   const double u_flat = flatness_mm / 2 / std::sqrt(3.0);
   double ss = 0;
   std::vector<size_t> window;

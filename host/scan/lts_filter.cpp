@@ -240,7 +240,7 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
   // far a reading may be off: on a clean flat with 0.3 um of noise and 1 um readings nine in ten
   // read alike, the scatter came out at 0.13 um, and every reading one step off was condemned.
   result.resolution_mm = options.resolution_mm >= 0 ? options.resolution_mm : detect_resolution_mm(points);
-  const double step_sigma = result.resolution_mm / std::sqrt(12.0);
+  const double step_sigma = rounding_sigma_mm(result.resolution_mm);
   if (result.sigma_mm < step_sigma) {
     result.sigma_mm = step_sigma;
     result.sigma_is_resolution = true;

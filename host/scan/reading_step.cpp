@@ -60,4 +60,6 @@ double detect_resolution_mm(const std::vector<Point3>& points) {
   return 0.0;
 }
 
+double rounding_sigma_mm(double step_mm) { return step_mm / std::sqrt(12.0); }
+
 }  // namespace dg::host

@@ -10,4 +10,8 @@ namespace dg::host {
 // and 0.00005 and 0.0001 inch) that 99 % of the z values are whole multiples of; 0 when none is.
 double detect_resolution_mm(const std::vector<Point3>& points);
 
+// The standard uncertainty of a reading rounded to `step_mm`: step / sqrt(12), the GUM's rectangular
+// distribution of a resolution. 0 for an unknown step (0).
+double rounding_sigma_mm(double step_mm);
+
 }  // namespace dg::host
