@@ -36,9 +36,19 @@ struct FloatingPolicy {
   // points the device's fit accepts and the two can be compared.
   static constexpr int32_t kMaxValueNm = (int32_t{1} << 27) - 1;
   static constexpr uint32_t kMaxPoints = uint32_t{1} << 20;
+  using Weighted = T;  // a height times a basis value
+  static Unit unit_product(Unit a, Unit b) { return a * b; }
   static Accum product(Basis a, Basis b) { return a * b; }
-  static Accum product_value(Basis a, Value v) { return a * v; }
-  // Entries are scaled by powers of two (see NormalEquations::solve), which is exact in any type.
+  static Weighted weigh_value(Basis a, Value v) { return a * v; }
+  static Accum moment_value(Basis a, Weighted w) { return a * w; }
+  // Sums times small integers and divided by them, when block moments become normal equations.
+  static Accum weighted(Accum sum, int32_t n) { return sum * static_cast<T>(n); }
+  static Accum divided(Accum sum, int32_t d) { return sum / static_cast<T>(d); }
+  static Accum rhs_from_moments(Accum sum) { return sum; }
+  // A sum kept in a solver entry's storage until it is converted in place (same type here).
+  static Solve hold(Accum sum) { return sum; }
+  static Accum held(Solve entry) { return entry; }
+  // Entries are scaled by powers of two (see solve_normal_sums), which is exact in any type.
   static int diagonal_exponent(Accum sum, uint32_t count) {
     int e = 0;
     frexp(static_cast<double>(sum / static_cast<T>(count)), &e);
@@ -53,7 +63,6 @@ struct FloatingPolicy {
   static Unit unit(int64_t offset, const UnitScale& scale) {
     return static_cast<T>(static_cast<double>(offset) / static_cast<double>(scale.range));
   }
-  static Accum scale(Accum sum, Unit b) { return sum * b; }
   // s = u * spans split into the span index (clamped to the last span) and the local t in [0, 1].
   static void split(Unit u, int spans, int& span, Unit& t) {
     const T s = u * static_cast<T>(spans);
@@ -65,14 +74,17 @@ struct FloatingPolicy {
 };
 
 // Fixed point for a device without an FPU: basis values in Q1.30 (32-bit), coordinates as integer
-// nanometres, sums in 64 bits. A product of two basis values is rounded to Q2.(2F), a basis value
-// times a height to F fraction bits: one 32x32->64 multiply (SMULL on a Cortex-M3/M4) and a rounding
-// shift. The basis is not rounded to Q1.F first: with 2^-16 basis values a 120 mm height carried
-// 2 um into every product, and the fit of a tilted part or a coarse grid, whose points repeat the
-// same basis values line after line, drifted up to 5 um from the same fit in double (within
-// 0.1 um now). With F = 15 a matrix sum grows by at most 2^30 per point and a right-hand-side sum by
-// at most 2^15 * |value_nm|, so 2^31 points, or 2^20 points of |z| < 2^27 nm (134 mm), fit in 63 bits;
-// `kMaxValueNm` and `kMaxPoints` state that limit and the accumulator refuses beyond it.
+// nanometres, sums in 64 bits. A product of two basis values is rounded to Q2.(2F): one 32x32->64
+// multiply (SMULL on a Cortex-M3/M4) and a rounding shift. The basis is not rounded to Q1.F first:
+// with 2^-16 basis values a 120 mm height carried 2 um into every product, and the fit of a tilted
+// part or a coarse grid, whose points repeat the same basis values line after line, drifted up to
+// 5 um from the same fit in double. A height times two basis values is taken in two steps, each one
+// 32x32-bit multiply: the height times the v value to 1/16 nm (it fits 32 bits), then times the u
+// value to 2^-(F-3) nm. With F = 15 a moment of basis values grows by at most 2^30 per point and a
+// height moment by at most 2^12 |z_nm|, so with 2^20 points of |z| < 2^27 nm (134 mm) the block
+// moments (at most 2^50 and 2^59) can be multiplied by the conversion's numerators (at most 2^12
+// and 8, height_field_fit.h) and still fit 63 bits; `kMaxValueNm` and `kMaxPoints` state that
+// limit and the sums refuse points beyond it.
 template <int F>
 struct FixedPolicy {
   using Unit = fx::Q<30>;  // parameters and one-dimensional basis values, in [0, 1]
@@ -84,21 +96,46 @@ struct FixedPolicy {
   static constexpr uint32_t kMaxPoints = uint32_t{1} << (62 - F - 27);
   // Rounded half up: the products of basis values are never negative, and a height's sign only
   // moves a tie by one unit of 2^-F nm.
-  static Accum product(Basis a, Basis b) {
-    return (int64_t{a.raw} * b.raw + (int64_t{1} << (59 - 2 * F))) >> (60 - 2 * F);
+  static constexpr int kProductBits = 28;
+  [[gnu::always_inline]] static Accum product(Basis a, Basis b) {
+    const uint64_t p = uint64_t{static_cast<uint32_t>(a.raw)} * static_cast<uint32_t>(b.raw);
+    return static_cast<Accum>(static_cast<uint32_t>(p >> 32) + (static_cast<uint32_t>(p) >> 31));
   }
-  static Accum product_value(Basis a, Value v) { return (int64_t{a.raw} * v + (int64_t{1} << (29 - F))) >> (30 - F); }
+  // The product of two parameters or basis values in [0, 1], rounded half up: inline, where
+  // Q's own product takes the sign into account.
+  [[gnu::always_inline]] static Unit unit_product(Unit a, Unit b) {
+    return Unit::from_raw(static_cast<int32_t>((int64_t{a.raw} * b.raw + (int64_t{1} << 29)) >> 30));
+  }
+  using Weighted = int32_t;  // a height times a basis value: nm with kWeightedBits fraction bits
+  static constexpr int kWeightedBits = 4;
+  static constexpr int kMomentValueBits = F - 3;
+  static Weighted weigh_value(Basis a, Value v) {
+    constexpr int shift = 30 - kWeightedBits;
+    return static_cast<Weighted>((int64_t{a.raw} * v + (int64_t{1} << (shift - 1))) >> shift);
+  }
+  static Accum moment_value(Basis a, Weighted w) {
+    constexpr int shift = 30 + kWeightedBits - kMomentValueBits;
+    return (int64_t{a.raw} * w + (int64_t{1} << (shift - 1))) >> shift;
+  }
+  static Accum weighted(Accum sum, int32_t n) { return sum * n; }
+  // Rounded to nearest, ties away from zero.
+  static Accum divided(Accum sum, int32_t d) { return sum >= 0 ? (sum + d / 2) / d : -((-sum + d / 2) / d); }
+  // A height moment's 2^-(F-3) nm to the right-hand side's 2^-F nm.
+  static Accum rhs_from_moments(Accum sum) { return sum * (int64_t{1} << (F - kMomentValueBits)); }
+  // A 64-bit sum kept in a Q32.32 entry's storage until it is converted in place.
+  static Solve hold(Accum sum) { return Solve::from_raw(sum); }
+  static Accum held(Solve entry) { return entry.raw; }
   // The k that brings the mean diagonal product into [1/4, 1) when multiplied by 4^k.
   static int diagonal_exponent(Accum sum, uint32_t count) {
     const int64_t mean = sum / static_cast<int64_t>(count);  // Q(2F), at most 1
     int k = 0;
-    while (k < 15 && mean > 0 && (mean << (2 * k)) < (int64_t{1} << (2 * F - 2))) ++k;
+    while (k < 15 && mean > 0 && (mean << (2 * k)) < (int64_t{1} << (kProductBits - 2))) ++k;
     return k;
   }
   // 2^exponent * sum / count as Q32.32. With the diagonal scaled into [1/4, 1), every scaled entry is
   // at most 1 in magnitude (Cauchy-Schwarz), so the shifted sum stays below count * 2^32.
   static Solve matrix_entry(Accum sum, uint32_t count, int exponent) {
-    return Solve::from_raw(sum * (int64_t{1} << (32 - 2 * F + exponent)) / count);
+    return Solve::from_raw(sum * (int64_t{1} << (32 - kProductBits + exponent)) / count);
   }
   // 2^exponent times the mean in nm (F fraction bits), converted to mm in Q32.32. The scaled mean is
   // bounded by the largest |value| (Cauchy-Schwarz again), so the shifts cannot overflow.
@@ -121,20 +158,6 @@ struct FixedPolicy {
   static Unit unit(int64_t offset, const UnitScale& scale) {
     const int64_t u = (offset * scale.multiplier + (int64_t{1} << (scale.shift - 1))) >> scale.shift;
     return Unit::from_raw(static_cast<int32_t>(u > (int64_t{1} << 30) ? (int64_t{1} << 30) : u));
-  }
-  // sum * b for b in [0, 1] (Q1.30), rounded; the result is no larger than the sum. The 64 x 32-bit
-  // product is taken in two halves so nothing overflows: sum = hi 2^32 + lo, and hi b 2^2 is at
-  // most the result. Q1.30, not Q1.F: a scan line's v products multiply all of its sums, so
-  // their rounding would not average out over points (measured: 107 nm instead of 14 on a patch).
-  // Both halves fit 32 bits (hi signed, lo unsigned, b.raw in [0, 2^30]), so each product is one
-  // 32 x 32 -> 64-bit multiply (SMULL, UMULL) rather than a 64-bit one.
-  // Inlined: a line's flush makes up to 136 of these, and a call's spills cost as much as the work.
-  [[gnu::always_inline]] static Accum scale(Accum sum, Unit b) {
-    const int32_t hi = static_cast<int32_t>(sum >> 32);
-    const uint32_t lo = static_cast<uint32_t>(static_cast<uint64_t>(sum));
-    if (b.raw < 0) return int64_t{hi} * b.raw * 4 + ((int64_t{lo} * b.raw + (int64_t{1} << 29)) >> 30);  // never from a basis
-    const uint64_t low_product = uint64_t{lo} * static_cast<uint32_t>(b.raw) + (uint64_t{1} << 29);
-    return int64_t{hi} * b.raw * 4 + static_cast<int64_t>(low_product >> 30);
   }
   static void split(Unit u, int spans, int& span, Unit& t) {
     const int64_t s = int64_t{u.raw} * spans;

@@ -564,7 +564,7 @@ void Device::adapt_batch_size() {
   const uint32_t resent = link_.counters().retransmitted;
   if (resent != seen_retransmits_) {
     seen_retransmits_ = resent;
-    batch_points_ = batch_points_ > 1 ? static_cast<uint16_t>(batch_points_ / 2) : 1;
+    batch_points_ = static_cast<uint16_t>(batch_points_ > 1 ? batch_points_ / 2 : 1);
     clean_batches_ = 0;
   } else if (batch_points_ < kPointsPerBatch && ++clean_batches_ >= kCleanBatchesToGrow) {
     batch_points_ = static_cast<uint16_t>(batch_points_ * 2 < kPointsPerBatch ? batch_points_ * 2 : kPointsPerBatch);

@@ -9,8 +9,7 @@ void DeviceFit::begin(const digitizer_ScanRequest& request) {
   region.x_max_nm = request.x.max_nm;
   region.y_min_nm = request.y.min_nm;
   region.y_max_nm = request.y.max_nm;
-  bezier_.begin(region);
-  net_.begin(region);
+  moments_.begin(region);
   scan_id_ = request.scan_id;
   started_ = true;
 }
@@ -22,20 +21,20 @@ void DeviceFit::add(const PointSample& point) {
   if (!started_ || (point.flags & (digitizer_PointFlag_POINT_REFERENCE | digitizer_PointFlag_POINT_LIFTED)) != 0) return;
   // A point the fixed-point sums cannot hold is counted as rejected by the fit and reported; the
   // point itself is stored and sent like any other.
-  (void)bezier_.add(point.x_nm, point.y_nm, point.z_nm);
-  (void)net_.add(point.x_nm, point.y_nm, point.z_nm);
+  (void)moments_.add(point.x_nm, point.y_nm, point.z_nm);
 }
 
 namespace {
 
-template <typename Fit, typename Work, int kSide>
-digitizer_FitStatus solve_into(Fit& fit, Work& work, digitizer_FitResult* out) {
+template <typename Kind, typename Moments, typename Work>
+digitizer_FitStatus solve_into(const Moments& moments, Work& work, digitizer_FitResult* out) {
+  constexpr int kSide = Kind::kSide;
   int32_t solved[kSide][kSide];
-  const Status status = fit.solve(solved, work);
-  out->points = fit.count();
-  out->rejected = fit.rejected();
+  const Status status = fit::solve_height_field<Kind>(moments, solved, work);
+  out->points = moments.count();
+  out->rejected = moments.rejected();
   if (status == Status::kNotReady) {
-    return fit.region().valid() ? digitizer_FitStatus_FIT_TOO_FEW_POINTS : digitizer_FitStatus_FIT_UNDETERMINED;
+    return moments.region().valid() ? digitizer_FitStatus_FIT_TOO_FEW_POINTS : digitizer_FitStatus_FIT_UNDETERMINED;
   }
   if (status != Status::kOk) return digitizer_FitStatus_FIT_UNDETERMINED;
   out->side = kSide;
@@ -59,15 +58,15 @@ void DeviceFit::result(digitizer_DeviceFitModel model, bool scan_finished, digit
     return;
   }
   out->scan_id = scan_id_;
-  const fit::FitRegion& region = bezier_.region();
+  const fit::FitRegion& region = moments_.region();
   out->has_x = out->has_y = true;
   out->x.min_nm = region.x_min_nm;
   out->x.max_nm = region.x_max_nm;
   out->y.min_nm = region.y_min_nm;
   out->y.max_nm = region.y_max_nm;
   out->status = model == digitizer_DeviceFitModel_DEVICE_FIT_NET
-                    ? solve_into<Net, Net::Workspace, kNetSide>(net_, work_.net, out)
-                    : solve_into<Bezier, Bezier::Workspace, 4>(bezier_, work_.bezier, out);
+                    ? solve_into<NetKind>(moments_, work_.net, out)
+                    : solve_into<BezierKind>(moments_, work_.bezier, out);
 }
 
 }  // namespace dg

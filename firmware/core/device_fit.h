@@ -1,5 +1,6 @@
-// The surfaces the device fits while it scans: every stored point goes into a bicubic Bezier patch
-// and a 5 x 5 cubic net over the scanned rectangle, in fixed point and constant memory (common/fit).
+// The surfaces the device fits while it scans: a bicubic Bezier patch and a 5 x 5 cubic net over the
+// scanned rectangle, both solved from one set of streamed sums, in fixed point and constant memory
+// (common/fit).
 #pragma once
 #include <cstdint>
 
@@ -13,8 +14,11 @@ class DeviceFit {
  public:
   static constexpr int kNetSide = 5;
   using Policy = fit::FixedPolicy<15>;
-  using Bezier = fit::HeightFieldFit<Policy, fit::BezierBasis>;
-  using Net = fit::HeightFieldFit<Policy, fit::UniformCubicBasis<kNetSide>>;
+  using BezierKind = fit::BezierBasis;
+  using NetKind = fit::UniformCubicBasis<kNetSide>;
+  // Each fit on its own (the benchmarks compare them with the shared sums).
+  using Bezier = fit::HeightFieldFit<Policy, BezierKind>;
+  using Net = fit::HeightFieldFit<Policy, NetKind>;
 
   // Starts both fits over the request's rectangle; the previous scan's fit is dropped.
   void begin(const digitizer_ScanRequest& request);
@@ -25,13 +29,14 @@ class DeviceFit {
  private:
   bool started_ = false;
   uint32_t scan_id_ = 0;
-  Bezier bezier_;
-  Net net_;
+  // The net's blocks: the patch's one span is made of them too, so both fits read the same sums
+  // and a point is summed once.
+  fit::BlockMoments<Policy, NetKind::kSpans> moments_;
   // One solve at a time, so the two fits share their scratch memory.
   union Workspace {
     Workspace() : net() {}
-    Bezier::Workspace bezier;
-    Net::Workspace net;
+    fit::HeightFieldWorkspace<Policy, BezierKind> bezier;
+    fit::HeightFieldWorkspace<Policy, NetKind> net;
   } work_;
 };
 

@@ -68,8 +68,8 @@ int main() {
   const uint32_t net_ticks = measure([] {
     for (const auto& p : points) net.add(p.x_nm, p.y_nm, p.z_nm);
   });
-  // Short scan lines (256 lines of 4 points, the same region): each line's sums are multiplied
-  // into the normal equations once, so a short line spreads that over fewer points.
+  // Short scan lines (256 lines of 4 points, the same region): the sums are per block, not per
+  // line, so a point must cost the same here (per-line sums had cost three times as much).
   for (int j = 0; j < kPoints / kShortLine; ++j) {
     for (int i = 0; i < kShortLine; ++i) {
       // Each line's 4 points 50 mm apart, shifted 3.1 mm more on each of 16 lines, so the lines
@@ -102,13 +102,15 @@ int main() {
 
   dg::bench::write_text(dg::bench::kCoreName);
   dg::bench::write_text(", 1024 points over 200 x 200 mm in 32 lines of 32:\n");
-  report("  instructions per point, Bezier patch and 5x5 net together (DeviceFit::add): ", instructions(both), kPoints);
+  report("  instructions per point, Bezier patch and 5x5 net together (DeviceFit::add, one set of sums): ",
+         instructions(both), kPoints);
   report("  instructions per point, Bezier patch alone: ", instructions(bezier_ticks), kPoints);
   report("  instructions per point, 5x5 net alone: ", instructions(net_ticks), kPoints);
   dg::bench::write_text("  the same region in 256 short lines of 4 points:\n");
   report("    instructions per point, both together: ", instructions(both_short), kPoints);
   report("    instructions per point, Bezier patch alone: ", instructions(bezier_short), kPoints);
   report("    instructions per point, 5x5 net alone: ", instructions(net_short), kPoints);
+  dg::bench::write_text("  (target: at most 1000 per point for each fit, on lines of any length)\n");
   report("  instructions to solve the Bezier patch (16 unknowns): ", instructions(bezier_solve), 1);
   report("  instructions to solve the 5x5 net (25 unknowns): ", instructions(net_solve), 1);
   report("  instructions for a pull of the net (solve and FitResult): ", instructions(pull), 1);
