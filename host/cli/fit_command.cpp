@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <functional>
 #include <map>
+#include <optional>
 #include <stdexcept>
 
 #include "host/scan/point_reader.h"
@@ -362,6 +363,7 @@ int run_fit(const FitArgs& a) {
   }
   int exit_code = 0;
   std::vector<double> distances;
+  std::optional<LeastSquaresFit> kept;  // the --ctrl fit with its equations, which its uncertainty reuses
   if (a.tolerance_mm > 0) {
     ToleranceOptions options;
     options.tolerance_mm = a.tolerance_mm;
@@ -392,13 +394,14 @@ int run_fit(const FitArgs& a) {
     spec.degree_u = spec.degree_v = degree;
     spec.knots_u = with_crease_knots(clamped_uniform_knots(nu, degree), creases.u, degree);
     spec.knots_v = with_crease_knots(clamped_uniform_knots(nv, degree), creases.v, degree);
-    out.surface = fit_least_squares(cloud.points, params, w, spec);
+    kept = fit_least_squares_kept(cloud.points, params, w, spec);
+    out.surface = kept->surface;
     distances = orthogonal_distances(out.surface, cloud.points, params);
     // Without a tolerance the checks between the samples are measured and reported, not decided.
     out.validation = validate_fit(cloud, params, w, out.surface, ValidationOptions{});
   }
   out.distance = distance_stats(distances);
-  out.uncertainty = propagated_uncertainty(cloud, params, w, out.surface, distances);
+  out.uncertainty = propagated_uncertainty(cloud, params, w, out.surface, distances, kept ? &*kept : nullptr);
   write_surface_json(a.output, out);
   print_summary(a, out);
   return exit_code;

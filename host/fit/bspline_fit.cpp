@@ -20,6 +20,16 @@
 
 namespace dg::host {
 
+// The normal equations of a net, reduced by the ramps' elimination (x = map y when `eliminate`),
+// and their factorization, checked for vanishing pivots.
+struct NormalSystem {
+  BSplineSurface shape;  // knots, degrees and counts; no control points yet
+  Eigen::SparseMatrix<double> map;
+  bool eliminate = false;
+  Eigen::MatrixXd rhs;   // reduced
+  std::unique_ptr<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower>> solver;
+};
+
 namespace {
 
 constexpr int kMaxBasis = fit::kMaxDegree + 1;
@@ -188,15 +198,6 @@ void add_membrane(Band& band, const BSplineSurface& s, const std::vector<char>& 
   }
 }
 
-// The normal equations of a net, reduced by the ramps' elimination (x = map y when `eliminate`),
-// and their factorization, checked for vanishing pivots.
-struct NormalSystem {
-  BSplineSurface shape;  // knots, degrees and counts; no control points yet
-  Eigen::SparseMatrix<double> map;
-  bool eliminate = false;
-  Eigen::MatrixXd rhs;   // reduced
-  std::unique_ptr<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower>> solver;
-};
 
 // The net of `spec`, checked against points whose distinct sites `sites` holds (`point_count` of
 // them): degrees, knots and counts, no control points yet; for a region's net (fill_outside) the
@@ -420,6 +421,16 @@ BSplineSurface fit_least_squares(const std::vector<Point3>& points, const Parame
   return solved_surface(assemble(points, params, weights, spec), params);
 }
 
+LeastSquaresFit fit_least_squares_kept(const std::vector<Point3>& points, const Parameters& params,
+                                       const std::vector<double>* weights, const LsqSpec& spec) {
+  auto system = std::make_shared<NormalSystem>(assemble(points, params, weights, spec));
+  LeastSquaresFit fit;
+  fit.surface = solved_surface(*system, params);
+  fit.system = std::move(system);
+  fit.weighted = weights != nullptr;
+  return fit;
+}
+
 std::vector<FoldRefit> fit_least_squares_by_folds(const std::vector<Point3>& points, const Parameters& params,
                                                   const std::vector<double>* weights, const LsqSpec& spec,
                                                   const std::vector<int>& fold,
@@ -541,15 +552,26 @@ SurfaceUncertainty uncertainty_on_grid(const BSplineSurface& s, double sigma_mm,
 
 }  // namespace
 
-SurfaceUncertainty fit_uncertainty(const std::vector<Point3>& points, const Parameters& params,
-                                   const std::vector<double>* weights, const BSplineSurface& surface, double sigma_mm,
-                                   int grid) {
-  const NormalSystem system = assemble(points, params, weights, spec_of(surface, false));
+namespace {
+
+SurfaceUncertainty uncertainty_of(const NormalSystem& system, bool weighted, double sigma_mm, int grid) {
   // Var S(u, v) = b^T Cov(x) b with x = T y and Cov(y) = scale (T^T A T)^-1.
-  return uncertainty_on_grid(system.shape, sigma_mm, grid, weights != nullptr, nullptr, [&](const Eigen::VectorXd& b) {
+  return uncertainty_on_grid(system.shape, sigma_mm, grid, weighted, nullptr, [&](const Eigen::VectorXd& b) {
     const Eigen::VectorXd reduced = system.eliminate ? Eigen::VectorXd(system.map.transpose() * b) : b;
     return reduced.dot(system.solver->solve(reduced));
   });
+}
+
+}  // namespace
+
+SurfaceUncertainty fit_uncertainty(const std::vector<Point3>& points, const Parameters& params,
+                                   const std::vector<double>* weights, const BSplineSurface& surface, double sigma_mm,
+                                   int grid) {
+  return uncertainty_of(assemble(points, params, weights, spec_of(surface, false)), weights != nullptr, sigma_mm, grid);
+}
+
+SurfaceUncertainty fit_uncertainty(const LeastSquaresFit& fit, double sigma_mm, int grid) {
+  return uncertainty_of(*fit.system, fit.weighted, sigma_mm, grid);
 }
 
 SurfaceUncertainty region_fit_uncertainty(const std::vector<Point3>& points, const Parameters& params,

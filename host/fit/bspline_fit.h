@@ -1,6 +1,7 @@
 // Least-squares B-spline surfaces of any degree for scattered points (Koivunen and Bajcsy 1992, section 5.4).
 #pragma once
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,19 @@ struct LsqSpec {
 BSplineSurface fit_least_squares(const std::vector<Point3>& points, const Parameters& params,
                                  const std::vector<double>* weights, const LsqSpec& spec);
 
+// The factored normal equations of a fit (bspline_fit.cpp).
+struct NormalSystem;
+
+// A fit kept with its factored normal equations: its uncertainty (fit_uncertainty below) then
+// needs no second pass over the points and no second factorization.
+struct LeastSquaresFit {
+  BSplineSurface surface;
+  std::shared_ptr<const NormalSystem> system;
+  bool weighted = false;  // fitted with weights 1 / sigma_i^2
+};
+LeastSquaresFit fit_least_squares_kept(const std::vector<Point3>& points, const Parameters& params,
+                                       const std::vector<double>* weights, const LsqSpec& spec);
+
 // The net of `spec` fitted again without each validation fold's points (fold[k] = f: point k is
 // left out of refit f; -1: in every refit), all from one pass over the points: the normal equations
 // are sums over the points, so a refit's are the sums of the other folds'. kept_sites[f] indexes
@@ -65,6 +79,8 @@ std::vector<FoldRefit> fit_least_squares_by_folds(const std::vector<Point3>& poi
 SurfaceUncertainty fit_uncertainty(const std::vector<Point3>& points, const Parameters& params,
                                    const std::vector<double>* weights, const BSplineSurface& surface, double sigma_mm,
                                    int grid = 21);
+// The same for a kept fit, from the equations it was solved from.
+SurfaceUncertainty fit_uncertainty(const LeastSquaresFit& fit, double sigma_mm, int grid = 21);
 
 // The same for a region's net (LsqSpec::fill_outside): its coefficients are K^-1 C^T W z with
 // K = C^T W C + the membrane, so their covariance is the sandwich K^-1 (C^T W C) K^-1 (times

@@ -14,7 +14,8 @@
 namespace dg::host {
 
 SurfaceUncertainty propagated_uncertainty(const PointCloud& cloud, const Parameters& params, const std::vector<double>* w,
-                                          const BSplineSurface& surface, const std::vector<double>& distances) {
+                                          const BSplineSurface& surface, const std::vector<double>& distances,
+                                          const LeastSquaresFit* kept) {
   double sigma = 0;
   std::string from;
   if (w && cloud.sigma) {
@@ -38,7 +39,7 @@ SurfaceUncertainty propagated_uncertainty(const PointCloud& cloud, const Paramet
   }
   if (!(sigma > 0) || !std::isfinite(sigma)) return {};
   try {
-    SurfaceUncertainty u = fit_uncertainty(cloud.points, params, w, surface, sigma);
+    SurfaceUncertainty u = kept != nullptr ? fit_uncertainty(*kept, sigma) : fit_uncertainty(cloud.points, params, w, surface, sigma);
     u.sigma_from = from;
     return u;
   } catch (const FitError&) {

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "host/fit/bspline_fit.h"
 #include "host/fit/parameterize.h"
 #include "host/geometry/fitted_surface.h"
 #include "host/scan/point_reader.h"
@@ -13,9 +14,11 @@ namespace dg::host {
 
 // From the sigma column when the fit was weighted by it (`w`), else the noise estimate (the
 // readings' scatter, rounding included), else the residual RMS over n - p (`distances`). Not
-// computed (computed false) when no sigma can be stated or the net cannot be refitted.
+// computed (computed false) when no sigma can be stated or the net cannot be refitted. `kept`,
+// when given, is the fit `surface` came from, with its equations: they are not built again.
 SurfaceUncertainty propagated_uncertainty(const PointCloud& cloud, const Parameters& params, const std::vector<double>* w,
-                                          const BSplineSurface& surface, const std::vector<double>& distances);
+                                          const BSplineSurface& surface, const std::vector<double>& distances,
+                                          const LeastSquaresFit* kept = nullptr);
 
 // The device's fit (surface_from_device_fit) is a plain least-squares fit of every point of its
 // scan, so the scan file's points give it a fit report: their orthogonal distances to it, the

@@ -90,3 +90,30 @@ TEST(FitUncertainty, ARegionsNetAgreesWithMonteCarloInsideItsTrim) {
   CHECK(predicted.max_mm > 0);
   CHECK(worst <= 0.10);
 }
+
+TEST(FitUncertainty, AKeptFitStatesTheSameUncertaintyAndTheSameSurfaceWithoutANewPass) {
+  // `fit --ctrl` keeps its fit's factored equations for the uncertainty instead of building them
+  // again from the points: the figures must be the same, with weights and without.
+  dg::test::PartScan part;
+  part.kind = dg::sim::PartKind::kCanister;
+  part.sigma_um = 3;
+  const PointCloud c = dg::test::scan_part(part, 2);
+  const Parameters p = parameterize(c, Parameterization::kTableXy);
+  LsqSpec spec;
+  spec.knots_u = clamped_uniform_knots(9, 3);
+  spec.knots_v = clamped_uniform_knots(8, 3);
+  std::vector<double> weights(c.points.size());
+  for (size_t k = 0; k < weights.size(); ++k) weights[k] = 1.0 / std::pow(0.002 + 0.001 * static_cast<double>(k % 5), 2);
+  const std::vector<double>* weightings[] = {nullptr, &weights};
+  for (const std::vector<double>* w : weightings) {
+    const LeastSquaresFit kept = fit_least_squares_kept(c.points, p, w, spec);
+    const BSplineSurface plain = fit_least_squares(c.points, p, w, spec);
+    LONGS_EQUAL(plain.control.size(), kept.surface.control.size());
+    for (size_t k = 0; k < plain.control.size(); ++k) DOUBLES_EQUAL(plain.control[k].z, kept.surface.control[k].z, 0.0);
+    const SurfaceUncertainty again = fit_uncertainty(c.points, p, w, plain, 0.003, 21);
+    const SurfaceUncertainty reused = fit_uncertainty(kept, 0.003, 21);
+    CHECK(again.computed && reused.computed);
+    CHECK(again.u_mm == reused.u_mm);
+    DOUBLES_EQUAL(again.max_mm, reused.max_mm, 0.0);
+  }
+}
