@@ -394,11 +394,19 @@ int run_fit(const FitArgs& a) {
     spec.degree_u = spec.degree_v = degree;
     spec.knots_u = with_crease_knots(clamped_uniform_knots(nu, degree), creases.u, degree);
     spec.knots_v = with_crease_knots(clamped_uniform_knots(nv, degree), creases.v, degree);
-    kept = fit_least_squares_kept(cloud.points, params, w, spec);
+    // The fit and its validation folds' refits from one pass over the points; the fit's equations
+    // then serve its uncertainty too.
+    const ValidationOptions validation;
+    const FoldSupport support(cloud, params, validation.folds, validation.fill_outside);
+    std::vector<const SiteIndex*> kept_sites;
+    for (int f = 0; f < validation.folds; ++f) kept_sites.push_back(&support.kept_sites(f));
+    FoldedFit folded = fit_least_squares_with_folds(cloud.points, params, w, spec,
+                                                    validation_folds(cloud, validation.folds), kept_sites);
+    kept = std::move(folded.fit);
     out.surface = kept->surface;
     distances = orthogonal_distances(out.surface, cloud.points, params);
     // Without a tolerance the checks between the samples are measured and reported, not decided.
-    out.validation = validate_fit(cloud, params, w, out.surface, ValidationOptions{});
+    out.validation = validate_fit(cloud, params, w, out.surface, validation, &support, &folded.refits);
   }
   out.distance = distance_stats(distances);
   out.uncertainty = propagated_uncertainty(cloud, params, w, out.surface, distances, kept ? &*kept : nullptr);

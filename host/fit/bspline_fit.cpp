@@ -431,66 +431,133 @@ LeastSquaresFit fit_least_squares_kept(const std::vector<Point3>& points, const 
   return fit;
 }
 
+namespace {
+
+// Each fold's checks, before any sums: a net its remaining points cannot determine is its answer
+// (in `refits`); for the others, the control points left outside (a region's net).
+struct FoldChecks {
+  std::vector<std::vector<char>> outside;
+  std::vector<char> ready;
+  bool any() const { return std::count(ready.begin(), ready.end(), 1) > 0; }
+};
+FoldChecks check_folds(const std::vector<Point3>& points, const Parameters& params, const LsqSpec& spec,
+                       const BSplineSurface& shape, const std::vector<int>& fold,
+                       const std::vector<const SiteIndex*>& kept_sites, std::vector<FoldRefit>& refits) {
+  const size_t folds = kept_sites.size();
+  std::vector<size_t> held(folds, 0);
+  for (int f : fold) {
+    if (f >= 0 && static_cast<size_t>(f) < folds) ++held[static_cast<size_t>(f)];
+  }
+  FoldChecks checks;
+  checks.outside.resize(folds);
+  checks.ready.assign(folds, 0);
+  for (size_t f = 0; f < folds; ++f) {
+    try {
+      check_net(spec, shape, points.size() - held[f], *kept_sites[f], params, &checks.outside[f]);
+      checks.ready[f] = 1;
+    } catch (const FitError& e) {
+      refits[f].error = e.what();
+    }
+  }
+  return checks;
+}
+
+// The refits of the folds that passed their checks, each from the other groups' sums (group f + 1
+// holds fold f's points, group 0 those of no fold), or from a pass of its own when `sums` is empty.
+void solve_refits(const std::vector<Point3>& points, const Parameters& params, const std::vector<double>* weights,
+                  const LsqSpec& spec, const BSplineSurface& shape, const std::vector<int>& fold,
+                  const std::vector<const SiteIndex*>& kept_sites, const FoldChecks& checks,
+                  const std::vector<std::vector<double>>& sums, std::vector<FoldRefit>& refits) {
+  const bool height_field = params.kind == Parameterization::kTableXy;
+  for (size_t f = 0; f < kept_sites.size(); ++f) {
+    if (!checks.ready[f]) continue;
+    std::vector<double> blocks;
+    if (!sums.empty()) {
+      blocks.assign(sums[0].size(), 0.0);
+      for (size_t g = 0; g < sums.size(); ++g) {
+        if (g == f + 1) continue;
+        for (size_t e = 0; e < blocks.size(); ++e) blocks[e] += sums[g][e];
+      }
+    } else {
+      const int left_out = static_cast<int>(f);
+      blocks = cell_sums(points, params, weights, shape, 1, [&](size_t k) { return fold[k] == left_out ? -1 : 0; })[0];
+    }
+    try {
+      const NormalSystem system = solve_system(shape, blocks, checks.outside[f], spec.fill_outside, *kept_sites[f], height_field);
+      refits[f].surface = solved_surface(system, params);
+    } catch (const FitError& e) {
+      refits[f].error = e.what();
+    }
+  }
+}
+
+// The sums of every group (fold f + 1, or 0 for the points of no fold) in one pass, or nothing
+// when they would take more than `one_pass_bytes`.
+std::vector<std::vector<double>> group_sums(const std::vector<Point3>& points, const Parameters& params,
+                                            const std::vector<double>* weights, const BSplineSurface& shape,
+                                            const std::vector<int>& fold, int folds, size_t one_pass_bytes) {
+  const int groups = folds + 1;
+  if (blocks_total(shape) * static_cast<size_t>(groups) * sizeof(double) > one_pass_bytes) return {};
+  return cell_sums(points, params, weights, shape, groups, [&](size_t k) { return std::max(fold[k], -1) + 1; });
+}
+
+}  // namespace
+
 std::vector<FoldRefit> fit_least_squares_by_folds(const std::vector<Point3>& points, const Parameters& params,
                                                   const std::vector<double>* weights, const LsqSpec& spec,
                                                   const std::vector<int>& fold,
                                                   const std::vector<const SiteIndex*>& kept_sites,
                                                   size_t one_pass_bytes) {
   const int folds = static_cast<int>(kept_sites.size());
-  std::vector<FoldRefit> refits(static_cast<size_t>(folds));
-  std::vector<size_t> held(static_cast<size_t>(folds), 0);
-  for (int f : fold) {
-    if (f >= 0 && f < folds) ++held[static_cast<size_t>(f)];
-  }
-  // Every fold refits the same net; each fold's checks come first: a net its remaining points
-  // cannot determine is its answer.
+  // Every fold refits the same net.
   BSplineSurface shape;
   try {
     shape = net_shape(spec);
   } catch (const FitError& e) {
+    std::vector<FoldRefit> refits(static_cast<size_t>(folds));
     for (FoldRefit& refit : refits) refit.error = e.what();
     return refits;
   }
-  std::vector<std::vector<char>> outside(static_cast<size_t>(folds));
-  std::vector<char> ready(static_cast<size_t>(folds), 0);
-  for (int f = 0; f < folds; ++f) {
-    try {
-      check_net(spec, shape, points.size() - held[static_cast<size_t>(f)], *kept_sites[static_cast<size_t>(f)], params,
-                &outside[static_cast<size_t>(f)]);
-      ready[static_cast<size_t>(f)] = 1;
-    } catch (const FitError& e) {
-      refits[static_cast<size_t>(f)].error = e.what();
-    }
-  }
-  if (std::count(ready.begin(), ready.end(), 1) == 0) return refits;
-  const bool height_field = params.kind == Parameterization::kTableXy;
-  // Group f + 1 holds fold f's points, group 0 those of no fold. A fold's refit sums every group
-  // but its own, all from one pass over the points.
-  const int groups = folds + 1;
-  const bool one_pass = blocks_total(shape) * static_cast<size_t>(groups) * sizeof(double) <= one_pass_bytes;
-  std::vector<std::vector<double>> sums;
-  if (one_pass) sums = cell_sums(points, params, weights, shape, groups, [&](size_t k) { return std::max(fold[k], -1) + 1; });
-  for (int f = 0; f < folds; ++f) {
-    if (!ready[static_cast<size_t>(f)]) continue;
-    std::vector<double> blocks;
-    if (one_pass) {
-      blocks.assign(sums[0].size(), 0.0);
-      for (int g = 0; g < groups; ++g) {
-        if (g == f + 1) continue;
-        for (size_t e = 0; e < blocks.size(); ++e) blocks[e] += sums[static_cast<size_t>(g)][e];
-      }
-    } else {
-      blocks = cell_sums(points, params, weights, shape, 1, [&](size_t k) { return fold[k] == f ? -1 : 0; })[0];
-    }
-    try {
-      const NormalSystem system = solve_system(shape, blocks, outside[static_cast<size_t>(f)],
-                                               spec.fill_outside, *kept_sites[static_cast<size_t>(f)], height_field);
-      refits[static_cast<size_t>(f)].surface = solved_surface(system, params);
-    } catch (const FitError& e) {
-      refits[static_cast<size_t>(f)].error = e.what();
-    }
-  }
+  std::vector<FoldRefit> refits(static_cast<size_t>(folds));
+  const FoldChecks checks = check_folds(points, params, spec, shape, fold, kept_sites, refits);
+  if (!checks.any()) return refits;
+  solve_refits(points, params, weights, spec, shape, fold, kept_sites, checks,
+               group_sums(points, params, weights, shape, fold, folds, one_pass_bytes), refits);
   return refits;
+}
+
+FoldedFit fit_least_squares_with_folds(const std::vector<Point3>& points, const Parameters& params,
+                                       const std::vector<double>* weights, const LsqSpec& spec,
+                                       const std::vector<int>& fold, const std::vector<const SiteIndex*>& kept_sites,
+                                       size_t one_pass_bytes) {
+  const int folds = static_cast<int>(kept_sites.size());
+  const BSplineSurface shape = net_shape(spec);
+  std::optional<SiteIndex> own_index;
+  const SiteIndex& sites =
+      spec.sites && &spec.sites->uv() == &params.uv && !spec.sites->subset() ? *spec.sites : own_index.emplace(params.uv, spec.fill_outside);
+  std::vector<char> outside;
+  check_net(spec, shape, points.size(), sites, params, &outside);
+  std::vector<std::vector<double>> sums = group_sums(points, params, weights, shape, fold, folds, one_pass_bytes);
+  FoldedFit out;
+  std::vector<double> all;
+  if (sums.empty()) {
+    all = cell_sums(points, params, weights, shape, 1, [](size_t) { return 0; })[0];
+  } else {
+    // The whole fit's sums are the groups' together.
+    all.assign(sums[0].size(), 0.0);
+    for (const std::vector<double>& group : sums) {
+      for (size_t e = 0; e < all.size(); ++e) all[e] += group[e];
+    }
+  }
+  auto system = std::make_shared<NormalSystem>(
+      solve_system(shape, all, outside, spec.fill_outside, sites, params.kind == Parameterization::kTableXy));
+  out.fit.surface = solved_surface(*system, params);
+  out.fit.system = std::move(system);
+  out.fit.weighted = weights != nullptr;
+  out.refits.resize(static_cast<size_t>(folds));
+  const FoldChecks checks = check_folds(points, params, spec, shape, fold, kept_sites, out.refits);
+  solve_refits(points, params, weights, spec, shape, fold, kept_sites, checks, sums, out.refits);
+  return out;
 }
 
 namespace {

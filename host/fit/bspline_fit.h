@@ -70,6 +70,18 @@ std::vector<FoldRefit> fit_least_squares_by_folds(const std::vector<Point3>& poi
                                                   const std::vector<const SiteIndex*>& kept_sites,
                                                   size_t one_pass_bytes = size_t{256} << 20);
 
+// The whole fit and its validation folds' refits (fit_least_squares_by_folds) from one pass over the
+// points: the whole fit's sums are the folds' together. Throws FitError as fit_least_squares does
+// when the points cannot determine the net; a refit that cannot be made has its reason.
+struct FoldedFit {
+  LeastSquaresFit fit;
+  std::vector<FoldRefit> refits;
+};
+FoldedFit fit_least_squares_with_folds(const std::vector<Point3>& points, const Parameters& params,
+                                       const std::vector<double>* weights, const LsqSpec& spec,
+                                       const std::vector<int>& fold, const std::vector<const SiteIndex*>& kept_sites,
+                                       size_t one_pass_bytes = size_t{256} << 20);
+
 // The standard uncertainty of the fitted surface from the points' noise: the coefficients' covariance
 // (C^T W C)^-1 (weights 1 / sigma_i^2) or sigma^2 (C^T C)^-1 (no weights, points of standard
 // uncertainty `sigma_mm`) propagated to S(u, v) on a grid x grid over the parameter domain:

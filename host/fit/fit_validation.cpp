@@ -353,7 +353,8 @@ std::string FoldSupport::problem(const std::vector<double>& knots_u, int degree_
 }
 
 FitValidation validate_fit(const PointCloud& cloud, const Parameters& params, const std::vector<double>* weights,
-                           const BSplineSurface& surface, const ValidationOptions& options, const FoldSupport* support) {
+                           const BSplineSurface& surface, const ValidationOptions& options, const FoldSupport* support,
+                           const std::vector<FoldRefit>* made) {
   FitValidation out;
   out.checked = true;
   out.folds = options.folds;
@@ -367,11 +368,16 @@ FitValidation validate_fit(const PointCloud& cloud, const Parameters& params, co
   spec.knots_v = surface.knots_v;
   spec.fill_outside = options.fill_outside;
   // The refits use each fold's index of its remaining points: the caller's, or built here.
-  std::optional<FoldSupport> own_support;
-  if (!support && options.folds >= 1) support = &own_support.emplace(cloud, params, options.folds, options.fill_outside);
-  std::vector<const SiteIndex*> kept_sites;
-  for (int f = 0; f < options.folds; ++f) kept_sites.push_back(&support->kept_sites(f));
-  const std::vector<FoldRefit> refits = fit_least_squares_by_folds(cloud.points, params, weights, spec, fold, kept_sites);
+  std::vector<FoldRefit> own_refits;
+  if (!made || made->size() != static_cast<size_t>(options.folds)) {
+    std::optional<FoldSupport> own_support;
+    if (!support && options.folds >= 1) support = &own_support.emplace(cloud, params, options.folds, options.fill_outside);
+    std::vector<const SiteIndex*> kept_sites;
+    for (int f = 0; f < options.folds; ++f) kept_sites.push_back(&support->kept_sites(f));
+    own_refits = fit_least_squares_by_folds(cloud.points, params, weights, spec, fold, kept_sites);
+    made = &own_refits;
+  }
+  const std::vector<FoldRefit>& refits = *made;
   double sum_sq = 0;
   for (int f = 0; f < options.folds; ++f) {
     std::vector<size_t> held;

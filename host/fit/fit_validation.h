@@ -60,9 +60,10 @@ struct ValidationOptions {
 // With a tolerance, `passed` says both held; `problem` says where the worst failure is, or why the
 // fit could not be validated (a fold whose remaining points cannot determine the net).
 // `support`, when given, is the FoldSupport of the same cloud, parameters and folds: its indexes
-// spare every refit a pass over the points.
+// spare every refit a pass over the points. `refits`, when given, are the folds' refits already
+// made (fit_least_squares_with_folds, with validation_folds and `support`'s indexes).
 FitValidation validate_fit(const PointCloud& cloud, const Parameters& params, const std::vector<double>* weights,
                            const BSplineSurface& surface, const ValidationOptions& options,
-                           const FoldSupport* support = nullptr);
+                           const FoldSupport* support = nullptr, const std::vector<FoldRefit>* refits = nullptr);
 
 }  // namespace dg::host

@@ -261,14 +261,27 @@ TEST(BSplineFit, RefitsWithoutEachFoldFromOnePassAreTheRefitsOfTheRemainingPoint
     kept_sites.push_back(indexes.back().get());
     afresh.push_back(fit_least_squares(kept, kept_params[static_cast<size_t>(f)], &kept_weights, spec));
   }
+  // The whole fit with its refits from the same pass (fit --ctrl): the whole fit's sums are the
+  // folds' together.
+  const BSplineSurface whole = fit_least_squares(c.points, p, &weights, spec);
   for (size_t budget : {size_t{256} << 20, size_t{0}}) {
     const std::vector<FoldRefit> refits = fit_least_squares_by_folds(c.points, p, &weights, spec, fold, kept_sites, budget);
+    const FoldedFit folded = fit_least_squares_with_folds(c.points, p, &weights, spec, fold, kept_sites, budget);
     LONGS_EQUAL(3, refits.size());
+    LONGS_EQUAL(3, folded.refits.size());
     for (size_t f = 0; f < 3; ++f) {
       STRCMP_EQUAL("", refits[f].error.c_str());
+      STRCMP_EQUAL("", folded.refits[f].error.c_str());
       LONGS_EQUAL(afresh[f].control.size(), refits[f].surface.control.size());
-      for (size_t k = 0; k < afresh[f].control.size(); ++k) DOUBLES_EQUAL(afresh[f].control[k].z, refits[f].surface.control[k].z, 1e-9);
+      LONGS_EQUAL(afresh[f].control.size(), folded.refits[f].surface.control.size());
+      for (size_t k = 0; k < afresh[f].control.size(); ++k) {
+        DOUBLES_EQUAL(afresh[f].control[k].z, refits[f].surface.control[k].z, 1e-9);
+        DOUBLES_EQUAL(afresh[f].control[k].z, folded.refits[f].surface.control[k].z, 1e-9);
+      }
     }
+    CHECK(folded.fit.weighted);
+    LONGS_EQUAL(whole.control.size(), folded.fit.surface.control.size());
+    for (size_t k = 0; k < whole.control.size(); ++k) DOUBLES_EQUAL(whole.control[k].z, folded.fit.surface.control[k].z, 1e-9);
   }
   // Fold 1 now holds every point with x < 10 mm: without them nothing determines the net's left columns.
   for (size_t k = 0; k < fold.size(); ++k) {
