@@ -17,7 +17,8 @@ constexpr int kNoiseDifferenceOrder = 5;
 // Only windows of six points spaced evenly in XY (within 10 %) count. Their differences' spread is
 // a truncated RMS (values past 3 sigma dropped, iterated from the lower quartile, corrected for the
 // truncation), after dropping every window within one window of a value past 3 sigma: a crease or
-// a steep, curved edge shows as a run of large differences whose shoulders are still inflated.
+// a steep, curved edge shows as a run of large differences whose shoulders are still inflated
+// (while at least a fifth of the windows remain; the truncated RMS of all of them otherwise).
 // Unlike a median it is not quantized by the gauge's reading step. 0 with fewer than 8 windows.
 double difference_noise_sigma(const std::vector<Point3>& points, const std::vector<std::vector<size_t>>& sequences);
 
