@@ -74,15 +74,15 @@ struct FloatingPolicy {
 };
 
 // Fixed point for a device without an FPU: basis values in Q1.30 (32-bit), coordinates as integer
-// nanometres, sums in 64 bits. A product of two basis values is rounded to Q2.(2F): one 32x32->64
-// multiply (SMULL on a Cortex-M3/M4) and a rounding shift. The basis is not rounded to Q1.F first:
-// with 2^-16 basis values a 120 mm height carried 2 um into every product, and the fit of a tilted
+// nanometres, sums in 64 bits. A product of two basis values is rounded to Q28 (kProductBits): one
+// 32x32->64 multiply (UMULL on a Cortex-M3/M4), its high word and the bit below it. The basis is not
+// rounded to Q1.F first: with 2^-16 basis values a 120 mm height carried 2 um into every product, and the fit of a tilted
 // part or a coarse grid, whose points repeat the same basis values line after line, drifted up to
 // 5 um from the same fit in double. A height times two basis values is taken in two steps, each one
 // 32x32-bit multiply: the height times the v value to 1/16 nm (it fits 32 bits), then times the u
-// value to 2^-(F-3) nm. With F = 15 a moment of basis values grows by at most 2^30 per point and a
+// value to 2^-(F-3) nm. With F = 15 a moment of basis values grows by at most 2^28 per point and a
 // height moment by at most 2^12 |z_nm|, so with 2^20 points of |z| < 2^27 nm (134 mm) the block
-// moments (at most 2^50 and 2^59) can be multiplied by the conversion's numerators (at most 2^12
+// moments (at most 2^48 and 2^59) can be multiplied by the conversion's numerators (at most 2^12
 // and 8, height_field_fit.h) and still fit 63 bits; `kMaxValueNm` and `kMaxPoints` state that
 // limit and the sums refuse points beyond it.
 template <int F>
@@ -94,8 +94,7 @@ struct FixedPolicy {
   using Solve = fx::Q32x32;  // mm
   static constexpr int32_t kMaxValueNm = (int32_t{1} << 27) - 1;
   static constexpr uint32_t kMaxPoints = uint32_t{1} << (62 - F - 27);
-  // Rounded half up: the products of basis values are never negative, and a height's sign only
-  // moves a tie by one unit of 2^-F nm.
+  // Rounded half up (basis values are never negative, so the product is taken unsigned).
   static constexpr int kProductBits = 28;
   [[gnu::always_inline]] static Accum product(Basis a, Basis b) {
     const uint64_t p = uint64_t{static_cast<uint32_t>(a.raw)} * static_cast<uint32_t>(b.raw);
@@ -127,7 +126,7 @@ struct FixedPolicy {
   static Accum held(Solve entry) { return entry.raw; }
   // The k that brings the mean diagonal product into [1/4, 1) when multiplied by 4^k.
   static int diagonal_exponent(Accum sum, uint32_t count) {
-    const int64_t mean = sum / static_cast<int64_t>(count);  // Q(2F), at most 1
+    const int64_t mean = sum / static_cast<int64_t>(count);  // Q(kProductBits), at most 1
     int k = 0;
     while (k < 15 && mean > 0 && (mean << (2 * k)) < (int64_t{1} << (kProductBits - 2))) ++k;
     return k;
