@@ -523,22 +523,34 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
     });
     for (size_t i = 0; i < points.size(); ++i) condemned[i] = condemned[i] || by_line[i];
   }
-  // A condemned point whose whole window misses its points by far more than the noise, and that no
-  // other model of its neighbours describes either (lts_resolution.h), lies where the grid does not
+  // A point whose whole window misses its points by far more than the noise, and that no other
+  // model of its neighbours describes either (lts_resolution.h), lies where the grid does not
   // resolve the surface: its height cannot be told from the part's shape, and it is kept, listed as
   // not judged. At a sphere's foot (70 degrees and steeper on a 1 mm grid) the judges condemned a
-  // ring of real points, each with a half-plane that had fitted the plate and the ring's neighbours.
+  // ring of real points, each with a half-plane that had fitted the plate and the ring's neighbours;
+  // and a point they cleared there is no more judged than one they condemned: over six seeds and
+  // five noise levels 263 of the sphere's 2,820 outliers passed as inliers, 47 once listed.
+  // The passed points first: with them among the marked, a band of them and of condemned points
+  // along a foot is no small group of outliers, and the half-planes and lines that judge the
+  // condemned ones' resolution keep its points (on the sphere 48 fewer false alarms, 21 more
+  // outliers listed instead of caught).
   if (result.gridded) {
-    const std::vector<char> in_groups = in_small_groups(sides, condemned, kOutlierGroupMax);
     std::vector<char> unjudged(points.size(), 0);
-    parallel_for(points.size(), [&](size_t begin, size_t end, unsigned) {
-      for (size_t i = begin; i < end; ++i) {
-        const LooModel& whole = tests[i].model[0];
-        if (!condemned[i] || (whole.ok && whole.scale <= kUnresolvedScale * sigma)) continue;
-        unjudged[i] = !surface_resolved(points, hood[i], wide[i], sides[i], i, reference, condemned, in_groups, sigma,
-                                        options.outlier_sigmas);
-      }
-    });
+    auto judge_resolution = [&](bool of_condemned) {
+      std::vector<char> marked = condemned;
+      for (size_t i = 0; i < points.size(); ++i) marked[i] = marked[i] || unjudged[i];
+      const std::vector<char> in_groups = in_small_groups(sides, marked, kOutlierGroupMax);
+      parallel_for(points.size(), [&](size_t begin, size_t end, unsigned) {
+        for (size_t i = begin; i < end; ++i) {
+          const LooModel& whole = tests[i].model[0];
+          if (bool(condemned[i]) != of_condemned || (whole.ok && whole.scale <= kUnresolvedScale * sigma)) continue;
+          unjudged[i] = !surface_resolved(points, hood[i], wide[i], sides[i], i, reference, condemned, in_groups, sigma,
+                                          options.outlier_sigmas);
+        }
+      });
+    };
+    judge_resolution(false);
+    judge_resolution(true);
     for (size_t i = 0; i < points.size(); ++i) {
       if (!unjudged[i]) continue;
       condemned[i] = 0;

@@ -32,9 +32,10 @@ struct LtsOutlier {
 struct LtsResult {
   std::vector<double> z;  // filtered heights, one per point, mm
   std::vector<LtsOutlier> outliers;
-  // Points a judge condemned where no model of their neighbours describes the surface (steeper or
-  // more curved than the grid resolves): kept with their measured heights, since an outlier there
-  // cannot be told from the part's shape. Grids only.
+  // Points where no model of their neighbours describes the surface (steeper or more curved than
+  // the grid resolves), whether a judge condemned them or not: kept with their measured heights,
+  // since an outlier there cannot be told from the part's shape, nor a clean point cleared. Grids
+  // only.
   std::vector<size_t> unjudged;
   bool gridded = false;   // the points formed a regular XY grid
   int iterations = 0;

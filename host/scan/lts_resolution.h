@@ -53,7 +53,8 @@ constexpr double kFlatSlope = 0.1;
 // Some model of point i's neighbours, fitted without i, describes its window and predicts i's four
 // nearest neighbours within the bound k sqrt(sigma^2 (1 + gain) + scale^2): the whole window or the
 // wider one (a cubic, or the envelope of two across a crease; without every `condemned` point), an
-// axis half-plane's plane or a diagonal half-plane's quadratic, a line through the point or a line
+// axis half-plane's plane or a diagonal half-plane's quadratic that also predicts the point's grid
+// neighbours on its side, a line through the point or a line
 // from one side along the surface (without the points `in_groups` marks); and i is no point of a
 // slope steeper than the grid resolves (kSlopeScale).
 // Why not a quadratic on an axis half-plane or a line across the slope: on a 5 x 5 window an axis
