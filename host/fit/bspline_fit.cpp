@@ -376,16 +376,30 @@ NormalSystem solve_system(const BSplineSurface& shape, const std::vector<double>
   return system;
 }
 
-NormalSystem assemble(const std::vector<Point3>& points, const Parameters& params, const std::vector<double>* weights,
-                      const LsqSpec& spec) {
+// The net's checks on every point's sites (the spec's index where it indexes these parameters, or
+// one built here), then the system from its sums: `sums` gives them once the checks have passed,
+// so a net that the points cannot determine costs no pass over them.
+template <typename Sums>
+NormalSystem checked_system(const std::vector<Point3>& points, const Parameters& params, const LsqSpec& spec,
+                            const BSplineSurface& shape, Sums sums) {
   std::optional<SiteIndex> own_index;
   const SiteIndex& sites =
       spec.sites && &spec.sites->uv() == &params.uv && !spec.sites->subset() ? *spec.sites : own_index.emplace(params.uv, spec.fill_outside);
   std::vector<char> outside;
-  const BSplineSurface shape = net_shape(spec);
   check_net(spec, shape, points.size(), sites, params, &outside);
-  const std::vector<std::vector<double>> sums = cell_sums(points, params, weights, shape, 1, [](size_t) { return 0; });
-  return solve_system(shape, sums[0], outside, spec.fill_outside, sites, params.kind == Parameterization::kTableXy);
+  return solve_system(shape, sums(), outside, spec.fill_outside, sites, params.kind == Parameterization::kTableXy);
+}
+
+// The points' sums in one group.
+std::vector<double> all_sums(const std::vector<Point3>& points, const Parameters& params, const std::vector<double>* weights,
+                             const BSplineSurface& shape) {
+  return std::move(cell_sums(points, params, weights, shape, 1, [](size_t) { return 0; })[0]);
+}
+
+NormalSystem assemble(const std::vector<Point3>& points, const Parameters& params, const std::vector<double>* weights,
+                      const LsqSpec& spec) {
+  const BSplineSurface shape = net_shape(spec);
+  return checked_system(points, params, spec, shape, [&] { return all_sums(points, params, weights, shape); });
 }
 
 // The system's solution as the net's control points.
@@ -421,14 +435,23 @@ BSplineSurface fit_least_squares(const std::vector<Point3>& points, const Parame
   return solved_surface(assemble(points, params, weights, spec), params);
 }
 
-LeastSquaresFit fit_least_squares_kept(const std::vector<Point3>& points, const Parameters& params,
-                                       const std::vector<double>* weights, const LsqSpec& spec) {
-  auto system = std::make_shared<NormalSystem>(assemble(points, params, weights, spec));
+namespace {
+
+// The system's surface, kept with the system for its uncertainty.
+LeastSquaresFit kept_fit(NormalSystem system, const Parameters& params, const std::vector<double>* weights) {
   LeastSquaresFit fit;
-  fit.surface = solved_surface(*system, params);
-  fit.system = std::move(system);
+  auto shared = std::make_shared<NormalSystem>(std::move(system));
+  fit.surface = solved_surface(*shared, params);
+  fit.system = std::move(shared);
   fit.weighted = weights != nullptr;
   return fit;
+}
+
+}  // namespace
+
+LeastSquaresFit fit_least_squares_kept(const std::vector<Point3>& points, const Parameters& params,
+                                       const std::vector<double>* weights, const LsqSpec& spec) {
+  return kept_fit(assemble(points, params, weights, spec), params, weights);
 }
 
 namespace {
@@ -480,7 +503,7 @@ void solve_refits(const std::vector<Point3>& points, const Parameters& params, c
       }
     } else {
       const int left_out = static_cast<int>(f);
-      blocks = cell_sums(points, params, weights, shape, 1, [&](size_t k) { return fold[k] == left_out ? -1 : 0; })[0];
+      blocks = std::move(cell_sums(points, params, weights, shape, 1, [&](size_t k) { return fold[k] == left_out ? -1 : 0; })[0]);
     }
     try {
       const NormalSystem system = solve_system(shape, blocks, checks.outside[f], spec.fill_outside, *kept_sites[f], height_field);
@@ -509,16 +532,15 @@ std::vector<FoldRefit> fit_least_squares_by_folds(const std::vector<Point3>& poi
                                                   const std::vector<const SiteIndex*>& kept_sites,
                                                   size_t one_pass_bytes) {
   const int folds = static_cast<int>(kept_sites.size());
+  std::vector<FoldRefit> refits(static_cast<size_t>(folds));
   // Every fold refits the same net.
   BSplineSurface shape;
   try {
     shape = net_shape(spec);
   } catch (const FitError& e) {
-    std::vector<FoldRefit> refits(static_cast<size_t>(folds));
     for (FoldRefit& refit : refits) refit.error = e.what();
     return refits;
   }
-  std::vector<FoldRefit> refits(static_cast<size_t>(folds));
   const FoldChecks checks = check_folds(points, params, spec, shape, fold, kept_sites, refits);
   if (!checks.any()) return refits;
   solve_refits(points, params, weights, spec, shape, fold, kept_sites, checks,
@@ -532,28 +554,18 @@ FoldedFit fit_least_squares_with_folds(const std::vector<Point3>& points, const 
                                        size_t one_pass_bytes) {
   const int folds = static_cast<int>(kept_sites.size());
   const BSplineSurface shape = net_shape(spec);
-  std::optional<SiteIndex> own_index;
-  const SiteIndex& sites =
-      spec.sites && &spec.sites->uv() == &params.uv && !spec.sites->subset() ? *spec.sites : own_index.emplace(params.uv, spec.fill_outside);
-  std::vector<char> outside;
-  check_net(spec, shape, points.size(), sites, params, &outside);
-  std::vector<std::vector<double>> sums = group_sums(points, params, weights, shape, fold, folds, one_pass_bytes);
+  std::vector<std::vector<double>> sums;
   FoldedFit out;
-  std::vector<double> all;
-  if (sums.empty()) {
-    all = cell_sums(points, params, weights, shape, 1, [](size_t) { return 0; })[0];
-  } else {
+  out.fit = kept_fit(checked_system(points, params, spec, shape, [&] {
+    sums = group_sums(points, params, weights, shape, fold, folds, one_pass_bytes);
+    if (sums.empty()) return all_sums(points, params, weights, shape);
     // The whole fit's sums are the groups' together.
-    all.assign(sums[0].size(), 0.0);
+    std::vector<double> all(sums[0].size(), 0.0);
     for (const std::vector<double>& group : sums) {
       for (size_t e = 0; e < all.size(); ++e) all[e] += group[e];
     }
-  }
-  auto system = std::make_shared<NormalSystem>(
-      solve_system(shape, all, outside, spec.fill_outside, sites, params.kind == Parameterization::kTableXy));
-  out.fit.surface = solved_surface(*system, params);
-  out.fit.system = std::move(system);
-  out.fit.weighted = weights != nullptr;
+    return all;
+  }), params, weights);
   out.refits.resize(static_cast<size_t>(folds));
   const FoldChecks checks = check_folds(points, params, spec, shape, fold, kept_sites, out.refits);
   solve_refits(points, params, weights, spec, shape, fold, kept_sites, checks, sums, out.refits);
