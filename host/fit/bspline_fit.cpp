@@ -377,17 +377,17 @@ NormalSystem solve_system(const BSplineSurface& shape, const std::vector<double>
 }
 
 // The net's checks on every point's sites (the spec's index where it indexes these parameters, or
-// one built here), then the system from its sums: `sums` gives them once the checks have passed,
-// so a net that the points cannot determine costs no pass over them.
-template <typename Sums>
+// one built here), then the system from its sums: `make_sums` is called once the checks have
+// passed, so a net that the points cannot determine costs no pass over them.
+template <typename MakeSums>
 NormalSystem checked_system(const std::vector<Point3>& points, const Parameters& params, const LsqSpec& spec,
-                            const BSplineSurface& shape, Sums sums) {
+                            const BSplineSurface& shape, MakeSums make_sums) {
   std::optional<SiteIndex> own_index;
   const SiteIndex& sites =
       spec.sites && &spec.sites->uv() == &params.uv && !spec.sites->subset() ? *spec.sites : own_index.emplace(params.uv, spec.fill_outside);
   std::vector<char> outside;
   check_net(spec, shape, points.size(), sites, params, &outside);
-  return solve_system(shape, sums(), outside, spec.fill_outside, sites, params.kind == Parameterization::kTableXy);
+  return solve_system(shape, make_sums(), outside, spec.fill_outside, sites, params.kind == Parameterization::kTableXy);
 }
 
 // The points' sums in one group.
@@ -554,6 +554,7 @@ FoldedFit fit_least_squares_with_folds(const std::vector<Point3>& points, const 
                                        size_t one_pass_bytes) {
   const int folds = static_cast<int>(kept_sites.size());
   const BSplineSurface shape = net_shape(spec);
+  // Each group's sums, kept for the refits once the checks have let the pass be made.
   std::vector<std::vector<double>> sums;
   FoldedFit out;
   out.fit = kept_fit(checked_system(points, params, spec, shape, [&] {

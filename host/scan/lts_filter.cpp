@@ -529,10 +529,11 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
   // not judged. At a sphere's foot (70 degrees and steeper on a 1 mm grid) the judges condemned a
   // ring of real points, each with a half-plane that had fitted the plate and the ring's neighbours;
   // and a point they cleared there is no more judged than one they condemned: over six seeds and
-  // five noise levels 263 of the sphere's 2,820 outliers passed as inliers, 47 once listed.
+  // five noise levels 263 of the sphere's 2,820 outliers passed as inliers, 23 with the points
+  // below listed too.
   // The passed points first: with them among the marked, a band of them and of condemned points
   // along a foot is no small group of outliers, and the half-planes and lines that judge the
-  // condemned ones' resolution keep its points (on the sphere 48 fewer false alarms, 21 more
+  // condemned ones' resolution keep its points (on the sphere 44 fewer false alarms, 22 more
   // outliers listed instead of caught).
   if (result.gridded) {
     std::vector<char> unjudged(points.size(), 0);
@@ -546,7 +547,8 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
           if (bool(condemned[i]) != of_condemned) continue;
           // A passed point whose windows none describes was passed for want of a judge, not
           // cleared: on the sphere's flank one 180 sigma high had a whole window at 4.9 sigma and
-          // every half-plane above 2.5 (over six seeds and five noise levels, 24 such outliers).
+          // every half-plane above 2.5 (over six seeds and five noise levels, 24 such outliers on
+          // the sphere and 9 on the ball plate).
           if (whole.ok && whole.scale <= kUnresolvedScale * sigma && (of_condemned || some_window_describes(tests[i], sigma))) continue;
           unjudged[i] = !surface_resolved(points, hood[i], wide[i], sides[i], i, reference, condemned, in_groups, sigma,
                                           options.outlier_sigmas);

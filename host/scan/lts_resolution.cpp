@@ -116,13 +116,13 @@ bool surface_resolved(const std::vector<Point3>& points, const std::vector<size_
     // diagonal neighbour on the ball was trimmed, and the plate passed for the point's surface
     // (7 fewer false alarms on the ball plate over six seeds and five noise levels, 4 more
     // outliers listed instead of caught).
-    bool ring_kept = m.ok;
-    for (size_t j : half) {
-      if (ring_kept && std::hypot(points[j].x - points[i].x, points[j].y - points[i].y) <= 1.5 * step_mm) {
-        ring_kept = std::fabs(points[j].z - m.polynomial.at(points[j].x, points[j].y)) <= half_bound;
-      }
-    }
-    if (describes(m, 2.0) && ring_kept && spans_beyond_order(points, half, m, order, half_bound)) return true;
+    auto predicts_ring = [&]() {
+      return std::all_of(half.begin(), half.end(), [&](size_t j) {
+        return std::hypot(points[j].x - points[i].x, points[j].y - points[i].y) > 1.5 * step_mm ||
+               std::fabs(points[j].z - m.polynomial.at(points[j].x, points[j].y)) <= half_bound;
+      });
+    };
+    if (describes(m, 2.0) && predicts_ring() && spans_beyond_order(points, half, m, order, half_bound)) return true;
   }
   for (int d = 0; d + 1 < kLines; d += 2) {
     const LooModel m = through_line_model(points, sides[static_cast<size_t>(d)], sides[static_cast<size_t>(d + 1)], i, in_groups);

@@ -16,8 +16,9 @@ namespace dg::host::lts {
 constexpr size_t kOutlierGroupMax = 4;
 std::vector<char> in_small_groups(const std::vector<LineSides>& sides, const std::vector<char>& marked, size_t max_size);
 
-// A condemned point is judged again only where its own whole window misses its points by more than
-// this many sigmas: a curved part that a cubic follows a little worse than the noise (the
+// A point is asked whether the grid resolves its surface only where its own whole window misses its
+// points by more than this many sigmas (or, for a point the judges passed, where none of its
+// windows describes its points): a curved part that a cubic follows a little worse than the noise (the
 // canister's dish at 0.5 um) is resolved, only the grid's steps are too coarse for the model.
 // Five, not ten: the ball plate's balls rise 0.6 mm in their first grid step from the plate, and
 // at their feet whole windows missed by 5 to 10 sigmas (over six seeds and five noise levels, false

@@ -163,7 +163,7 @@ TEST(LtsRecall, NoOutlierOnAFlankTheGridDoesNotResolvePassesUnlisted) {
   // condemned or not, so an outlier on the flank is either caught or listed; and so is a point
   // passed because none of its windows describes its neighbours (seed 2's (12, 8), 0.4 mm high,
   // whose whole window missed them by 4.9 sigma). Over those 30 scans none passes where the flank
-  // is steeper than 2; 23 still do where it is 0.3 to 2.
+  // is steeper than 2; 23 still do where it is 0.1 to 2.
   for (unsigned seed : {1u, 2u}) {
     const dg::test::Planted p = dg::test::plant_outliers(dg::sim::PartKind::kSphere, 2.0, seed);
     const LtsResult r = lts_filter(p.points, LtsOptions{});
