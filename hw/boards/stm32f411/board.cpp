@@ -251,9 +251,9 @@ bool Stm32Board::wait(uint64_t deadline_us) {
   }
   // WFI wakes on a pending interrupt even with PRIMASK set, so a byte or an edge that arrives
   // between the check and the sleep is not slept through.
-  asm volatile("cpsid i" ::: "memory");
-  if (!usb_.readable() && now_us() < deadline_us) asm volatile("wfi");
-  asm volatile("cpsie i" ::: "memory");
+  mask_interrupts();
+  if (!usb_.readable() && now_us() < deadline_us) wait_for_interrupt();
+  unmask_interrupts();
   return true;
 }
 

@@ -167,7 +167,8 @@ void OtgFsDevice::ep0_arm_out() {
 }
 
 void OtgFsDevice::fifo_read(uint8_t* out, size_t count, ByteRing<256>* ring) {
-  volatile uint32_t& rx = reg(fifo(0));  // every endpoint's OUT data comes through one FIFO
+  // The FIFO register itself (on the host, the fake chip's proxy for it), read once a word.
+  decltype(auto) rx = reg(fifo(0));  // every endpoint's OUT data comes through one FIFO
   for (size_t i = 0; i < count; i += 4) {
     const uint32_t word = rx;
     for (size_t b = 0; b < 4 && i + b < count; ++b) {
@@ -265,7 +266,7 @@ void OtgFsDevice::ep0_send_packet() {
   if (size == 0) ep0_zero_length_due_ = false;
   reg(dieptsiz(0)) = kOnePacket | size;
   reg(diepctl(0)) |= kEpena | kCnak;
-  volatile uint32_t& tx = reg(fifo(0));
+  decltype(auto) tx = reg(fifo(0));
   for (uint32_t i = 0; i < size; i += 4) {
     uint32_t word = 0;
     for (uint32_t b = 0; b < 4 && i + b < size; ++b) word |= uint32_t{ep0_data_[i + b]} << (8 * b);
@@ -351,7 +352,7 @@ void OtgFsDevice::bulk_in_kick() {
   in_zero_length_due_ = size == kPacket;
   reg(dieptsiz(kBulkEp)) = kOnePacket | size;
   reg(diepctl(kBulkEp)) |= kEpena | kCnak;
-  volatile uint32_t& fifo_in = reg(fifo(kBulkEp));
+  decltype(auto) fifo_in = reg(fifo(kBulkEp));
   uint8_t packet[kPacket];
   tx_.pop(packet, size);
   for (uint32_t i = 0; i < size; i += 4) {

@@ -3,9 +3,17 @@
 #pragma once
 #include <cstdint>
 
+#if !defined(__arm__)
+// On the host the board's code runs against a register-level fake of these peripherals
+// (tests/support/fake_stm32.h): reg() and every PRIMASK change go through it.
+#include "hw/boards/stm32f411/register_bus.h"
+#endif
+
 namespace dg::stm32 {
 
+#if defined(__arm__)
 inline volatile uint32_t& reg(uint32_t address) { return *reinterpret_cast<volatile uint32_t*>(address); }
+#endif
 
 // Reset and clock control (RM0383 6.3).
 constexpr uint32_t kRcc = 0x40023800;
@@ -53,19 +61,34 @@ enum Irq : uint8_t {
 };
 constexpr int kIrqCount = 86;
 
+#if defined(__arm__)
 inline void irq_enable(Irq irq, uint8_t priority) {
   reinterpret_cast<volatile uint8_t*>(kNvicIpr)[irq] = static_cast<uint8_t>(priority << 4);  // 4 priority bits
   reg(kNvicIser + 4 * (irq / 32)) = 1u << (irq % 32);
 }
 
+inline uint32_t interrupts_masked() {
+  uint32_t primask;
+  asm volatile("mrs %0, primask" : "=r"(primask));
+  return primask;
+}
+inline void mask_interrupts() { asm volatile("cpsid i" ::: "memory"); }
+inline void unmask_interrupts() { asm volatile("cpsie i" ::: "memory"); }
+inline void restore_interrupts(uint32_t primask) { asm volatile("msr primask, %0" ::"r"(primask) : "memory"); }
+// Sleeps until an interrupt is pending (it wakes even with PRIMASK set).
+inline void wait_for_interrupt() { asm volatile("wfi"); }
+#else
+inline void irq_enable(Irq irq, uint8_t priority) {
+  bus_write_byte(kNvicIpr + irq, static_cast<uint8_t>(priority << 4));
+  reg(kNvicIser + 4 * (irq / 32)) = 1u << (irq % 32);
+}
+#endif
+
 // Interrupts off around a few lines that share state with a handler.
 class CriticalSection {
  public:
-  CriticalSection() {
-    asm volatile("mrs %0, primask" : "=r"(primask_));
-    asm volatile("cpsid i" ::: "memory");
-  }
-  ~CriticalSection() { asm volatile("msr primask, %0" ::"r"(primask_) : "memory"); }
+  CriticalSection() : primask_(interrupts_masked()) { mask_interrupts(); }
+  ~CriticalSection() { restore_interrupts(primask_); }
   CriticalSection(const CriticalSection&) = delete;
   CriticalSection& operator=(const CriticalSection&) = delete;
 
