@@ -6,58 +6,28 @@
 #include <CppUTest/TestHarness.h>
 
 #include <cstdint>
+#include <functional>
 #include <algorithm>
 #include <memory>
 #include <vector>
 
+#include "firmware/core/digimatic_reader.h"
+#include "firmware/core/homing.h"
 #include "firmware/core/step_generator.h"
+#include "hw/sim/digimatic_gauge.h"
 #include "hw/boards/stm32f411/pins.h"
 #include "hw/boards/stm32f411/registers.h"
+#include "tests/support/black_pill.h"
 #include "tests/support/fake_stm32.h"
 
 using dg::hal::Pin;
+using dg::test::BlackPill;
 using dg::test::FakeStm32;
 namespace stm32 = dg::stm32;
 
 namespace {
 
 constexpr uint64_t kCyclesPerUs = FakeStm32::kCoreHz / 1000000;
-
-// The chip, the board on it with its interrupts wired as startup.cpp's vector table wires them,
-// and a record of every output pin's changes.
-struct BlackPill {
-  FakeStm32 chip;
-  stm32::OtgFsDevice usb{"TEST"};
-  stm32::Stm32Board board{usb};
-  std::vector<FakeStm32::PinChange> outputs;
-
-  explicit BlackPill(uint32_t reset_flags = 0) {
-    chip.set_reset_flags(reset_flags);
-    chip.set_handler(stm32::kIrqTim2, [this] { board.step_timer_irq(); });
-    chip.set_handler(stm32::kIrqTim5, [this] { board.clock_irq(); });
-    for (uint32_t line = 0; line <= 4; ++line) {
-      chip.set_handler(stm32::kIrqExti0 + static_cast<int>(line), [this, line] { board.edge_irq(line, line); });
-    }
-    chip.set_handler(stm32::kIrqExti9_5, [this] { board.edge_irq(5, 9); });
-    chip.set_handler(stm32::kIrqExti15_10, [this] { board.edge_irq(10, 15); });
-    chip.on_output = [this](const FakeStm32::PinChange& c) { outputs.push_back(c); };
-    board.start();
-  }
-  void drive(Pin pin, bool electrically_high) {
-    const stm32::PinMap& p = stm32::pin_map(pin);
-    chip.drive(p.port, p.number, electrically_high);
-  }
-  // The cycles at which `pin` went electrically high.
-  std::vector<uint64_t> rises(Pin pin) const {
-    const stm32::PinMap& p = stm32::pin_map(pin);
-    std::vector<uint64_t> at;
-    for (const FakeStm32::PinChange& c : outputs) {
-      if (c.port == p.port && c.pin == p.number && c.high) at.push_back(c.cycle);
-    }
-    return at;
-  }
-  bool drivers_enabled() const { return !chip.output_high(stm32::kDriverEnablePort, stm32::kDriverEnablePin); }
-};
 
 struct Calls {
   std::vector<uint64_t> at;
@@ -267,10 +237,7 @@ TEST(Stm32BoardStepping, EstopEdgeCutsTheDriversWithinFiftyMicroseconds) {
   const uint64_t pressed = pill.chip.cycles() + 17;  // off the step interrupt's rhythm
   pill.chip.at(pressed, [&pill] { pill.drive(Pin::kEstop, true); });
   pill.chip.run_for(5000 * kCyclesPerUs);
-  uint64_t cut = 0;
-  for (const FakeStm32::PinChange& c : pill.outputs) {
-    if (c.port == stm32::kDriverEnablePort && c.pin == stm32::kDriverEnablePin && c.high && cut == 0 && c.cycle >= pressed) cut = c.cycle;
-  }
+  const uint64_t cut = pill.drivers_cut_at(pressed);
   CHECK_FALSE(pill.drivers_enabled());
   CHECK_TRUE(cut > pressed);
   CHECK_TRUE(cut - pressed <= 50 * kCyclesPerUs);
@@ -278,4 +245,123 @@ TEST(Stm32BoardStepping, EstopEdgeCutsTheDriversWithinFiftyMicroseconds) {
   CHECK_FALSE(steps.busy());
   CHECK(steps.trip() == dg::Trip::kEstop);
   for (uint64_t at : pill.rises(Pin::kStepX)) CHECK_TRUE(at < cut);
+}
+
+namespace {
+
+// The table under the board's pins: STEP rising edges move each axis by one step in the direction
+// DIR gives, and each min switch (normally closed to ground, so open and high when pressed) opens
+// where its axis is at or below the switch. `wired` false: the switch's wire is cut.
+struct TableOnPins {
+  BlackPill& pill;
+  int32_t x_steps, y_steps;  // where the table is, from the switches' trip points
+  bool wired_x = true, wired_y = true;
+
+  TableOnPins(BlackPill& p, int32_t x, int32_t y) : pill(p), x_steps(x), y_steps(y) {
+    pill.watch = [this](const FakeStm32::PinChange& c) { on_output(c); };
+    switches();
+  }
+  void on_output(const FakeStm32::PinChange& c) {
+    const stm32::PinMap &step_x = stm32::pin_map(Pin::kStepX), &step_y = stm32::pin_map(Pin::kStepY);
+    if (!c.high) return;
+    if (!pill.drivers_enabled()) return;  // no current: a step does nothing
+    if (c.port == step_x.port && c.pin == step_x.number) x_steps += level(Pin::kDirX) ? 1 : -1;
+    if (c.port == step_y.port && c.pin == step_y.number) y_steps += level(Pin::kDirY) ? 1 : -1;
+    switches();
+  }
+  bool level(Pin pin) const { return pill.chip.output_high(stm32::pin_map(pin).port, stm32::pin_map(pin).number); }
+  void switches() {
+    auto set = [this](Pin pin, bool wired, bool pressed) {
+      const stm32::PinMap& p = stm32::pin_map(pin);
+      if (wired) pill.chip.drive(p.port, p.number, pressed);
+      else pill.chip.release(p.port, p.number);
+    };
+    set(Pin::kLimitXMin, wired_x, x_steps <= 0);
+    set(Pin::kLimitYMin, wired_y, y_steps <= 0);
+  }
+};
+
+// Runs homing to its end (or 60 s of the chip's time), polled every millisecond as the device's
+// main loop would.
+void home(BlackPill& pill, dg::Homing& homing) {
+  homing.start();
+  while (homing.active() && pill.chip.cycles() < 60ull * FakeStm32::kCoreHz) {
+    pill.chip.run_for(1000 * kCyclesPerUs);
+    homing.poll();
+  }
+}
+
+}  // namespace
+
+TEST_GROUP(Stm32BoardMachine){};
+
+TEST(Stm32BoardMachine, HomingFindsBothSwitchesAndPullsOffThem) {
+  BlackPill pill;
+  pill.drive(Pin::kEstop, false);
+  TableOnPins table(pill, 3000, 2000);  // 7.5 and 5 mm off the switches
+  dg::MotionConfig config;
+  dg::StepGenerator steps(pill.board, config);
+  dg::Homing homing(steps);
+  home(pill, homing);
+  CHECK_TRUE(homing.done());
+  // At rest a pull-off from each switch's trip point (the table's 0), where the generator's
+  // count says it is: the trip point is the machine's home_switch_steps.
+  LONGS_EQUAL(1 + config.home_pull_off_steps, table.x_steps);
+  LONGS_EQUAL(1 + config.home_pull_off_steps, table.y_steps);
+  LONGS_EQUAL(table.x_steps + config.home_switch_steps, steps.x_steps());
+  LONGS_EQUAL(table.y_steps + config.home_switch_steps, steps.y_steps());
+  CHECK_FALSE(pill.board.read_pin(Pin::kLimitXMin));
+}
+
+TEST(Stm32BoardMachine, HomingWithACutSwitchWireFailsWithAReason) {
+  BlackPill pill;
+  pill.drive(Pin::kEstop, false);
+  TableOnPins table(pill, 3000, 2000);
+  table.wired_x = false;
+  table.switches();
+  dg::MotionConfig config;
+  dg::StepGenerator steps(pill.board, config);
+  dg::Homing homing(steps);
+  home(pill, homing);
+  CHECK_TRUE(homing.failed());
+  STRCMP_CONTAINS("unwired or cut", homing.failure());
+  LONGS_EQUAL(0, table.y_steps - 2000);  // x failed first: y never moved
+}
+
+// A Digimatic gauge clocks its 52-bit frame out on CK and DATA after REQ; the reader samples DATA
+// in the EXTI2 interrupt of each CK edge.
+TEST(Stm32BoardMachine, GaugeFrameIsReadThroughTheClockEdgeInterrupt) {
+  BlackPill pill;
+  dg::sim::GaugeConfig gauge_config;
+  dg::sim::DigimaticGauge gauge(gauge_config, 1);
+  auto ns = [&pill] { return pill.chip.cycles() * 1000 / kCyclesPerUs / 1000; };
+  const double height_mm = 12.345;
+  std::function<void()> next_edge = [&] {
+    if (gauge.next_event_ns() == UINT64_MAX) return;
+    pill.chip.at(gauge.next_event_ns() * kCyclesPerUs / 1000, [&] {
+      gauge.advance();
+      pill.drive(Pin::kGaugeData, gauge.data());
+      pill.drive(Pin::kGaugeClock, gauge.clock());
+      next_edge();
+    });
+  };
+  pill.watch = [&](const FakeStm32::PinChange& c) {
+    const stm32::PinMap& req = stm32::pin_map(Pin::kGaugeReq);
+    if (c.port != req.port || c.pin != req.number) return;
+    gauge.set_request(c.high, ns(), height_mm);
+    next_edge();
+  };
+  pill.drive(Pin::kGaugeClock, gauge.clock());
+  pill.drive(Pin::kGaugeData, gauge.data());
+  dg::DigimaticReader reader(pill.board, dg::DigimaticTiming{});
+  reader.attach();
+  LONGS_EQUAL(static_cast<int>(dg::Status::kOk), static_cast<int>(reader.start()));
+  dg::DigimaticReader::State state = reader.poll();
+  while (state == dg::DigimaticReader::State::kReading && pill.chip.cycles() < FakeStm32::kCoreHz) {
+    pill.chip.run_for(100 * kCyclesPerUs);
+    state = reader.poll();
+  }
+  CHECK(state == dg::DigimaticReader::State::kDone);
+  LONGS_EQUAL(52, reader.bits_received());
+  LONGS_EQUAL(12345000, reader.value_nm());
 }
