@@ -43,6 +43,7 @@ void Device::begin() {
   }
   board_.write_pin(hal::Pin::kGaugeReq, false);
   motion_.attach_estop();
+  motion_.attach_probe();
   // The calibration's summary a board stored before: damaged or absent bytes leave none.
   uint8_t stored[digitizer_CalibrationSummary_size];
   const size_t stored_size = board_.load_settings(stored, sizeof stored);
@@ -109,6 +110,18 @@ uint64_t Device::host_silence_deadline_us() const {
 }
 
 void Device::watch_host() {
+  // A host that suspends the link has stopped listening, whatever the configuration says about
+  // silence: the scan pauses at its next point (the points in hand are kept), a jog stops, and
+  // the scan goes on when the host speaks again after its wake-up.
+  if (board_.link_suspended()) {
+    if (scan_.active() && !scan_.paused() && !scan_.aborting()) {
+      scan_.set_paused(true);
+      silence_paused_ = true;
+    } else if (!scan_.active() && motion_.busy()) {
+      motion_.stop();
+    }
+    return;
+  }
   if (board_.now_us() < host_silence_deadline_us()) return;
   if (config_.on_host_silence == HostSilence::kAbort) {
     scan_.abort();

@@ -42,8 +42,9 @@ Status StepGenerator::probe_to(int32_t x_steps, int32_t y_steps, uint32_t rate_s
   // Braking from rate v takes v^2 / 2a steps: it must fit in the overtravel.
   const uint32_t rate = rate_steps_s == 0 || rate_steps_s > config_.max_rate_steps_s ? config_.max_rate_steps_s : rate_steps_s;
   if (static_cast<uint64_t>(rate) * rate > 2ull * config_.accel_steps_s2 * overtravel_steps) return Status::kInvalidArgument;
-  const Status s = move_to(x_steps, y_steps, rate);
   touched_ = false;
+  touch_edge_ = false;
+  const Status s = move_to(x_steps, y_steps, rate);
   probing_ = s == Status::kOk && busy_;
   return s;
 }
@@ -133,6 +134,17 @@ uint32_t StepGenerator::on_tick(void* self) { return static_cast<StepGenerator*>
 
 void StepGenerator::attach_estop() { board_.on_rising_edge(hal::Pin::kEstop, on_estop_edge, this); }
 
+void StepGenerator::attach_probe() { board_.on_rising_edge(hal::Pin::kTouchProbe, on_probe_edge, this); }
+
+void StepGenerator::on_probe_edge(void* self) {
+  StepGenerator& g = *static_cast<StepGenerator*>(self);
+  // The step interrupt outranks this one, so the counts are never half-way through a step here.
+  if (!g.probing_ || g.touched_ || g.touch_edge_) return;
+  g.touch_x_ = g.x_;
+  g.touch_y_ = g.y_;
+  g.touch_edge_ = true;
+}
+
 void StepGenerator::on_estop_edge(void* self) {
   StepGenerator& g = *static_cast<StepGenerator*>(self);
   // Debounced as every safety read is: asserted now and again kConfirmNs later. A spike on the
@@ -204,10 +216,17 @@ uint32_t StepGenerator::tick() {
   if (trip != Trip::kNone) return halt(trip);
   // Touch probe: latch where the stylus was deflected, then brake to rest in the fewest steps the
   // acceleration allows (probe_to made sure they fit in the overtravel).
-  if (probing_ && !touched_ && board_.read_pin(hal::Pin::kTouchProbe)) {
+  // An edge latched the counts at the moment the contacts opened (the same counts this read
+  // would give, since the table moves only at a step); a stylus that is no longer deflected here
+  // bounced, and is no touch.
+  const bool deflected = probing_ && !touched_ && board_.read_pin(hal::Pin::kTouchProbe);
+  if (probing_ && !touched_ && touch_edge_ && !deflected) touch_edge_ = false;
+  if (deflected) {
+    if (!touch_edge_) {
+      touch_x_ = x_;
+      touch_y_ = y_;
+    }
     touched_ = true;
-    touch_x_ = x_;
-    touch_y_ = y_;
     const uint64_t speed = 1000000000ull / period_ns(done_ > 0 ? done_ : 1);
     const uint32_t braking = static_cast<uint32_t>(speed * speed / (2ull * config_.accel_steps_s2));
     stop_at_ = done_ + braking;

@@ -65,6 +65,11 @@ class StepGenerator {
   // later and, still asserted, cuts the drivers at once and ends the move at its next tick (the
   // step interrupt's own reads stay, for a board without the edge). Called once at start.
   void attach_estop();
+  // The touch probe's edge interrupt: the contacts opening latch the step counts at that moment;
+  // the read before the next step confirms the stylus is still deflected (a kinematic probe stays
+  // open while the table presses into it) and brakes, or drops the latch as a bounce. Without it
+  // (a board with no edge) the read before each step latches alone. Called once at start.
+  void attach_probe();
   // Stops at once (abort); the position stays exact.
   void stop();
   const MotionConfig& config() const { return config_; }
@@ -76,6 +81,7 @@ class StepGenerator {
  private:
   static uint32_t on_tick(void* self);
   static void on_estop_edge(void* self);
+  static void on_probe_edge(void* self);
   uint32_t tick();
   Status start(int64_t dx, int64_t dy, uint32_t rate_steps_s);
   uint32_t period_ns(uint32_t step_index) const;
@@ -101,6 +107,7 @@ class StepGenerator {
   uint32_t stop_at_ = 0;  // the step the move ends on (total_, or sooner after a touch)
   bool probing_ = false;
   volatile bool touched_ = false;
+  volatile bool touch_edge_ = false;  // the probe's edge latched touch_x_ and touch_y_; the tick brakes
   volatile int32_t touch_x_ = 0, touch_y_ = 0;
   volatile Trip trip_ = Trip::kNone;
   // A safety input was seen asserted on the last tick and is read again on this one.

@@ -64,6 +64,10 @@ class Board {
   virtual size_t link_write(const uint8_t* data, size_t size) = 0;
   virtual size_t link_read(uint8_t* data, size_t capacity) = 0;
 
+  // Whether the host has suspended the link (USB suspend: the bus idle for 3 ms, a host going to
+  // sleep). A board whose link cannot be suspended says false.
+  virtual bool link_suspended() { return false; }
+
   // Sleeps until an interrupt fires, a byte arrives or `deadline_us` passes
   // (UINT64_MAX: no deadline). Returns false when the board must shut down.
   virtual bool wait(uint64_t deadline_us) = 0;

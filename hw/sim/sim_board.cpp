@@ -64,6 +64,7 @@ void SimBoard::step_axis(int axis) {
   int64_t& position = axis == 0 ? x_steps_ : y_steps_;
   int64_t& motor = motor_[axis];
   const int64_t before = position;
+  const bool touching_before = touching();
   if (!drivers_on_) {
     ++steps_without_drivers_;
     return;
@@ -78,6 +79,7 @@ void SimBoard::step_axis(int axis) {
     if (!positive && position > motor) position = motor;
   }
   if ((position < 0) != (before < 0)) switch_edge_ns_[axis] = now_ns_;
+  if (touching() && !touching_before) touch_edge_due_ = true;
   ++steps_;
   if (axis == 0 && x_step_log_ != nullptr) x_step_log_->push_back(now_ns_);
   if (last_step_ns_[axis] != kNever) {
@@ -128,7 +130,7 @@ bool SimBoard::read_pin(hal::Pin pin) {
     case hal::Pin::kLimitXMin: return limit_tripped(0) || glitch();
     case hal::Pin::kLimitYMin: return limit_tripped(1) || glitch();
     case hal::Pin::kTouchProbe:
-      return x_steps_ >= config_.touch_x_steps || y_steps_ >= config_.touch_y_steps;
+      return touching();
     case hal::Pin::kEstop:
       return glitch() ||
              (config_.estop_for_ns > 0 && now_ns_ >= config_.estop_at_ns && now_ns_ < config_.estop_at_ns + config_.estop_for_ns);
@@ -143,7 +145,16 @@ void SimBoard::on_rising_edge(hal::Pin pin, hal::EdgeHandler handler, void* cont
   } else if (pin == hal::Pin::kEstop) {
     estop_handler_ = handler;
     estop_context_ = context;
+  } else if (pin == hal::Pin::kTouchProbe) {
+    touch_handler_ = handler;
+    touch_context_ = context;
   }
+}
+
+void SimBoard::take_touch_edge() {
+  if (!touch_edge_due_) return;
+  touch_edge_due_ = false;
+  if (touch_handler_ != nullptr) touch_handler_(touch_context_);
 }
 
 uint64_t SimBoard::estop_edge_ns(bool spikes) const {
@@ -161,6 +172,7 @@ void SimBoard::run_timer_until(uint64_t until_ns) {
     now_ns_ = timer_next_ns_;
     const uint32_t delay = timer_handler_(timer_context_);
     timer_next_ns_ = delay == 0 ? kNever : now_ns_ + delay;
+    take_touch_edge();
   }
   now_ns_ = until_ns;
 }
@@ -289,11 +301,9 @@ bool SimBoard::wait(uint64_t deadline_us) {
       continue;
     }
     const uint32_t delay = timer_handler_(timer_context_);
-    if (delay == 0) {
-      timer_next_ns_ = kNever;
-      return true;  // the move ended: the firmware has work
-    }
-    timer_next_ns_ = now_ns_ + delay;
+    timer_next_ns_ = delay == 0 ? kNever : now_ns_ + delay;
+    take_touch_edge();
+    if (delay == 0) return true;  // the move ended: the firmware has work
   }
 }
 

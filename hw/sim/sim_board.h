@@ -88,6 +88,9 @@ class SimBoard final : public hal::Board {
   void spin_ns(uint32_t ns) override;
   size_t link_write(const uint8_t* data, size_t size) override;
   size_t link_read(uint8_t* data, size_t capacity) override;
+  bool link_suspended() override { return link_suspended_; }
+  // The host suspends the link (a laptop going to sleep) or resumes it.
+  void set_link_suspended(bool suspended) { link_suspended_ = suspended; }
   bool wait(uint64_t deadline_us) override;
   // The MCU's independent watchdog: it runs in virtual time, asleep or not; missed, it resets the
   // board (wait() returns false and reset_pending() says so).
@@ -165,6 +168,14 @@ class SimBoard final : public hal::Board {
   bool pins_[static_cast<int>(hal::Pin::kCount)] = {};
   hal::EdgeHandler clock_handler_ = nullptr;
   void* clock_context_ = nullptr;
+  // The touch probe's edge: a step that brings the stylus onto the face raises it, and it is taken
+  // when the step interrupt (which outranks it) returns.
+  hal::EdgeHandler touch_handler_ = nullptr;
+  void* touch_context_ = nullptr;
+  bool touch_edge_due_ = false;
+  bool link_suspended_ = false;
+  bool touching() const { return x_steps_ >= config_.touch_x_steps || y_steps_ >= config_.touch_y_steps; }
+  void take_touch_edge();
   hal::TimerHandler timer_handler_ = nullptr;
   void* timer_context_ = nullptr;
   uint64_t timer_next_ns_ = kNever;

@@ -148,11 +148,15 @@ void FunctionFsLink::event_loop() {
       switch (events[i].type) {
         case FUNCTIONFS_ENABLE:
         case FUNCTIONFS_RESUME:
+          suspended_.store(false);
           set_enabled(true);
+          break;
+        case FUNCTIONFS_SUSPEND:
+          suspended_.store(true);
+          set_enabled(false);
           break;
         case FUNCTIONFS_DISABLE:
         case FUNCTIONFS_UNBIND:
-        case FUNCTIONFS_SUSPEND:
           set_enabled(false);
           break;
         case FUNCTIONFS_SETUP: {

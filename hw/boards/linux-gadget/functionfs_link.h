@@ -39,6 +39,8 @@ class FunctionFsLink final : public hal::LinkPort {
   void request_stop();
   // The host has configured the interface (FunctionFS ENABLE) and not since dropped it.
   bool connected() const { return enabled_.load(); }
+  // The host suspended the bus (FunctionFS SUSPEND) and has not resumed or re-enabled it since.
+  bool suspended() const { return suspended_.load(); }
   // How many times the host has dropped the link (DISABLE, UNBIND or SUSPEND), for the log.
   uint32_t drops() const { return drops_.load(); }
 
@@ -54,6 +56,7 @@ class FunctionFsLink final : public hal::LinkPort {
   int wake_fd_ = -1;
   std::atomic<bool> stop_{false};
   std::atomic<bool> enabled_{false};
+  std::atomic<bool> suspended_{false};
   std::atomic<uint32_t> drops_{0};
   std::atomic<int> running_{0};  // I/O threads not yet finished
   std::mutex mutex_;

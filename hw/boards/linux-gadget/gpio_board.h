@@ -28,6 +28,7 @@ class GpioBoard final : public hal::Board {
   uint64_t now_us() override { return now_ns() / 1000; }
   size_t link_write(const uint8_t* data, size_t size) override { return link_.write(data, size); }
   size_t link_read(uint8_t* data, size_t capacity) override { return link_.read(data, capacity); }
+  bool link_suspended() override { return link_.suspended(); }
   bool wait(uint64_t deadline_us) override;
   // The settings (the calibration's summary) in a file, where one is named: written to a file
   // beside it, synced and renamed over it, so a power cut leaves the old or the new one whole.

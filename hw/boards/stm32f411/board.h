@@ -27,6 +27,7 @@ class Stm32Board final : public hal::Board {
   void spin_ns(uint32_t ns) override;
   size_t link_write(const uint8_t* data, size_t size) override;
   size_t link_read(uint8_t* data, size_t capacity) override;
+  bool link_suspended() override { return usb_.suspended(); }
   bool wait(uint64_t deadline_us) override;
   void watchdog_start(uint32_t timeout_ms) override;
   void watchdog_kick() override;

@@ -119,6 +119,7 @@ void OtgFsDevice::irq() {
   const uint32_t pending = reg(kGintsts) & reg(kGintmsk);
   if (pending & kUsbrst) {
     reg(kGintsts) = kUsbrst;
+    suspended_ = false;
     bus_reset();
   }
   if (pending & kEnumdne) {
@@ -128,10 +129,16 @@ void OtgFsDevice::irq() {
   if (pending & kRxflvl) receive_status();  // may repeat while the receive FIFO has entries
   if (pending & kOepint) out_endpoint_interrupts();
   if (pending & kIepint) in_endpoint_interrupts();
-  // Suspend and wake-up need nothing here: the board draws little, and a host that suspends the
-  // device is a host that has stopped listening, which the link layer already handles.
-  if (pending & kUsbsusp) reg(kGintsts) = kUsbsusp;
-  if (pending & kWkupint) reg(kGintsts) = kWkupint;
+  // Suspend: the host has stopped listening (the firmware pauses a scan and stops a jog); a
+  // resume signal or a bus reset ends it. The board draws little, so it stays powered.
+  if (pending & kUsbsusp) {
+    reg(kGintsts) = kUsbsusp;
+    suspended_ = true;
+  }
+  if (pending & kWkupint) {
+    reg(kGintsts) = kWkupint;
+    suspended_ = false;
+  }
 }
 
 void OtgFsDevice::bus_reset() {

@@ -25,6 +25,8 @@ class OtgFsDevice final : public usb::EndpointControl {
   size_t write(const uint8_t* data, size_t size);
   size_t read(uint8_t* data, size_t capacity);
   bool readable() const { return rx_.size() > 0; }
+  // The host suspended the bus (USBSUSP) and has not woken it or reset it since.
+  bool suspended() const { return suspended_; }
 
   // usb::EndpointControl
   void set_address(uint8_t address) override;
@@ -55,6 +57,7 @@ class OtgFsDevice final : public usb::EndpointControl {
   ByteRing<256> rx_;  // host to device, filled by the interrupt
   ByteRing<256> tx_;  // device to host, emptied by the interrupt
   volatile bool configured_ = false;
+  volatile bool suspended_ = false;
   volatile bool in_busy_ = false;
   volatile bool out_armed_ = false;
   bool in_zero_length_due_ = false;  // the last IN packet was full and nothing followed it

@@ -338,6 +338,33 @@ TEST(DeviceResume, PausesWhenTheHostFallsSilentAndResumesFromTheLastStoredPoint)
   LONGS_EQUAL(41 * 11, bench.host.done.points);
 }
 
+// A host that suspends the USB link (going to sleep) is not waited for: the scan pauses at once,
+// not after the configured silence, and goes on from where it stopped when the host wakes and its
+// link speaks again, every point once.
+TEST(DeviceResume, PausesAtOnceWhenTheHostSuspendsTheLinkAndGoesOnAfterItsWakeUp) {
+  Bench bench;
+  bench.hello(1);
+  bench.start_scan();
+  bench.run_for(3000000);
+  CHECK(bench.host.stored.size() > 0);
+  bench.board.set_link_suspended(true);
+  bench.wire.connected = false;
+  bench.run_for(100000);
+  LONGS_EQUAL(digitizer_DeviceState_STATE_PAUSED, bench.device.state());
+  // Paused: the table stands still, however long the host sleeps.
+  bench.run_for(1000000);
+  const int64_t x = bench.board.table_x_steps(), y = bench.board.table_y_steps();
+  bench.run_for(20000000);
+  LONGS_EQUAL(x, bench.board.table_x_steps());
+  LONGS_EQUAL(y, bench.board.table_y_steps());
+  LONGS_EQUAL(digitizer_DeviceState_STATE_PAUSED, bench.device.state());
+  bench.board.set_link_suspended(false);
+  bench.wire.connected = true;
+  bench.run_until_done(600000000);
+  check_every_point_once(bench.host.stored, 41 * 11);
+  LONGS_EQUAL(digitizer_ScanEnd_SCAN_COMPLETED, bench.host.done.reason);
+}
+
 // Reference readings (the first point read again after every third line and after the last) are
 // numbered among the points, so a resume must count them where each line starts: a scan resumed
 // after a pulled cable still stores every point and every reading once, each reading ending its line.

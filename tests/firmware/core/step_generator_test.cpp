@@ -104,13 +104,17 @@ TEST(StepGenerator, NeverAcceleratesFasterThanConfigured) {
 }
 
 TEST(StepGenerator, ATouchProbeLatchesWhereItTriggersAndBrakesWithinTheOvertravel) {
-  // A face at x = 20 mm (8000 steps); probing from 10 mm towards 30 mm at three feeds.
-  for (uint32_t rate : {400u, 2000u, 4000u}) {
+  // A face at x = 20 mm (8000 steps); probing from 10 mm towards 30 mm at three feeds, with the
+  // probe read before each step and through its edge interrupt.
+  for (int run = 0; run < 6; ++run) {
+    const bool edge = run >= 3;
+    const uint32_t rate = run % 3 == 0 ? 400u : run % 3 == 1 ? 2000u : 4000u;
     dg::sim::SimConfig c;
     c.start_x_steps = 4000;
     c.touch_x_steps = 8000;
     dg::sim::SimBoard board(c, nullptr);
     dg::StepGenerator motion(board, dg::MotionConfig{});
+    if (edge) motion.attach_probe();
     motion.set_position(4000, 0);
     CHECK(motion.probe_to(12000, 0, rate, 200) == dg::Status::kOk);
     while (motion.busy() && board.wait(UINT64_MAX)) {

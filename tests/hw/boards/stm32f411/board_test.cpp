@@ -365,3 +365,39 @@ TEST(Stm32BoardMachine, GaugeFrameIsReadThroughTheClockEdgeInterrupt) {
   LONGS_EQUAL(52, reader.bits_received());
   LONGS_EQUAL(12345000, reader.value_nm());
 }
+
+// A probing move at 1 mm/s (steps 2.5 ms apart). The stylus meets a face between two steps and
+// stays deflected: the EXTI15 edge latches the step count at that moment, the next step confirms
+// and the move brakes within its overtravel, as with the read before each step alone. Contacts
+// that open for 100 us between two steps and close again are a bounce, not a touch, either way.
+TEST(Stm32BoardMachine, ATouchIsLatchedByTheProbesEdgeAndABounceIsNot) {
+  for (int run = 0; run < 4; ++run) {
+    const bool edge = run % 2 == 0, bounce = run >= 2;
+    BlackPill pill;
+    pill.drive(Pin::kEstop, false);
+    pill.drive(Pin::kLimitXMin, false);
+    pill.drive(Pin::kLimitYMin, false);
+    pill.drive(Pin::kTouchProbe, false);  // contacts closed: at rest
+    dg::StepGenerator steps(pill.board, dg::MotionConfig{});
+    if (edge) steps.attach_probe();
+    steps.set_position(4000, 0);
+    LONGS_EQUAL(static_cast<int>(dg::Status::kOk), static_cast<int>(steps.probe_to(12000, 0, 400, 200)));
+    while (pill.rises(Pin::kStepX).size() < 50) pill.chip.run_for(100 * kCyclesPerUs);
+    const uint64_t touch = pill.rises(Pin::kStepX).back() + 300 * kCyclesPerUs;
+    pill.chip.at(touch, [&pill] { pill.drive(Pin::kTouchProbe, true); });
+    if (bounce) pill.chip.at(touch + 100 * kCyclesPerUs, [&pill] { pill.drive(Pin::kTouchProbe, false); });
+    pill.chip.run_for(touch - pill.chip.cycles() + kCyclesPerUs);
+    const int32_t at_touch = 4000 + static_cast<int32_t>(pill.rises(Pin::kStepX).size());
+    while (steps.busy() && pill.chip.cycles() < 60ull * FakeStm32::kCoreHz) pill.chip.run_for(1000 * kCyclesPerUs);
+    CHECK_FALSE(steps.busy());
+    if (bounce) {
+      CHECK_FALSE(steps.touched());
+      LONGS_EQUAL(12000, steps.x_steps());
+    } else {
+      CHECK_TRUE(steps.touched());
+      LONGS_EQUAL(at_touch, steps.touch_x_steps());
+      CHECK_TRUE(steps.x_steps() > at_touch);
+      CHECK_TRUE(steps.x_steps() <= at_touch + 200);
+    }
+  }
+}
