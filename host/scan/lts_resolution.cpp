@@ -39,9 +39,10 @@ std::vector<char> in_small_groups(const std::vector<LineSides>& sides, const std
 namespace {
 
 // Point i's height lies between its nearest neighbours' (those `in_groups` passed over) along each
-// of the four lines through it: a point of a slope, where an outlier stands above or below them.
+// of the four lines through it, and by more than `min_spread` apart on each: a point of a slope,
+// where an outlier stands above or below them.
 bool between_neighbours_on_every_line(const std::vector<Point3>& points, const LineSides& sides, size_t i,
-                                      const std::vector<char>& in_groups) {
+                                      const std::vector<char>& in_groups, double min_spread = 0) {
   auto first = [&](const std::vector<size_t>& side) -> const Point3* {
     for (size_t j : side) {
       if (!in_groups[j]) return &points[j];
@@ -52,8 +53,19 @@ bool between_neighbours_on_every_line(const std::vector<Point3>& points, const L
     const Point3* a = first(sides[static_cast<size_t>(d)]);
     const Point3* b = first(sides[static_cast<size_t>(d + 1)]);
     if (!a || !b || !((a->z - points[i].z) * (points[i].z - b->z) > 0)) return false;
+    if (std::fabs(a->z - b->z) <= min_spread) return false;
   }
   return true;
+}
+
+// The grid step at point i: its nearest neighbour along x or y (sides 0 to 3).
+double grid_step_mm(const std::vector<Point3>& points, const LineSides& sides, size_t i) {
+  double step_mm = HUGE_VAL;
+  for (int d = 0; d < 4; ++d) {
+    const std::vector<size_t>& side = sides[static_cast<size_t>(d)];
+    if (!side.empty()) step_mm = std::min(step_mm, std::hypot(points[side[0]].x - points[i].x, points[side[0]].y - points[i].y));
+  }
+  return step_mm;
 }
 
 // The points of `members` that model `m` describes (within the bound) span more than order + 1
@@ -78,28 +90,42 @@ bool spans_beyond_order(const std::vector<Point3>& points, const std::vector<siz
 
 }  // namespace
 
+double slope_scale_mm(const std::vector<Point3>& points, const LineSides& sides, size_t i, double sigma) {
+  return std::min(kSlopeScale * sigma, kSlopeStepFraction * grid_step_mm(points, sides, i));
+}
+
+bool on_steep_slope(const std::vector<Point3>& points, const LineSides& sides, size_t i, const std::vector<char>& in_groups,
+                    double sigma) {
+  return between_neighbours_on_every_line(points, sides, i, in_groups, slope_scale_mm(points, sides, i, sigma));
+}
+
 bool surface_resolved(const std::vector<Point3>& points, const std::vector<size_t>& hood, const std::vector<size_t>& wide,
                       const LineSides& sides, size_t i, const std::vector<double>& reference,
-                      const std::vector<char>& condemned, const std::vector<char>& in_groups, double sigma, double k) {
+                      const std::vector<char>& condemned, const std::vector<char>& in_groups, double sigma, double k,
+                      bool* clears) {
+  if (clears) *clears = false;
   auto describes = [&](const LooModel& m, double within) {
     return m.ok && m.scale <= within * sigma && m.near_worst <= prediction_bound(k, sigma, 0, m.scale);
   };
   const LooModel whole = loo_model(points, others_in(hood, i, condemned), i, reference, 3);
-  // The grid step: the nearest neighbour along x or y (sides 0 to 3).
-  double step_mm = HUGE_VAL;
-  for (int d = 0; d < 4; ++d) {
-    const std::vector<size_t>& side = sides[static_cast<size_t>(d)];
-    if (!side.empty()) step_mm = std::min(step_mm, std::hypot(points[side[0]].x - points[i].x, points[side[0]].y - points[i].y));
-  }
-  const double slope_scale = std::min(kSlopeScale * sigma, kSlopeStepFraction * step_mm);
+  const double step_mm = grid_step_mm(points, sides, i);
+  const double slope_scale = slope_scale_mm(points, sides, i, sigma);
   if ((!whole.ok || whole.scale > slope_scale) && between_neighbours_on_every_line(points, sides, i, in_groups)) {
     return false;
   }
   for (const std::vector<size_t>* around : {&hood, &wide}) {
-    if (describes(around == &hood ? whole : loo_model(points, others_in(*around, i, condemned), i, reference, 3), 2.5)) return true;
+    const LooModel cubic = around == &hood ? whole : loo_model(points, others_in(*around, i, condemned), i, reference, 3);
+    if (describes(cubic, 2.5)) {
+      if (clears) *clears = std::fabs(points[i].z - cubic.prediction) <= prediction_bound(k, sigma, 0, cubic.scale);
+      return true;
+    }
     const CreaseModel crease =
         crease_model(points, *around, i, reference, condemned, split_model(points, *around, i, reference, condemned));
-    if (crease.ok && crease.scale <= 2.5 * sigma && crease.near_worst <= prediction_bound(k, sigma, crease.gain, crease.scale)) return true;
+    const double crease_bound = prediction_bound(k, sigma, crease.gain, crease.scale);
+    if (crease.ok && crease.scale <= 2.5 * sigma && crease.near_worst <= crease_bound) {
+      if (clears) *clears = std::fabs(points[i].z - crease.prediction) <= crease_bound;
+      return true;
+    }
   }
   std::vector<size_t> half;
   for (int w = 0; w < 8; ++w) {
@@ -145,6 +171,11 @@ bool surface_resolved(const std::vector<Point3>& points, const std::vector<size_
     }
   }
   const double steepest = std::hypot(slope[0], slope[1]);
+  // No model of the window, its half-planes or the lines through the point describes it, and its
+  // whole window misses even its nearest neighbours by more than the slope scale, with the surface
+  // falling steeply across it on every line: a point of a slope the grid does not resolve, which a
+  // line from one side (the plate beside a ball's foot) would judge by the other surface.
+  if (whole.ok && whole.near_worst > slope_scale && on_steep_slope(points, sides, i, in_groups, sigma)) return false;
   for (int d = 0; d < kLines; ++d) {
     const std::vector<size_t>& side = sides[static_cast<size_t>(d)];
     if (side.empty()) continue;

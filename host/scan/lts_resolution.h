@@ -48,6 +48,19 @@ constexpr double kSlopeStepFraction = 0.1;
 // unjudged; the step gauge's level lines beside its steps rise by nothing and still judge).
 constexpr double kLineRiseMax = 0.5;
 
+// The slope scale at point i: kSlopeScale sigmas or kSlopeStepFraction of the grid step there,
+// the smaller.
+double slope_scale_mm(const std::vector<Point3>& points, const LineSides& sides, size_t i, double sigma);
+
+// Point i lies between its nearest neighbours along each of the four lines through it, and on each
+// line they differ by more than the slope scale (kSlopeScale sigmas or kSlopeStepFraction of the
+// grid step, the smaller): the surface falls steeply in every direction across the point, as on a
+// ball's flank beside its foot, where the grid does not resolve it whatever its window says (at 10
+// um of noise a window of the plate with the ball's first ring of points missed them by less than
+// five sigmas and predicted the plate, 1.2 mm below them).
+bool on_steep_slope(const std::vector<Point3>& points, const LineSides& sides, size_t i, const std::vector<char>& in_groups,
+                    double sigma);
+
 // Below this slope (mm per mm) every line through a point runs along its surface.
 constexpr double kFlatSlope = 0.1;
 
@@ -57,7 +70,8 @@ constexpr double kFlatSlope = 0.1;
 // axis half-plane's plane or a diagonal half-plane's quadratic that also predicts the point's grid
 // neighbours on its side, a line through the point or a line
 // from one side along the surface (without the points `in_groups` marks); and i is no point of a
-// slope steeper than the grid resolves (kSlopeScale).
+// slope steeper than the grid resolves (kSlopeScale, on_steep_slope). `clears`, when given, says
+// whether the window's cubic or crease envelope that describes it also predicts i within its bound.
 // Why not a quadratic on an axis half-plane or a line across the slope: on a 5 x 5 window an axis
 // half-plane spans three rows, and its quadratic puts any three heights on a curve; at a sphere's foot
 // it passed through the plate and the ring of steep points above it, and condemned the ring. For the
@@ -67,6 +81,7 @@ constexpr double kFlatSlope = 0.1;
 // side across the slope may be the other surface's (the plate beside the ring).
 bool surface_resolved(const std::vector<Point3>& points, const std::vector<size_t>& hood, const std::vector<size_t>& wide,
                       const LineSides& sides, size_t i, const std::vector<double>& reference,
-                      const std::vector<char>& condemned, const std::vector<char>& in_groups, double sigma, double k);
+                      const std::vector<char>& condemned, const std::vector<char>& in_groups, double sigma, double k,
+                      bool* clears = nullptr);
 
 }  // namespace dg::host::lts

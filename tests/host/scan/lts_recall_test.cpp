@@ -194,12 +194,18 @@ TEST(LtsRecall, FewRealPointsAtTheBallPlatesFeetAreCondemned) {
   // The balls rise 0.6 mm in their first grid step from the plate; a line along the plate beside a
   // foot point described its own points and condemned the point (18 to 20 of these clean scans
   // were condemned), now the point is taken for one of the slope, which the grid does not resolve.
-  for (unsigned seed = 1; seed <= 3; ++seed) {
-    dg::test::PartScan s;
-    s.kind = dg::sim::PartKind::kBallPlate;
-    s.sigma_um = 2;
-    const LtsResult r = lts_filter(dg::test::scan_part(s, seed).points, LtsOptions{});
-    CHECK(r.outliers.size() <= 15);
+  // Then a diagonal line along the plate, or a window of the plate that missed the ball's first
+  // ring by 0.2 to 0.5 mm, still vouched for the foot and condemned 9 to 16 (at 2 and 5 um); where
+  // the surface falls steeply across a point on every line and its window misses even its
+  // nearest neighbours, it is not judged, and a point the crease's envelope predicts is cleared.
+  for (double sigma_um : {2.0, 5.0}) {
+    for (unsigned seed = 1; seed <= 3; ++seed) {
+      dg::test::PartScan s;
+      s.kind = dg::sim::PartKind::kBallPlate;
+      s.sigma_um = sigma_um;
+      const LtsResult r = lts_filter(dg::test::scan_part(s, seed).points, LtsOptions{});
+      CHECK(r.outliers.size() <= 6);
+    }
   }
 }
 
