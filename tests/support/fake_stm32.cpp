@@ -376,8 +376,7 @@ void FakeStm32::step_to(uint64_t cycle) {
 
 void FakeStm32::advance_to(uint64_t cycle, bool deliver_between) {
   while (now_ < cycle) {
-    const uint64_t next = std::min(cycle, next_event());
-    step_to(std::max(next, now_ + 1) > cycle ? cycle : std::max(next, now_ + 1));
+    step_to(std::min(cycle, std::max(next_event(), now_ + 1)));
     while (!events_.empty() && events_.begin()->first <= now_) {
       auto event = std::move(events_.begin()->second);
       events_.erase(events_.begin());
