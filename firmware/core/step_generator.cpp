@@ -219,8 +219,9 @@ uint32_t StepGenerator::tick() {
   // An edge latched the counts at the moment the contacts opened (the same counts this read
   // would give, since the table moves only at a step); a stylus that is no longer deflected here
   // bounced, and is no touch.
-  const bool deflected = probing_ && !touched_ && board_.read_pin(hal::Pin::kTouchProbe);
-  if (probing_ && !touched_ && touch_edge_ && !deflected) touch_edge_ = false;
+  const bool awaiting_touch = probing_ && !touched_;
+  const bool deflected = awaiting_touch && board_.read_pin(hal::Pin::kTouchProbe);
+  if (awaiting_touch && !deflected) touch_edge_ = false;
   if (deflected) {
     if (!touch_edge_) {
       touch_x_ = x_;

@@ -547,10 +547,6 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
     // six seeds and five noise levels: false alarms on the ball plate 275 -> 84 and on the sphere
     // 112 -> 63; 11 more outliers listed as not judged instead of caught on each, 3 on the step
     // gauge, none passed unlisted; the dome, saddle, canister and flat unchanged.
-    auto whole_misses_nearest = [&](size_t i) {
-      const LooModel& whole = tests[i].model[0];
-      return whole.near_worst > slope_scale_mm(points, sides[i], i, sigma);
-    };
     auto judge_resolution = [&](bool of_condemned) {
       std::vector<char> marked = condemned;
       for (size_t i = 0; i < points.size(); ++i) marked[i] = marked[i] || unjudged[i];
@@ -564,7 +560,7 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
           // every half-plane above 2.5 (over six seeds and five noise levels, 24 such outliers on
           // the sphere and 9 on the ball plate).
           if (whole.ok && whole.scale <= kUnresolvedScale * sigma && (of_condemned || some_window_describes(tests[i], sigma)) &&
-              !(of_condemned && whole_misses_nearest(i) && on_steep_slope(points, sides[i], i, in_groups, sigma))) {
+              !(of_condemned && on_unresolved_slope(points, sides[i], i, in_groups, whole.near_worst, sigma))) {
             continue;
           }
           bool clears = false;
@@ -577,12 +573,8 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
     judge_resolution(false);
     judge_resolution(true);
     for (size_t i = 0; i < points.size(); ++i) {
-      if (cleared[i]) condemned[i] = 0;
-    }
-    for (size_t i = 0; i < points.size(); ++i) {
-      if (!unjudged[i]) continue;
-      condemned[i] = 0;
-      result.unjudged.push_back(i);
+      if (cleared[i] || unjudged[i]) condemned[i] = 0;
+      if (unjudged[i]) result.unjudged.push_back(i);
     }
   }
   for (size_t i = 0; i < points.size(); ++i) {

@@ -94,9 +94,10 @@ double slope_scale_mm(const std::vector<Point3>& points, const LineSides& sides,
   return std::min(kSlopeScale * sigma, kSlopeStepFraction * grid_step_mm(points, sides, i));
 }
 
-bool on_steep_slope(const std::vector<Point3>& points, const LineSides& sides, size_t i, const std::vector<char>& in_groups,
-                    double sigma) {
-  return between_neighbours_on_every_line(points, sides, i, in_groups, slope_scale_mm(points, sides, i, sigma));
+bool on_unresolved_slope(const std::vector<Point3>& points, const LineSides& sides, size_t i,
+                         const std::vector<char>& in_groups, double window_near_worst_mm, double sigma) {
+  const double slope_scale = slope_scale_mm(points, sides, i, sigma);
+  return window_near_worst_mm > slope_scale && between_neighbours_on_every_line(points, sides, i, in_groups, slope_scale);
 }
 
 bool surface_resolved(const std::vector<Point3>& points, const std::vector<size_t>& hood, const std::vector<size_t>& wide,
@@ -175,7 +176,7 @@ bool surface_resolved(const std::vector<Point3>& points, const std::vector<size_
   // whole window misses even its nearest neighbours by more than the slope scale, with the surface
   // falling steeply across it on every line: a point of a slope the grid does not resolve, which a
   // line from one side (the plate beside a ball's foot) would judge by the other surface.
-  if (whole.ok && whole.near_worst > slope_scale && on_steep_slope(points, sides, i, in_groups, sigma)) return false;
+  if (whole.ok && on_unresolved_slope(points, sides, i, in_groups, whole.near_worst, sigma)) return false;
   for (int d = 0; d < kLines; ++d) {
     const std::vector<size_t>& side = sides[static_cast<size_t>(d)];
     if (side.empty()) continue;

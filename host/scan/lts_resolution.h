@@ -57,9 +57,10 @@ double slope_scale_mm(const std::vector<Point3>& points, const LineSides& sides,
 // grid step, the smaller): the surface falls steeply in every direction across the point, as on a
 // ball's flank beside its foot, where the grid does not resolve it whatever its window says (at 10
 // um of noise a window of the plate with the ball's first ring of points missed them by less than
-// five sigmas and predicted the plate, 1.2 mm below them).
-bool on_steep_slope(const std::vector<Point3>& points, const LineSides& sides, size_t i, const std::vector<char>& in_groups,
-                    double sigma);
+// five sigmas and predicted the plate, 1.2 mm below them). Asked only where the point's whole window
+// misses even its nearest neighbours by more than that scale (`window_near_worst_mm`).
+bool on_unresolved_slope(const std::vector<Point3>& points, const LineSides& sides, size_t i,
+                         const std::vector<char>& in_groups, double window_near_worst_mm, double sigma);
 
 // Below this slope (mm per mm) every line through a point runs along its surface.
 constexpr double kFlatSlope = 0.1;

@@ -167,12 +167,18 @@ uint64_t SimBoard::estop_edge_ns(bool spikes) const {
   return edge;
 }
 
+uint32_t SimBoard::fire_step_timer() {
+  const uint32_t delay = timer_handler_(timer_context_);
+  timer_next_ns_ = delay == 0 ? kNever : now_ns_ + delay;
+  // A touch edge raised during the step is taken after it: the step interrupt outranks it.
+  take_touch_edge();
+  return delay;
+}
+
 void SimBoard::run_timer_until(uint64_t until_ns) {
   while (timer_next_ns_ <= until_ns) {
     now_ns_ = timer_next_ns_;
-    const uint32_t delay = timer_handler_(timer_context_);
-    timer_next_ns_ = delay == 0 ? kNever : now_ns_ + delay;
-    take_touch_edge();
+    fire_step_timer();
   }
   now_ns_ = until_ns;
 }
@@ -300,10 +306,7 @@ bool SimBoard::wait(uint64_t deadline_us) {
       }
       continue;
     }
-    const uint32_t delay = timer_handler_(timer_context_);
-    timer_next_ns_ = delay == 0 ? kNever : now_ns_ + delay;
-    take_touch_edge();
-    if (delay == 0) return true;  // the move ended: the firmware has work
+    if (fire_step_timer() == 0) return true;  // the move ended: the firmware has work
   }
 }
 

@@ -176,6 +176,8 @@ class SimBoard final : public hal::Board {
   bool link_suspended_ = false;
   bool touching() const { return x_steps_ >= config_.touch_x_steps || y_steps_ >= config_.touch_y_steps; }
   void take_touch_edge();
+  // Runs the step interrupt due now, schedules the next one; returns its delay (0: the move ended).
+  uint32_t fire_step_timer();
   hal::TimerHandler timer_handler_ = nullptr;
   void* timer_context_ = nullptr;
   uint64_t timer_next_ns_ = kNever;

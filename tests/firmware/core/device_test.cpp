@@ -365,6 +365,32 @@ TEST(DeviceResume, PausesAtOnceWhenTheHostSuspendsTheLinkAndGoesOnAfterItsWakeUp
   LONGS_EQUAL(digitizer_ScanEnd_SCAN_COMPLETED, bench.host.done.reason);
 }
 
+// A jog is the host's hand on the table: when the host suspends the link that hand is gone, and the
+// table brakes to rest at once instead of running on to the jog's end.
+TEST(DeviceResume, AJogStopsWhenTheHostSuspendsTheLink) {
+  Bench bench;
+  bench.hello(1);
+  digitizer_Envelope jog = digitizer_Envelope_init_zero;
+  jog.id = 20;
+  jog.which_body = digitizer_Envelope_command_tag;
+  jog.body.command.kind = digitizer_CommandKind_CMD_JOG;
+  jog.body.command.dx_nm = 30000000;  // 30 mm at 1 mm/s: 30 s to its end
+  jog.body.command.feed_um_s = 1000;
+  bench.host.send(jog);
+  bench.run_for(2000000);
+  CHECK(bench.fault_for(20) == nullptr);
+  LONGS_EQUAL(digitizer_DeviceState_STATE_JOGGING, bench.device.state());
+  const int64_t start = bench.board.table_x_steps();
+  CHECK(start > 0);
+  bench.board.set_link_suspended(true);
+  bench.run_for(1000000);
+  const int64_t stopped = bench.board.table_x_steps();
+  bench.run_for(20000000);
+  LONGS_EQUAL(stopped, bench.board.table_x_steps());
+  CHECK(stopped - start < 400);  // braked within a mm of where the suspend came, far from 30 mm
+  LONGS_EQUAL(digitizer_DeviceState_STATE_IDLE, bench.device.state());
+}
+
 // Reference readings (the first point read again after every third line and after the last) are
 // numbered among the points, so a resume must count them where each line starts: a scan resumed
 // after a pulled cable still stores every point and every reading once, each reading ending its line.
