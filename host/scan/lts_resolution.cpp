@@ -103,8 +103,20 @@ bool on_unresolved_slope(const std::vector<Point3>& points, const LineSides& sid
 bool surface_resolved(const std::vector<Point3>& points, const std::vector<size_t>& hood, const std::vector<size_t>& wide,
                       const LineSides& sides, size_t i, const std::vector<double>& reference,
                       const std::vector<char>& condemned, const std::vector<char>& in_groups, double sigma, double k,
-                      bool* clears) {
+                      bool* clears, bool* predicts, double limit_mm) {
   if (clears) *clears = false;
+  if (predicts) *predicts = false;
+  // Some model has vouched for the surface's resolution. Asked whether one also predicts i, the
+  // search goes on through the others while none does: at a corner of a step gauge's block the
+  // first to vouch was a level line of the block beside it, 1.8 mm off, and a later one of the
+  // point's own block predicts it. True when the search can end.
+  bool vouched = false;
+  auto predicted = [&](double prediction, double gain, double scale) {
+    vouched = true;
+    if (predicts == nullptr) return true;
+    *predicts = std::fabs(points[i].z - prediction) <= std::max(prediction_bound(k, sigma, gain, scale), limit_mm);
+    return *predicts;
+  };
   auto describes = [&](const LooModel& m, double within) {
     return m.ok && m.scale <= within * sigma && m.near_worst <= prediction_bound(k, sigma, 0, m.scale);
   };
@@ -118,14 +130,14 @@ bool surface_resolved(const std::vector<Point3>& points, const std::vector<size_
     const LooModel cubic = around == &hood ? whole : loo_model(points, others_in(*around, i, condemned), i, reference, 3);
     if (describes(cubic, 2.5)) {
       if (clears) *clears = std::fabs(points[i].z - cubic.prediction) <= prediction_bound(k, sigma, 0, cubic.scale);
-      return true;
+      if (predicted(cubic.prediction, cubic.gain, cubic.scale)) return true;
     }
     const CreaseModel crease =
         crease_model(points, *around, i, reference, condemned, split_model(points, *around, i, reference, condemned));
     const double crease_bound = prediction_bound(k, sigma, crease.gain, crease.scale);
     if (crease.ok && crease.scale <= 2.5 * sigma && crease.near_worst <= crease_bound) {
       if (clears) *clears = std::fabs(points[i].z - crease.prediction) <= crease_bound;
-      return true;
+      if (predicted(crease.prediction, crease.gain, crease.scale)) return true;
     }
   }
   std::vector<size_t> half;
@@ -149,11 +161,13 @@ bool surface_resolved(const std::vector<Point3>& points, const std::vector<size_
                std::fabs(points[j].z - m.polynomial.at(points[j].x, points[j].y)) <= half_bound;
       });
     };
-    if (describes(m, 2.0) && predicts_ring() && spans_beyond_order(points, half, m, order, half_bound)) return true;
+    if (describes(m, 2.0) && predicts_ring() && spans_beyond_order(points, half, m, order, half_bound)) {
+      if (predicted(m.prediction, m.gain, m.scale)) return true;
+    }
   }
   for (int d = 0; d + 1 < kLines; d += 2) {
     const LooModel m = through_line_model(points, sides[static_cast<size_t>(d)], sides[static_cast<size_t>(d + 1)], i, in_groups);
-    if (m.ok && m.dof >= kThroughLineDof && m.scale <= 2.0 * sigma) return true;
+    if (m.ok && m.dof >= kThroughLineDof && m.scale <= 2.0 * sigma && predicted(m.prediction, m.gain, m.scale)) return true;
   }
   // The slope across the point from its neighbours alone, along x (sides 0 and 1) and y (2 and 3).
   double slope[2] = {0, 0};
@@ -176,7 +190,7 @@ bool surface_resolved(const std::vector<Point3>& points, const std::vector<size_
   // whole window misses even its nearest neighbours by more than the slope scale, with the surface
   // falling steeply across it on every line: a point of a slope the grid does not resolve, which a
   // line from one side (the plate beside a ball's foot) would judge by the other surface.
-  if (whole.ok && on_unresolved_slope(points, sides, i, in_groups, whole.near_worst, sigma)) return false;
+  if (whole.ok && on_unresolved_slope(points, sides, i, in_groups, whole.near_worst, sigma)) return vouched;
   for (int d = 0; d < kLines; ++d) {
     const std::vector<size_t>& side = sides[static_cast<size_t>(d)];
     if (side.empty()) continue;
@@ -186,9 +200,9 @@ bool surface_resolved(const std::vector<Point3>& points, const std::vector<size_
     const LooModel m = line_model(points, side, i, in_groups, sigma);
     // Nor one that itself rises steeply to the point: it runs across a slope steeper still.
     if (std::fabs(points[side[0]].z - m.prediction) > kLineRiseMax * std::hypot(ux, uy)) continue;
-    if (m.ok && m.scale <= 2.0 * sigma && m.gain <= kLineGainMax) return true;
+    if (m.ok && m.scale <= 2.0 * sigma && m.gain <= kLineGainMax && predicted(m.prediction, m.gain, m.scale)) return true;
   }
-  return false;
+  return vouched;
 }
 
 }  // namespace dg::host::lts

@@ -72,7 +72,9 @@ constexpr double kFlatSlope = 0.1;
 // neighbours on its side, a line through the point or a line
 // from one side along the surface (without the points `in_groups` marks); and i is no point of a
 // slope steeper than the grid resolves (kSlopeScale, on_steep_slope). `clears`, when given, says
-// whether the window's cubic or crease envelope that describes it also predicts i within its bound.
+// whether the window's cubic or crease envelope that describes it also predicts i within its bound;
+// `predicts`, whether the model that describes it, whichever it is, predicts i within its own
+// bound (with the gain of its extrapolation to i) or the `limit_mm`, the larger.
 // Why not a quadratic on an axis half-plane or a line across the slope: on a 5 x 5 window an axis
 // half-plane spans three rows, and its quadratic puts any three heights on a curve; at a sphere's foot
 // it passed through the plate and the ring of steep points above it, and condemned the ring. For the
@@ -83,6 +85,6 @@ constexpr double kFlatSlope = 0.1;
 bool surface_resolved(const std::vector<Point3>& points, const std::vector<size_t>& hood, const std::vector<size_t>& wide,
                       const LineSides& sides, size_t i, const std::vector<double>& reference,
                       const std::vector<char>& condemned, const std::vector<char>& in_groups, double sigma, double k,
-                      bool* clears = nullptr);
+                      bool* clears = nullptr, bool* predicts = nullptr, double limit_mm = 0);
 
 }  // namespace dg::host::lts
