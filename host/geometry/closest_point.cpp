@@ -7,6 +7,11 @@
 #include "host/geometry/vec3.h"
 
 namespace dg::host {
+namespace {
+
+constexpr double kLastStepMm = 1e-3;
+
+}  // namespace
 
 Closest closest_point(const BSplineSurface& surface, const Point3& p, double u0, double v0) {
   const double u_lo = surface.u_min(), u_hi = surface.u_max(), v_lo = surface.v_min(), v_hi = surface.v_max();
@@ -34,7 +39,23 @@ Closest closest_point(const BSplineSurface& surface, const Point3& p, double u0,
     }
     const double nu = std::clamp(u + du, u_lo, u_hi), nv = std::clamp(v + dv, v_lo, v_hi);
     // The proposed move on the surface, to first order, in mm: below 1e-7 mm the distance is settled.
-    if (norm((nu - u) * su + (nv - v) * sv) < 1e-7) break;
+    const double move_mm = norm((nu - u) * su + (nv - v) * sv);
+    if (move_mm < 1e-7) break;
+    // Below kLastStepMm the step lands on the foot to second order (Gauss-Newton converges
+    // quadratically from there), and the distance, stationary at the foot, errs by less than
+    // 1e-9 mm even at a curvature of 10 per mm: the step is taken without the derivatives another
+    // step would need, and the normal is the one at the start of the step. On a cloud a point's
+    // own parameters start within a micrometre or so of its foot, so this halves the evaluations
+    // with derivatives.
+    if (move_mm < kLastStepMm) {
+      const Point3 ns = surface.evaluate(nu, nv);
+      if (dot(p - ns, p - ns) <= dot(r, r)) {
+        u = nu;
+        v = nv;
+        s = ns;
+      }
+      break;
+    }
     Point3 ns, nsu, nsv;
     surface.evaluate(nu, nv, ns, nsu, nsv);
     // Accept only steps that do not move away (Gauss-Newton can overshoot on a curved surface).
