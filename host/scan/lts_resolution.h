@@ -71,10 +71,11 @@ constexpr double kFlatSlope = 0.1;
 // axis half-plane's plane or a diagonal half-plane's quadratic that also predicts the point's grid
 // neighbours on its side, a line through the point or a line
 // from one side along the surface (without the points `in_groups` marks); and i is no point of a
-// slope steeper than the grid resolves (kSlopeScale, on_steep_slope). `clears`, when given, says
+// slope steeper than the grid resolves (kSlopeScale, on_unresolved_slope). `clears`, when given, says
 // whether the window's cubic or crease envelope that describes it also predicts i within its bound;
-// `predicts`, whether the model that describes it, whichever it is, predicts i within its own
-// bound (with the gain of its extrapolation to i) or the `limit_mm`, the larger.
+// `predicts`, when given, whether one of the models that describe it, whichever, predicts i within
+// its own bound (with the gain of its extrapolation to i) or `limit_mm`, the larger: the search
+// then goes on past a model that describes the window and misses i.
 // Why not a quadratic on an axis half-plane or a line across the slope: on a 5 x 5 window an axis
 // half-plane spans three rows, and its quadratic puts any three heights on a curve; at a sphere's foot
 // it passed through the plate and the ring of steep points above it, and condemned the ring. For the
