@@ -88,11 +88,13 @@ bool spans_beyond_order(const std::vector<Point3>& points, const std::vector<siz
   return distinct(xs) >= needed && distinct(ys) >= needed;
 }
 
-}  // namespace
-
+// The slope scale at point i: kSlopeScale sigmas or kSlopeStepFraction of the grid step there,
+// the smaller.
 double slope_scale_mm(const std::vector<Point3>& points, const LineSides& sides, size_t i, double sigma) {
   return std::min(kSlopeScale * sigma, kSlopeStepFraction * grid_step_mm(points, sides, i));
 }
+
+}  // namespace
 
 bool on_unresolved_slope(const std::vector<Point3>& points, const LineSides& sides, size_t i,
                          const std::vector<char>& in_groups, double window_near_worst_mm, double sigma) {

@@ -48,10 +48,6 @@ constexpr double kSlopeStepFraction = 0.1;
 // unjudged; the step gauge's level lines beside its steps rise by nothing and still judge).
 constexpr double kLineRiseMax = 0.5;
 
-// The slope scale at point i: kSlopeScale sigmas or kSlopeStepFraction of the grid step there,
-// the smaller.
-double slope_scale_mm(const std::vector<Point3>& points, const LineSides& sides, size_t i, double sigma);
-
 // Point i lies between its nearest neighbours along each of the four lines through it, and on each
 // line they differ by more than the slope scale (kSlopeScale sigmas or kSlopeStepFraction of the
 // grid step, the smaller): the surface falls steeply in every direction across the point, as on a
