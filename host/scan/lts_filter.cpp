@@ -300,7 +300,7 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
     // The judging window's prediction errs by the noise its gain amplifies: at a corner of the
     // scan a whole window's cubic reaches a gain of 9 to 11, and put a clean point 6 sigma off.
     auto beyond_bound = [&](int w) {
-      const LooModel& m = tests[i].model[w];
+      const LooFit& m = tests[i].model[w];
       const double bound = prediction_bound(options.outlier_sigmas, sigma, m.gain, m.scale);
       return std::fabs(tests[i].residual[w]) > std::max(limit, bound);
     };
@@ -313,7 +313,7 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
       if (w != window && vouches(tests[i], w, sigma, options.outlier_sigmas)) return -1;
     }
     for (int w = 0; w < kWindows; ++w) {
-      const LooModel& m = tests[i].model[w];
+      const LooFit& m = tests[i].model[w];
       if (w == window || !m.ok || m.near_kept < 2 || m.scale > 2.0 * sigma) continue;
       if (beyond_bound(w)) return w;
     }
@@ -341,7 +341,7 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
   auto classify = [&]() {
     prior = suspect;
     for (size_t i = 0; i < points.size(); ++i) {
-      for (int d = 0; d < kLines; ++d) tests[i].model[kWindows + d] = LooModel{};
+      for (int d = 0; d < kLines; ++d) tests[i].model[kWindows + d] = LooFit{};
       suspect[i] = outlier_window(i) >= 0;
     }
     clear_by_lines(suspect, no_window_condemns);
@@ -431,7 +431,7 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
     if (!crease_judged && result.gridded && near_crease(tests[i], sigma) && (outlier || undescribed)) {
       const SplitModels& split = cut_of(1);
       if (split.own.ok && split.own.scale <= 2.0 * sigma && split.other.ok) {
-        auto predicts = [&](const LooModel& m, double widen) {
+        auto predicts = [&](const LooFit& m, double widen) {
           const double bound = prediction_bound(options.outlier_sigmas, sigma, m.gain, m.scale);
           return m.gain <= kLineGainMax && std::fabs(points[i].z - m.prediction) <= widen * std::max(bound, limit);
         };
@@ -507,7 +507,7 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
         PointTest one_sided = tests[i];
         bool lines_added = false;
         for (int d = 0; d + 1 < kLines; d += 2) {
-          const LooModel m = through_line_model(points, sides[i][static_cast<size_t>(d)], sides[i][static_cast<size_t>(d + 1)], i, condemned);
+          const LooFit m = through_line_model(points, sides[i][static_cast<size_t>(d)], sides[i][static_cast<size_t>(d + 1)], i, condemned);
           if (!m.ok || m.dof < kThroughLineDof || m.scale > 2.0 * sigma) continue;
           const double bound = prediction_bound(options.outlier_sigmas, sigma, m.gain, m.scale);
           if (std::fabs(points[i].z - m.prediction) > std::max(bound, limit)) {
@@ -553,7 +553,7 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
       const std::vector<char> in_groups = in_small_groups(sides, marked, kOutlierGroupMax);
       parallel_for(points.size(), [&](size_t begin, size_t end, unsigned) {
         for (size_t i = begin; i < end; ++i) {
-          const LooModel& whole = tests[i].model[0];
+          const LooFit& whole = tests[i].model[0];
           if (bool(condemned[i]) != of_condemned) continue;
           // A passed point whose windows none describes was passed for want of a judge, not
           // cleared: on the sphere's flank one 180 sigma high had a whole window at 4.9 sigma and

@@ -169,7 +169,7 @@ CreaseModel crease_model(const std::vector<Point3>& points, const std::vector<si
 void add_line_models(const std::vector<Point3>& points, const LineSides& sides, size_t i,
                      const std::vector<char>& suspect, double sigma, PointTest& t) {
   for (int d = 0; d < kLines; ++d) {
-    LooModel& m = t.model[kWindows + d];
+    LooFit& m = t.model[kWindows + d];
     m = line_model(points, sides[static_cast<size_t>(d)], i, suspect, sigma);
     if (m.ok) t.residual[kWindows + d] = points[i].z - m.prediction;
   }
@@ -177,7 +177,7 @@ void add_line_models(const std::vector<Point3>& points, const LineSides& sides, 
 
 bool whole_judges(const PointTest& t, double sigma, double k, const std::vector<char>* suspect,
                   const std::function<bool()>& smooth_around) {
-  const LooModel& whole = t.model[0];
+  const LooFit& whole = t.model[0];
   if (!whole.ok || whole.scale > 2.5 * sigma || !std::isfinite(whole.near_worst)) return false;
   const double bound = k * std::hypot(sigma, whole.scale);
   // A cubic that misses three of the window's points by twice its bound, none of them suspected,
@@ -212,7 +212,7 @@ bool whole_judges(const PointTest& t, double sigma, double k, const std::vector<
 }
 
 bool vouches(const PointTest& t, int w, double sigma, double k) {
-  const LooModel& m = t.model[w];
+  const LooFit& m = t.model[w];
   // A window whose prediction has a gain beyond kWindowGainMax extrapolates too far to vouch: a
   // cubic over a window at the scan's edge with its suspects left out reached a gain of 30 and a
   // bound of 28 sigma, wide enough to pass an outlier of 18.
@@ -234,7 +234,7 @@ int verdict(const PointTest& t, double sigma, double k, const std::vector<char>*
   if (whole_judges(t, sigma, k, suspect, smooth_around)) return std::fabs(t.residual[0]) <= k * std::hypot(sigma, t.model[0].scale) ? -1 : 0;
   int best = -1;
   for (int w = 0; w < kWindows + kLines; ++w) {
-    const LooModel& m = t.model[w];
+    const LooFit& m = t.model[w];
     if (!m.ok || m.near_kept < 2 || m.scale > 2.0 * sigma) continue;
     if (vouches(t, w, sigma, k)) return -1;
     if (w < kWindows && (best < 0 || m.scale < t.model[best].scale)) best = w;

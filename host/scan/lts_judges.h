@@ -30,7 +30,7 @@ inline bool in_half_plane(const Point3& p, const Point3& q, int w) {
 }
 
 struct PointTest {
-  LooModel model[kWindows + kLines];
+  LooFit model[kWindows + kLines];
   double residual[kWindows + kLines] = {};
   WindowMisses whole_misses;  // of model[0]
 };

@@ -58,9 +58,9 @@ LineQuadratic line_quadratic(const std::vector<double>& ts, const std::vector<do
 
 }  // namespace
 
-LooModel line_model(const std::vector<Point3>& points, const std::vector<size_t>& reach, size_t i,
-                    const std::vector<char>& suspect, double sigma) {
-  LooModel out;
+LooFit line_model(const std::vector<Point3>& points, const std::vector<size_t>& reach, size_t i,
+                  const std::vector<char>& suspect, double sigma) {
+  LooFit out;
   std::vector<double> ts, zs;
   for (size_t j : reach) {
     if (suspect[j] || ts.size() >= static_cast<size_t>(kLinePoints)) continue;
@@ -96,9 +96,9 @@ LooModel line_model(const std::vector<Point3>& points, const std::vector<size_t>
   return out;
 }
 
-LooModel through_line_model(const std::vector<Point3>& points, const std::vector<size_t>& before,
-                            const std::vector<size_t>& after, size_t i, const std::vector<char>& suspect) {
-  LooModel out;
+LooFit through_line_model(const std::vector<Point3>& points, const std::vector<size_t>& before,
+                          const std::vector<size_t>& after, size_t i, const std::vector<char>& suspect) {
+  LooFit out;
   std::vector<double> ts, zs;
   for (int side = 0; side < 2; ++side) {
     size_t taken = 0;

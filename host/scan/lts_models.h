@@ -16,12 +16,11 @@ constexpr double kLineGainMax = 8;
 // A line model uses the first kLinePoints neighbours on its side that are not suspected outliers.
 constexpr int kLinePoints = 5;
 
-// A robust local model fitted without point i: least trimmed squares by concentration steps from
-// two starts, the h neighbours nearest to the filter's reference and the h nearest to the window's
-// median height, the smaller trimmed scale kept. h is 70 % of the window (at least the maximal
-// breakdown [n/2] + [(p+1)/2]): two or three outliers in one window stay out, and the trimmed
-// scale stays a usable measure of how well the model describes the rest.
-struct LooModel {
+// What the judges read of a model of point i's neighbours fitted without i: a window's robust
+// model (LooModel) or a line's quadratic. Every point's test keeps seventeen of these, so the
+// window's polynomial itself is not among them (with it a test took 3.5 kB a point, 350 MB for
+// 100,000 points).
+struct LooFit {
   bool ok = false;
   double prediction = 0;  // the model's height at point i
   double scale = 0;       // its trimmed residual scale
@@ -35,6 +34,14 @@ struct LooModel {
   // scale instead; the split judge, whose point lies at its side's edge, uses it).
   double gain = 0;
   int dof = 1;  // the trimmed residuals' degrees of freedom, h - p (at least 1)
+};
+
+// A robust local model fitted without point i: least trimmed squares by concentration steps from
+// two starts, the h neighbours nearest to the filter's reference and the h nearest to the window's
+// median height, the smaller trimmed scale kept. h is 70 % of the window (at least the maximal
+// breakdown [n/2] + [(p+1)/2]): two or three outliers in one window stay out, and the trimmed
+// scale stays a usable measure of how well the model describes the rest.
+struct LooModel : LooFit {
   LocalPolynomial polynomial;  // the model itself (a window's; a constant as a flat plane)
 };
 
@@ -51,7 +58,7 @@ inline double prediction_bound(double k, double sigma, double gain, double scale
 // `sigma` explains the quadratic term (|c| within two standard errors), a straight line stands in:
 // on a flat sliver whose nearest neighbour is an outlier, the quadratic through the next five
 // points extrapolates with a gain of 15.8 and may not vouch, the straight line with 1.8.
-LooModel line_model(const std::vector<Point3>& points, const std::vector<size_t>& reach, size_t i,
+LooFit line_model(const std::vector<Point3>& points, const std::vector<size_t>& reach, size_t i,
                     const std::vector<char>& suspect, double sigma);
 
 // A quadratic along a row, column or diagonal through point i, from up to kThroughLineSide
@@ -62,7 +69,7 @@ LooModel line_model(const std::vector<Point3>& points, const std::vector<size_t>
 constexpr int kThroughLineSide = 3;
 // A line through a point judges with at least this many degrees of freedom left to its quadratic.
 constexpr int kThroughLineDof = 3;
-LooModel through_line_model(const std::vector<Point3>& points, const std::vector<size_t>& before,
+LooFit through_line_model(const std::vector<Point3>& points, const std::vector<size_t>& before,
                             const std::vector<size_t>& after, size_t i, const std::vector<char>& suspect);
 
 // The window's points other than i and those `excluded` marks.
@@ -72,7 +79,7 @@ std::vector<size_t> others_in(const std::vector<size_t>& window, size_t i, const
 std::vector<size_t> nearest_four(const std::vector<Point3>& points, const std::vector<size_t>& members, size_t i);
 
 // Which of a window's points its model misses, for the whole window's model only (kept apart from
-// LooModel, of which every point holds seventeen): the judge may pass over a suspected neighbour,
+// the LooFit, of which every point holds seventeen): the judge may pass over a suspected neighbour,
 // but not a surface beyond a crease.
 struct WindowMisses {
   size_t near_index[4] = {};  // point i's four nearest neighbours in the window

@@ -119,7 +119,7 @@ bool surface_resolved(const std::vector<Point3>& points, const std::vector<size_
     *predicts = std::fabs(points[i].z - prediction) <= std::max(prediction_bound(k, sigma, gain, scale), limit_mm);
     return *predicts;
   };
-  auto describes = [&](const LooModel& m, double within) {
+  auto describes = [&](const LooFit& m, double within) {
     return m.ok && m.scale <= within * sigma && m.near_worst <= prediction_bound(k, sigma, 0, m.scale);
   };
   const LooModel whole = loo_model(points, others_in(hood, i, condemned), i, reference, 3);
@@ -168,7 +168,7 @@ bool surface_resolved(const std::vector<Point3>& points, const std::vector<size_
     }
   }
   for (int d = 0; d + 1 < kLines; d += 2) {
-    const LooModel m = through_line_model(points, sides[static_cast<size_t>(d)], sides[static_cast<size_t>(d + 1)], i, in_groups);
+    const LooFit m = through_line_model(points, sides[static_cast<size_t>(d)], sides[static_cast<size_t>(d + 1)], i, in_groups);
     if (m.ok && m.dof >= kThroughLineDof && m.scale <= 2.0 * sigma && predicted(m.prediction, m.gain, m.scale)) return true;
   }
   // The slope across the point from its neighbours alone, along x (sides 0 and 1) and y (2 and 3).
@@ -199,7 +199,7 @@ bool surface_resolved(const std::vector<Point3>& points, const std::vector<size_
     // Only a line within 30 degrees of the level direction: one down the slope leaves the surface.
     const double ux = points[side[0]].x - points[i].x, uy = points[side[0]].y - points[i].y;
     if (steepest > kFlatSlope && std::fabs(ux * slope[0] + uy * slope[1]) > 0.5 * steepest * std::hypot(ux, uy)) continue;
-    const LooModel m = line_model(points, side, i, in_groups, sigma);
+    const LooFit m = line_model(points, side, i, in_groups, sigma);
     // Nor one that itself rises steeply to the point: it runs across a slope steeper still.
     if (std::fabs(points[side[0]].z - m.prediction) > kLineRiseMax * std::hypot(ux, uy)) continue;
     if (m.ok && m.scale <= 2.0 * sigma && m.gain <= kLineGainMax && predicted(m.prediction, m.gain, m.scale)) return true;
