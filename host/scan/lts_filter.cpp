@@ -64,7 +64,7 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
   const unsigned workers = worker_count();
   // Each worker's scratch: (|residual|, neighbour index) pairs, the chosen subset and the one fitted
   // before it, the window's heights.
-  std::vector<std::vector<std::pair<double, size_t>>> by_distance_of(workers);
+  std::vector<std::vector<Ranked>> by_distance_of(workers);
   std::vector<std::vector<size_t>> chosen_of(workers), fitted_of(workers);
   std::vector<std::vector<double>> values_of(workers);
   parallel_for(points.size(), [&](size_t begin, size_t end, unsigned w) {
@@ -91,7 +91,7 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
     std::vector<size_t> moved_of(workers, 0);
     std::vector<double> next(points.size());
     parallel_for(points.size(), [&](size_t begin, size_t end, unsigned w) {
-      std::vector<std::pair<double, size_t>>& by_distance = by_distance_of[w];
+      std::vector<Ranked>& by_distance = by_distance_of[w];
       std::vector<size_t>& chosen = chosen_of[w];
       std::vector<size_t>& fitted = fitted_of[w];
       // Gathered here and stored once a chunk: workers writing neighbouring slots for every point
@@ -115,18 +115,21 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
       // The reference signal at this point: the window's median in the first pass, this point's
       // previous output after that (Koivunen and Bajcsy 1992: "the output from previous iteration is used as a
       // reference signal for the next iteration").
-      for (size_t j : hood[i]) by_distance.push_back({std::fabs(points[j].z - reference[i]), j});
+      for (int m = 0; m < n; ++m) {
+        const size_t j = hood[i][static_cast<size_t>(m)];
+        by_distance.push_back({std::fabs(points[j].z - reference[i]), j, static_cast<unsigned>(m)});
+      }
       std::nth_element(by_distance.begin(), by_distance.begin() + (h - 1), by_distance.end());
       chosen.clear();
-      for (int m = 0; m < h; ++m) chosen.push_back(by_distance[m].second);
+      uint64_t mask = 0;
+      for (int m = 0; m < h; ++m) {
+        chosen.push_back(by_distance[m].index);
+        if (n <= 64) mask |= uint64_t{1} << by_distance[m].position;
+      }
       std::sort(chosen.begin(), chosen.end());
       // The estimate is a function of this start subset alone: the one its last computation started
       // from gave the present reference, so the same start gives it again.
       if (n <= 64) {
-        uint64_t mask = 0;
-        for (int m = 0; m < n; ++m) {
-          if (std::binary_search(chosen.begin(), chosen.end(), hood[i][static_cast<size_t>(m)])) mask |= uint64_t{1} << m;
-        }
         if (mask == start_mask[i]) {
           next[i] = reference[i];
           continue;
@@ -147,14 +150,15 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
         for (int step = 0; step < 4 && fit_local_polynomial(points, chosen, points[i], order, model); ++step) {
           next[i] = model.c[0];
           by_distance.clear();
-          for (size_t j : hood[i]) {
+          for (int m = 0; m < n; ++m) {
+            const size_t j = hood[i][static_cast<size_t>(m)];
             const double r = points[j].z - model.at(points[j].x, points[j].y);
-            by_distance.push_back({std::fabs(r), j});
+            by_distance.push_back({std::fabs(r), j, static_cast<unsigned>(m)});
           }
           std::nth_element(by_distance.begin(), by_distance.begin() + (h - 1), by_distance.end());
           fitted.swap(chosen);
           chosen.clear();
-          for (int m = 0; m < h; ++m) chosen.push_back(by_distance[m].second);
+          for (int m = 0; m < h; ++m) chosen.push_back(by_distance[m].index);
           std::sort(chosen.begin(), chosen.end());
           if (chosen == fitted) break;
         }

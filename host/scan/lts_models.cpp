@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <utility>
 
 #include "host/scan/median.h"
@@ -158,11 +159,31 @@ LooModel loo_model(const std::vector<Point3>& points, const std::vector<size_t>&
   const int order = std::min(max_order, n >= 20 && spread >= 4 ? 3 : n >= 12 && spread >= 3 ? 2 : n >= 6 ? 1 : 0);
   const int p = order == 0 ? 1 : order == 1 ? 3 : order == 2 ? 6 : 10;
   const int h = std::min(n, std::max(n / 2 + (p + 1) / 2, static_cast<int>(std::ceil(keep * n))));
-  std::vector<std::pair<double, size_t>> by_residual;
-  for (size_t j : window) by_residual.push_back({std::fabs(points[j].z - reference[j]), j});
-  std::nth_element(by_residual.begin(), by_residual.begin() + (h - 1), by_residual.end());
+  // Window points by their |residual| to `height(j)`, the first h of them in `subset` (in the
+  // selection's order, which the next fit sums in) and, for a window of up to 64, in `mask`.
+  const bool masked = n <= 64;
+  std::vector<Ranked> by_residual;
+  auto rank = [&](auto height, std::vector<size_t>& subset, uint64_t& mask) {
+    by_residual.clear();
+    for (int m = 0; m < n; ++m) {
+      const size_t j = window[static_cast<size_t>(m)];
+      by_residual.push_back({std::fabs(points[j].z - height(j)), j, static_cast<unsigned>(m)});
+    }
+    std::nth_element(by_residual.begin(), by_residual.begin() + (h - 1), by_residual.end());
+    subset.clear();
+    mask = 0;
+    double trimmed = 0;
+    for (int m = 0; m < h; ++m) {
+      const Ranked& r = by_residual[static_cast<size_t>(m)];
+      subset.push_back(r.index);
+      if (masked) mask |= uint64_t{1} << r.position;
+      trimmed += r.residual * r.residual;
+    }
+    return trimmed;
+  };
   std::vector<size_t> chosen;
-  for (int m = 0; m < h; ++m) chosen.push_back(by_residual[static_cast<size_t>(m)].second);
+  uint64_t chosen_mask = 0;
+  rank([&](size_t j) { return reference[j]; }, chosen, chosen_mask);
   if (order == 0) {
     double mean = 0, ss = 0;
     for (size_t j : chosen) mean += points[j].z;
@@ -184,20 +205,13 @@ LooModel loo_model(const std::vector<Point3>& points, const std::vector<size_t>&
   // A step that keeps the subset it was fitted to has converged: the next would fit the same
   // points again and keep them again (Rousseeuw and Van Driessen's C-steps), so it is not taken.
   std::vector<size_t> fitted_set, kept_set;
-  auto concentrate = [&](std::vector<size_t> subset, std::vector<size_t>& kept) {
+  auto concentrate = [&](std::vector<size_t> subset, uint64_t subset_mask, std::vector<size_t>& kept) {
     LooModel result;
     LocalPolynomial model;
     for (int step = 0; step < 4 && fit_local_polynomial(points, subset, points[i], order, model); ++step) {
-      fitted_set.assign(subset.begin(), subset.end());
-      by_residual.clear();
-      for (size_t j : window) by_residual.push_back({std::fabs(points[j].z - model.at(points[j].x, points[j].y)), j});
-      std::nth_element(by_residual.begin(), by_residual.begin() + (h - 1), by_residual.end());
-      subset.clear();
-      double trimmed = 0;
-      for (int m = 0; m < h; ++m) {
-        subset.push_back(by_residual[static_cast<size_t>(m)].second);
-        trimmed += by_residual[static_cast<size_t>(m)].first * by_residual[static_cast<size_t>(m)].first;
-      }
+      const uint64_t fitted_mask = subset_mask;
+      if (!masked) fitted_set.assign(subset.begin(), subset.end());
+      const double trimmed = rank([&](size_t j) { return model.at(points[j].x, points[j].y); }, subset, subset_mask);
       result = LooModel{};
       result.ok = true;
       result.prediction = model.c[0];
@@ -205,6 +219,10 @@ LooModel loo_model(const std::vector<Point3>& points, const std::vector<size_t>&
       result.gain = model.centre_gain;
       result.dof = std::max(1, h - p);
       result.polynomial = model;
+      if (masked) {
+        if (subset_mask == fitted_mask) break;
+        continue;
+      }
       kept_set.assign(subset.begin(), subset.end());
       std::sort(fitted_set.begin(), fitted_set.end());
       std::sort(kept_set.begin(), kept_set.end());
@@ -214,19 +232,17 @@ LooModel loo_model(const std::vector<Point3>& points, const std::vector<size_t>&
     return result;
   };
   std::vector<size_t> kept_subset;
-  out = concentrate(chosen, kept_subset);
+  out = concentrate(chosen, chosen_mask, kept_subset);
   {
     // A second start, from the h heights nearest the window's median: where outliers crowd a window
     // the filtered reference took them in too, and its start keeps them.
     std::vector<double> heights;
     for (size_t j : window) heights.push_back(points[j].z);
     const double middle = median_of(heights);
-    by_residual.clear();
-    for (size_t j : window) by_residual.push_back({std::fabs(points[j].z - middle), j});
-    std::nth_element(by_residual.begin(), by_residual.begin() + (h - 1), by_residual.end());
     std::vector<size_t> start, kept_too;
-    for (int m = 0; m < h; ++m) start.push_back(by_residual[static_cast<size_t>(m)].second);
-    const LooModel other = concentrate(start, kept_too);
+    uint64_t start_mask = 0;
+    rank([&](size_t) { return middle; }, start, start_mask);
+    const LooModel other = concentrate(start, start_mask, kept_too);
     if (other.ok && (!out.ok || other.scale < out.scale)) {
       out = other;
       kept_subset = kept_too;

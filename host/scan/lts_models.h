@@ -3,6 +3,7 @@
 #pragma once
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "host/geometry/point3.h"
@@ -15,6 +16,19 @@ namespace dg::host::lts {
 constexpr double kLineGainMax = 8;
 // A line model uses the first kLinePoints neighbours on its side that are not suspected outliers.
 constexpr int kLinePoints = 5;
+
+// A window's point ranked by its |residual|, ties to the lower point number as a std::pair of the
+// two ranks them, with its place in the window: a subset of a window of up to 64 points is then a
+// mask, and a concentration step that keeps the points it was fitted to, or a start subset that
+// is the last one again, is seen without sorting or searching the sets.
+struct Ranked {
+  double residual;
+  size_t index;
+  unsigned position;
+  bool operator<(const Ranked& other) const {
+    return residual < other.residual || (!(other.residual < residual) && index < other.index);
+  }
+};
 
 // What the judges read of a model of point i's neighbours fitted without i: a window's robust
 // model (LooModel) or a line's quadratic. Every point's test keeps seventeen of these, so the
