@@ -35,19 +35,19 @@ struct Ranked {
 // window's polynomial itself is not among them (with it a test took 3.5 kB a point, 350 MB for
 // 100,000 points).
 struct LooFit {
-  bool ok = false;
   double prediction = 0;  // the model's height at point i
   double scale = 0;       // its trimmed residual scale
-  // How many of point i's four nearest neighbours in the window the model kept: a model that trims
-  // them describes another surface than the one i is on (across a crease from it).
-  int near_kept = 0;
-  // The largest |residual| to the model among those four neighbours.
+  // The largest |residual| to the model among point i's four nearest neighbours in the window.
   double near_worst = HUGE_VAL;
   // The prediction's variance in units of the noise variance: the line's extrapolation gain, and
   // for a window's model [(X^T X)^-1]_00 of its trimmed subset (the verdict bounds a window by its
   // scale instead; the split judge, whose point lies at its side's edge, uses it).
   double gain = 0;
+  // How many of those four neighbours the model kept: a model that trims them describes another
+  // surface than the one i is on (across a crease from it).
+  int near_kept = 0;
   int dof = 1;  // the trimmed residuals' degrees of freedom, h - p (at least 1)
+  bool ok = false;
 };
 
 // A robust local model fitted without point i: least trimmed squares by concentration steps from
