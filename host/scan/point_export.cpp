@@ -4,6 +4,7 @@
 #include "host/io/file_name.h"
 
 #include <cerrno>
+#include <charconv>
 #include <cinttypes>
 #include <cstdio>
 #include <cstdlib>
@@ -113,12 +114,22 @@ void write_cloud_csv(const std::string& path, const std::vector<Point3>& points,
   if (lines && lines->size() != points.size()) throw std::invalid_argument(path + ": one line index per point");
   File f = open_for_writing(path, "w");
   std::fprintf(f->get(), lines ? "x,y,z,line\n" : "x,y,z\n");
+  // "%.7f" by std::to_chars, which rounds as printf does in the "C" locale: the same text at a
+  // fraction of the cost (fprintf took 0.06 s of filter --lts's 1.3 s on 1e5 points). A line holds
+  // three doubles of at most 309 digits before the point each.
+  char line[1024];
   for (size_t i = 0; i < points.size(); ++i) {
-    if (lines) {
-      std::fprintf(f->get(), "%.7f,%.7f,%.7f,%" PRIu32 "\n", points[i].x, points[i].y, points[i].z, (*lines)[i]);
-    } else {
-      std::fprintf(f->get(), "%.7f,%.7f,%.7f\n", points[i].x, points[i].y, points[i].z);
+    char* at = line;
+    for (double value : {points[i].x, points[i].y, points[i].z}) {
+      if (at != line) *at++ = ',';
+      at = std::to_chars(at, line + sizeof line, value, std::chars_format::fixed, 7).ptr;
     }
+    if (lines) {
+      *at++ = ',';
+      at = std::to_chars(at, line + sizeof line, (*lines)[i]).ptr;
+    }
+    *at++ = '\n';
+    std::fwrite(line, 1, static_cast<size_t>(at - line), f->get());
   }
   finish(std::move(f), path);
 }

@@ -97,3 +97,28 @@ TEST(PointExport, RefusesAnUnknownExtension) {
 TEST(PointExport, ReportsAnUnwritablePath) {
   CHECK_THROWS(std::runtime_error, dg::host::write_points("/nonexistent-dir/p.csv", sample_points()));
 }
+
+// A cloud's CSV prints each coordinate as printf's "%.7f" would, halfway cases and negative zero
+// included, with the line column when the cloud has one.
+TEST(PointExport, CloudCsvPrintsSevenDecimalsAsPrintfDoes) {
+  const std::vector<dg::host::Point3> points = {
+      {-0.0, 2.5e-8, -1.5e-7}, {0.12345675, 1e6 / 3, -2147.4836475}, {1e12, -1e-300, 0.999999951}};
+  const std::vector<uint32_t> lines = {0, 7, 4294967295u};
+  for (const std::vector<uint32_t>* with : {static_cast<const std::vector<uint32_t>*>(nullptr), &lines}) {
+    const std::string path = temp_path("c.csv");
+    dg::host::write_cloud_csv(path, points, with);
+    std::ifstream in(path);
+    std::stringstream text;
+    text << in.rdbuf();
+    std::string expected = with ? "x,y,z,line\n" : "x,y,z\n";
+    for (size_t i = 0; i < points.size(); ++i) {
+      char line[1024];
+      std::snprintf(line, sizeof line, "%.7f,%.7f,%.7f", points[i].x, points[i].y, points[i].z);
+      expected += line;
+      if (with) expected += "," + std::to_string(lines[i]);
+      expected += "\n";
+    }
+    STRCMP_EQUAL(expected.c_str(), text.str().c_str());
+    std::remove(path.c_str());
+  }
+}
