@@ -72,7 +72,7 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
     for (size_t i = begin; i < end; ++i) {
       values.clear();
       for (size_t j : hood[i]) values.push_back(points[j].z);
-      reference[i] = median_of(values);
+      reference[i] = median_in_place(values);
     }
   });
   std::vector<double> before(points.size(), HUGE_VAL);  // the output two iterations back

@@ -130,25 +130,49 @@ std::vector<size_t> others_in(const std::vector<size_t>& window, size_t i, const
   return out;
 }
 
-std::vector<size_t> nearest_four(const std::vector<Point3>& points, const std::vector<size_t>& members, size_t i) {
-  std::vector<std::pair<double, size_t>> nearest;
-  for (size_t j : members) nearest.push_back({std::hypot(points[j].x - points[i].x, points[j].y - points[i].y), j});
-  const size_t count = std::min<size_t>(4, nearest.size());
-  std::partial_sort(nearest.begin(), nearest.begin() + static_cast<std::ptrdiff_t>(count), nearest.end());
-  std::vector<size_t> out;
-  for (size_t m = 0; m < count; ++m) out.push_back(nearest[m].second);
-  return out;
+size_t nearest_four(const std::vector<Point3>& points, const std::vector<size_t>& members, size_t i, size_t (&out)[4],
+                    std::vector<std::pair<double, size_t>>& scratch) {
+  scratch.clear();
+  for (size_t j : members) scratch.push_back({std::hypot(points[j].x - points[i].x, points[j].y - points[i].y), j});
+  const size_t count = std::min<size_t>(4, scratch.size());
+  std::partial_sort(scratch.begin(), scratch.begin() + static_cast<std::ptrdiff_t>(count), scratch.end());
+  for (size_t m = 0; m < count; ++m) out[m] = scratch[m].second;
+  return count;
 }
+
+std::vector<size_t> nearest_four(const std::vector<Point3>& points, const std::vector<size_t>& members, size_t i) {
+  size_t nearest[4];
+  std::vector<std::pair<double, size_t>> scratch;
+  const size_t count = nearest_four(points, members, i, nearest, scratch);
+  return std::vector<size_t>(nearest, nearest + count);
+}
+
+namespace {
+
+// One thread's buffers for loo_model, which runs for every point and several of its windows: held
+// across calls, its dozen small vectors cost no allocation (they were a tenth of its instructions).
+struct LooScratch {
+  std::vector<double> xs, ys, heights;
+  std::vector<Ranked> by_residual;
+  std::vector<size_t> chosen, start, fitted_set, kept_set, subset, kept_first, kept_second;
+  std::vector<std::pair<double, size_t>> ranked_points;
+};
+
+}  // namespace
 
 LooModel loo_model(const std::vector<Point3>& points, const std::vector<size_t>& window, size_t i,
                    const std::vector<double>& reference, int max_order, double keep,
                    WindowMisses* misses) {
+  thread_local LooScratch scratch;
   LooModel out;
   const int n = static_cast<int>(window.size());
   if (n < 3) return out;
   // A model needs as many distinct x and y positions as its order plus one; a window on one line
   // (the half-plane beyond a point on the scan's edge) determines no surface and is no evidence.
-  std::vector<double> xs, ys;
+  std::vector<double>& xs = scratch.xs;
+  std::vector<double>& ys = scratch.ys;
+  xs.clear();
+  ys.clear();
   for (size_t j : window) xs.push_back(points[j].x), ys.push_back(points[j].y);
   auto distinct = [](std::vector<double>& v) {
     std::sort(v.begin(), v.end());
@@ -162,7 +186,7 @@ LooModel loo_model(const std::vector<Point3>& points, const std::vector<size_t>&
   // Window points by their |residual| to `height(j)`, the first h of them in `subset` (in the
   // selection's order, which the next fit sums in) and, for a window of up to 64, in `mask`.
   const bool masked = n <= 64;
-  std::vector<Ranked> by_residual;
+  std::vector<Ranked>& by_residual = scratch.by_residual;
   auto rank = [&](auto height, std::vector<size_t>& subset, uint64_t& mask) {
     by_residual.clear();
     for (int m = 0; m < n; ++m) {
@@ -181,7 +205,7 @@ LooModel loo_model(const std::vector<Point3>& points, const std::vector<size_t>&
     }
     return trimmed;
   };
-  std::vector<size_t> chosen;
+  std::vector<size_t>& chosen = scratch.chosen;
   uint64_t chosen_mask = 0;
   rank([&](size_t j) { return reference[j]; }, chosen, chosen_mask);
   if (order == 0) {
@@ -201,13 +225,16 @@ LooModel loo_model(const std::vector<Point3>& points, const std::vector<size_t>&
     out.polynomial.c[0] = mean;
     return out;
   }
-  // Concentration steps from a start subset; the model and the subset it keeps.
-  // A step that keeps the subset it was fitted to has converged: the next would fit the same
-  // points again and keep them again (Rousseeuw and Van Driessen's C-steps), so it is not taken.
-  std::vector<size_t> fitted_set, kept_set;
-  auto concentrate = [&](std::vector<size_t> subset, uint64_t subset_mask, std::vector<size_t>& kept) {
+  // Concentration steps from the start subset `from`; the model, with the subset it keeps left in
+  // `kept`. A step that keeps the subset it was fitted to has converged: the next would fit the
+  // same points again and keep them again (Rousseeuw and Van Driessen's C-steps), so it is not taken.
+  std::vector<size_t>& fitted_set = scratch.fitted_set;
+  std::vector<size_t>& kept_set = scratch.kept_set;
+  std::vector<size_t>& subset = scratch.subset;
+  auto concentrate = [&](const std::vector<size_t>& from, uint64_t subset_mask, std::vector<size_t>& kept) {
     LooModel result;
     LocalPolynomial model;
+    subset.assign(from.begin(), from.end());
     for (int step = 0; step < 4 && fit_local_polynomial(points, subset, points[i], order, model); ++step) {
       const uint64_t fitted_mask = subset_mask;
       if (!masked) fitted_set.assign(subset.begin(), subset.end());
@@ -228,43 +255,44 @@ LooModel loo_model(const std::vector<Point3>& points, const std::vector<size_t>&
       std::sort(kept_set.begin(), kept_set.end());
       if (kept_set == fitted_set) break;
     }
-    kept = subset;
+    kept.assign(subset.begin(), subset.end());
     return result;
   };
-  std::vector<size_t> kept_subset;
-  out = concentrate(chosen, chosen_mask, kept_subset);
+  const std::vector<size_t>* kept_subset = &scratch.kept_first;
+  out = concentrate(chosen, chosen_mask, scratch.kept_first);
   {
     // A second start, from the h heights nearest the window's median: where outliers crowd a window
     // the filtered reference took them in too, and its start keeps them.
-    std::vector<double> heights;
+    std::vector<double>& heights = scratch.heights;
+    heights.clear();
     for (size_t j : window) heights.push_back(points[j].z);
-    const double middle = median_of(heights);
-    std::vector<size_t> start, kept_too;
+    const double middle = median_in_place(heights);
     uint64_t start_mask = 0;
-    rank([&](size_t) { return middle; }, start, start_mask);
-    const LooModel other = concentrate(start, start_mask, kept_too);
+    rank([&](size_t) { return middle; }, scratch.start, start_mask);
+    const LooModel other = concentrate(scratch.start, start_mask, scratch.kept_second);
     if (other.ok && (!out.ok || other.scale < out.scale)) {
       out = other;
-      kept_subset = kept_too;
+      kept_subset = &scratch.kept_second;
     }
   }
-  chosen = kept_subset;
   const LocalPolynomial& model = out.polynomial;
   if (out.ok) {
-    const std::vector<size_t> nearest = nearest_four(points, window, i);
-    out.near_worst = nearest.size() == 4 ? 0 : HUGE_VAL;
+    size_t near_index[4];
+    const size_t count = nearest_four(points, window, i, near_index, scratch.ranked_points);
+    out.near_worst = count == 4 ? 0 : HUGE_VAL;
     if (misses != nullptr) {
       *misses = WindowMisses{};
-      std::vector<std::pair<double, size_t>> worst;
+      std::vector<std::pair<double, size_t>>& worst = scratch.ranked_points;
+      worst.clear();
       for (size_t j : window) worst.push_back({std::fabs(points[j].z - model.at(points[j].x, points[j].y)), j});
       const size_t kept = std::min<size_t>(WindowMisses::kWorst, worst.size());
       std::partial_sort(worst.begin(), worst.begin() + static_cast<std::ptrdiff_t>(kept), worst.end(),
                         [](const auto& a, const auto& b) { return a.first > b.first; });
       for (size_t m = 0; m < kept; ++m) misses->worst_residual[m] = worst[m].first, misses->worst_index[m] = worst[m].second;
     }
-    for (size_t m = 0; m < nearest.size(); ++m) {
-      const size_t j = nearest[m];
-      if (std::find(chosen.begin(), chosen.end(), j) != chosen.end()) ++out.near_kept;
+    for (size_t m = 0; m < count; ++m) {
+      const size_t j = near_index[m];
+      if (std::find(kept_subset->begin(), kept_subset->end(), j) != kept_subset->end()) ++out.near_kept;
       const double residual = std::fabs(points[j].z - model.at(points[j].x, points[j].y));
       if (misses != nullptr) misses->near_index[m] = j, misses->near_residual[m] = residual;
       out.near_worst = std::max(out.near_worst, residual);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "host/geometry/point3.h"
@@ -89,8 +90,11 @@ LooFit through_line_model(const std::vector<Point3>& points, const std::vector<s
 // The window's points other than i and those `excluded` marks.
 std::vector<size_t> others_in(const std::vector<size_t>& window, size_t i, const std::vector<char>& excluded);
 
-// Up to four of `members`, the nearest to point i in XY, nearest first.
+// Up to four of `members`, the nearest to point i in XY, nearest first (ties to the lower number).
 std::vector<size_t> nearest_four(const std::vector<Point3>& points, const std::vector<size_t>& members, size_t i);
+// The same into `out`, returning how many, with the caller's `scratch` for the ranking.
+size_t nearest_four(const std::vector<Point3>& points, const std::vector<size_t>& members, size_t i, size_t (&out)[4],
+                    std::vector<std::pair<double, size_t>>& scratch);
 
 // Which of a window's points its model misses, for the whole window's model only (kept apart from
 // the LooFit, of which every point holds seventeen): the judge may pass over a suspected neighbour,
