@@ -155,10 +155,15 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
             const double r = points[j].z - model.at(points[j].x, points[j].y);
             by_distance.push_back({std::fabs(r), j, static_cast<unsigned>(m)});
           }
+          if (n <= 64 && keeps_mask(by_distance, mask)) break;
           std::nth_element(by_distance.begin(), by_distance.begin() + (h - 1), by_distance.end());
           fitted.swap(chosen);
           chosen.clear();
-          for (int m = 0; m < h; ++m) chosen.push_back(by_distance[m].index);
+          mask = 0;
+          for (int m = 0; m < h; ++m) {
+            chosen.push_back(by_distance[m].index);
+            if (n <= 64) mask |= uint64_t{1} << by_distance[m].position;
+          }
           std::sort(chosen.begin(), chosen.end());
           if (chosen == fitted) break;
         }

@@ -187,11 +187,20 @@ LooModel loo_model(const std::vector<Point3>& points, const std::vector<size_t>&
   // selection's order, which the next fit sums in) and, for a window of up to 64, in `mask`.
   const bool masked = n <= 64;
   std::vector<Ranked>& by_residual = scratch.by_residual;
-  auto rank = [&](auto height, std::vector<size_t>& subset, uint64_t& mask) {
+  // With `kept_check`, a `subset` that is already the h smallest is left as it is (in `mask`'s
+  // place order for the trimmed sum): the step has converged, and no selection is made.
+  auto rank = [&](auto height, std::vector<size_t>& subset, uint64_t& mask, bool kept_check = false) {
     by_residual.clear();
     for (int m = 0; m < n; ++m) {
       const size_t j = window[static_cast<size_t>(m)];
       by_residual.push_back({std::fabs(points[j].z - height(j)), j, static_cast<unsigned>(m)});
+    }
+    if (kept_check && masked && keeps_mask(by_residual, mask)) {
+      double trimmed = 0;
+      for (const Ranked& r : by_residual) {
+        if (mask >> r.position & 1) trimmed += r.residual * r.residual;
+      }
+      return trimmed;
     }
     std::nth_element(by_residual.begin(), by_residual.begin() + (h - 1), by_residual.end());
     subset.clear();
@@ -238,7 +247,7 @@ LooModel loo_model(const std::vector<Point3>& points, const std::vector<size_t>&
     for (int step = 0; step < 4 && fit_local_polynomial(points, subset, points[i], order, model); ++step) {
       const uint64_t fitted_mask = subset_mask;
       if (!masked) fitted_set.assign(subset.begin(), subset.end());
-      const double trimmed = rank([&](size_t j) { return model.at(points[j].x, points[j].y); }, subset, subset_mask);
+      const double trimmed = rank([&](size_t j) { return model.at(points[j].x, points[j].y); }, subset, subset_mask, true);
       result = LooModel{};
       result.ok = true;
       result.prediction = model.c[0];

@@ -31,6 +31,23 @@ struct Ranked {
   }
 };
 
+// Whether the places in `mask` hold exactly the `ranked` entries smallest in rank, `ranked` being
+// one entry a place in place order: the largest inside ranks below the smallest outside. A
+// concentration step whose fit keeps its own subset has converged, and this tells it without a
+// selection (nth_element's mispredicted branches were a fifth of the filter's time).
+inline bool keeps_mask(const std::vector<Ranked>& ranked, uint64_t mask) {
+  const Ranked* largest_in = nullptr;
+  const Ranked* smallest_out = nullptr;
+  for (const Ranked& r : ranked) {
+    if (mask >> r.position & 1) {
+      if (!largest_in || *largest_in < r) largest_in = &r;
+    } else if (!smallest_out || r < *smallest_out) {
+      smallest_out = &r;
+    }
+  }
+  return !largest_in || !smallest_out || *largest_in < *smallest_out;
+}
+
 // What the judges read of a model of point i's neighbours fitted without i: a window's robust
 // model (LooModel) or a line's quadratic. Every point's test keeps seventeen of these, so the
 // window's polynomial itself is not among them (with it a test took 3.5 kB a point, 350 MB for
