@@ -136,7 +136,10 @@ Neighbourhoods nearest_neighbours(const std::vector<Point3>& points, size_t k) {
 void nearest_neighbourhoods(const std::vector<Point3>& points, size_t k, std::vector<std::vector<size_t>>& out) {
   const Neighbourhoods flat = nearest_neighbours(points, k);
   out.assign(points.size(), {});
-  for (size_t i = 0; i < points.size(); ++i) out[i].assign(flat.of(i), flat.of(i) + flat.k);
+  // On every core: a small allocation a point (a quarter of the LTS filter's set-up on 1e5 points).
+  parallel_for(points.size(), [&](size_t begin, size_t end, unsigned) {
+    for (size_t i = begin; i < end; ++i) out[i].assign(flat.of(i), flat.of(i) + flat.k);
+  }, 4096);
 }
 
 }  // namespace dg::host
