@@ -82,6 +82,27 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
   std::vector<char> settled(points.size(), 0);
   // Each point's last start subset, as a mask over its neighbourhood (0: none yet, or more than 64).
   std::vector<uint64_t> start_mask(points.size(), 0);
+  // Each neighbourhood's places in the order of their point numbers (for windows of up to 64): a
+  // subset held as a mask of places is then listed in that order, the order its fit sums in,
+  // without sorting it at every step.
+  const size_t hood_stride = static_cast<size_t>(n_max);
+  std::vector<uint8_t> by_number(points.size() * hood_stride);
+  parallel_for(points.size(), [&](size_t begin, size_t end, unsigned) {
+    for (size_t i = begin; i < end; ++i) {
+      if (hood[i].size() > 64 || hood[i].size() > hood_stride) continue;
+      uint8_t* places = &by_number[i * hood_stride];
+      for (size_t m = 0; m < hood[i].size(); ++m) places[m] = static_cast<uint8_t>(m);
+      std::sort(places, places + hood[i].size(), [&](uint8_t a, uint8_t b) { return hood[i][a] < hood[i][b]; });
+    }
+  });
+  // The points of the subset `mask` of i's neighbourhood, in point-number order (as sorted).
+  auto list_subset = [&](size_t i, uint64_t mask, std::vector<size_t>& out) {
+    out.clear();
+    const uint8_t* places = &by_number[i * hood_stride];
+    for (size_t k = 0; k < hood[i].size(); ++k) {
+      if (mask >> places[k] & 1) out.push_back(hood[i][places[k]]);
+    }
+  };
   size_t previous_moved = SIZE_MAX;
   double previous_largest = HUGE_VAL;
   for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
@@ -120,16 +141,19 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
         by_distance.push_back({std::fabs(points[j].z - reference[i]), j, static_cast<unsigned>(m)});
       }
       std::nth_element(by_distance.begin(), by_distance.begin() + (h - 1), by_distance.end());
-      chosen.clear();
+      const bool masked = n <= 64 && n <= n_max;
       uint64_t mask = 0;
-      for (int m = 0; m < h; ++m) {
-        chosen.push_back(by_distance[m].index);
-        if (n <= 64) mask |= uint64_t{1} << by_distance[m].position;
+      if (masked) {
+        for (int m = 0; m < h; ++m) mask |= uint64_t{1} << by_distance[m].position;
+        list_subset(i, mask, chosen);
+      } else {
+        chosen.clear();
+        for (int m = 0; m < h; ++m) chosen.push_back(by_distance[m].index);
+        std::sort(chosen.begin(), chosen.end());
       }
-      std::sort(chosen.begin(), chosen.end());
       // The estimate is a function of this start subset alone: the one its last computation started
       // from gave the present reference, so the same start gives it again.
-      if (n <= 64) {
+      if (masked) {
         if (mask == start_mask[i]) {
           next[i] = reference[i];
           continue;
@@ -155,15 +179,19 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
             const double r = points[j].z - model.at(points[j].x, points[j].y);
             by_distance.push_back({std::fabs(r), j, static_cast<unsigned>(m)});
           }
-          if (n <= 64 && keeps_mask(by_distance, mask)) break;
+          if (masked && keeps_mask(by_distance, mask)) break;
           std::nth_element(by_distance.begin(), by_distance.begin() + (h - 1), by_distance.end());
+          if (masked) {
+            const uint64_t fitted_mask = mask;
+            mask = 0;
+            for (int m = 0; m < h; ++m) mask |= uint64_t{1} << by_distance[m].position;
+            if (mask == fitted_mask) break;
+            list_subset(i, mask, chosen);
+            continue;
+          }
           fitted.swap(chosen);
           chosen.clear();
-          mask = 0;
-          for (int m = 0; m < h; ++m) {
-            chosen.push_back(by_distance[m].index);
-            if (n <= 64) mask |= uint64_t{1} << by_distance[m].position;
-          }
+          for (int m = 0; m < h; ++m) chosen.push_back(by_distance[m].index);
           std::sort(chosen.begin(), chosen.end());
           if (chosen == fitted) break;
         }

@@ -153,3 +153,22 @@ TEST(LtsFilter, ScatteredPointsWrittenToFewDecimalsAreNotTakenForAGrid) {
   for (const auto& o : r.outliers) found.insert(o.index);
   for (size_t k : spikes) CHECK(found.count(k) == 1);
 }
+
+// A window of more than 64 points (9 x 9) holds its subsets as sorted lists instead of masks of
+// places: it finds the spikes, and leaves the other points' heights, as a window of 7 x 7 does.
+TEST(LtsFilter, AWindowOfMoreThanSixtyFourPointsFindsTheSameSpikes) {
+  std::set<size_t> spikes;
+  const std::vector<Point3> p = grid_with_spikes(spikes, true);
+  for (int window : {7, 9}) {
+    LtsOptions o;
+    o.window = window;
+    const LtsResult r = lts_filter(p, o);
+    std::set<size_t> found;
+    for (const auto& outlier : r.outliers) found.insert(outlier.index);
+    for (size_t k : spikes) {
+      CHECK_TEXT(found.count(k) == 1, ("window " + std::to_string(window) + " missed spike " + std::to_string(k)).c_str());
+      DOUBLES_EQUAL(bowl(p[k].x, p[k].y), r.z[k], 0.01);
+    }
+    CHECK(found.size() <= spikes.size() + 12);
+  }
+}
