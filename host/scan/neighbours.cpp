@@ -81,36 +81,37 @@ Neighbourhoods nearest_neighbours(const std::vector<Point3>& points, size_t k) {
         }
       };
       take_cell(cx, cy);
-      // The eight cells around first, nearest first, each only while it may still hold a point
-      // nearer than the k-th best: about half of them for k = 5 at four points a cell. A cell
-      // whose nearest corner or side lies farther than the k-th best holds nothing it keeps
-      // (a point at exactly that distance might tie with a lower index, so it is still taken).
+      // The eight cells around next, each only if it may still hold a point nearer than the k-th
+      // best: about half of them for k = 5 at four points a cell. A cell whose nearest corner or
+      // side lies farther than the k-th best holds nothing it keeps (a point at exactly that
+      // distance might tie with a lower index, so it is still taken), and the k-th best only
+      // shrinks, so a cell passed over stays so. They are taken in an order fixed by the quarter
+      // of its cell the point lies in, near sides first, which tightens the bound early without
+      // sorting the eight (that sort's mispredicted branches were half of the search).
       // The point's place in its cell, 0..1 (clamped: the last column and row take what rounding
       // puts on their far side). The bounds below are shrunk by a part in 1e9 against rounding.
       const double fx = std::clamp((xi - x0) / cell - static_cast<double>(cx), 0.0, 1.0);
       const double fy = std::clamp((yi - y0) / cell - static_cast<double>(cy), 0.0, 1.0);
       constexpr double kMargin = 1 - 1e-9;
-      std::pair<double, int> around[8];
-      int count = 0;
-      for (int dy = -1; dy <= 1; ++dy) {
-        for (int dx = -1; dx <= 1; ++dx) {
-          if ((dx == 0 && dy == 0) || cx + dx < 0 || cx + dx >= columns || cy + dy < 0 || cy + dy >= rows) continue;
-          const double gx = dx < 0 ? fx : dx > 0 ? 1 - fx : 0, gy = dy < 0 ? fy : dy > 0 ? 1 - fy : 0;
-          around[count++] = {(gx * gx + gy * gy) * cell * cell * kMargin, (dy + 1) * 3 + (dx + 1)};
+      const int nx = fx < 0.5 ? -1 : 1, ny = fy < 0.5 ? -1 : 1;  // the nearer side along x and y
+      const int around[8][2] = {{nx, 0}, {0, ny}, {nx, ny}, {-nx, 0}, {0, -ny}, {-nx, ny}, {nx, -ny}, {-nx, -ny}};
+      int passed_over[8], passed = 0;
+      for (int a = 0; a < 8; ++a) {
+        const int dx = around[a][0], dy = around[a][1];
+        if (cx + dx < 0 || cx + dx >= columns || cy + dy < 0 || cy + dy >= rows) continue;
+        const double gx = dx < 0 ? fx : dx > 0 ? 1 - fx : 0, gy = dy < 0 ? fy : dy > 0 ? 1 - fy : 0;
+        if (held == k && (gx * gx + gy * gy) * cell * cell * kMargin > best[k - 1].first) {
+          passed_over[passed++] = a;
+        } else {
+          take_cell(cx + dx, cy + dy);
         }
       }
-      for (int a = 1; a < count; ++a) {  // insertion sort of at most eight
-        for (int b = a; b > 0 && around[b] < around[b - 1]; --b) std::swap(around[b], around[b - 1]);
-      }
-      auto take_around = [&](int a) { take_cell(cx + around[a].second % 3 - 1, cy + around[a].second / 3 - 1); };
-      int taken = 0;
-      for (; taken < count && !(held == k && around[taken].first > best[k - 1].first); ++taken) take_around(taken);
-      // The cells around not taken are farther than the k-th best; every cell beyond them lies at
-      // least a cell and the point's distance to its own cell's nearest side away.
+      // The cells around passed over are farther than the k-th best; every cell beyond them lies
+      // at least a cell and the point's distance to its own cell's nearest side away.
       const double beyond = (1 + std::min({fx, 1 - fx, fy, 1 - fy})) * cell;
       bool done = (held == k && best[k - 1].first <= beyond * beyond * kMargin) || seen == points.size();
       if (!done) {
-        for (; taken < count; ++taken) take_around(taken);
+        for (int p = 0; p < passed; ++p) take_cell(cx + around[passed_over[p]][0], cy + around[passed_over[p]][1]);
       }
       for (long ring = 2; !done; ++ring) {
         // The cells at Chebyshev distance `ring` from (cx, cy), inside the grid.
