@@ -174,9 +174,22 @@ LooModel loo_model(const std::vector<Point3>& points, const std::vector<size_t>&
   xs.clear();
   ys.clear();
   for (size_t j : window) xs.push_back(points[j].x), ys.push_back(points[j].y);
-  auto distinct = [](std::vector<double>& v) {
-    std::sort(v.begin(), v.end());
-    return static_cast<int>(std::unique(v.begin(), v.end(), [](double a, double b) { return std::fabs(a - b) < 1e-6; }) - v.begin());
+  // Distinct positions as sorting and merging each value within 1e-6 of the last one kept would
+  // count them, up to four (all the order needs): each next group starts at the least value that
+  // its predecessor's first does not take in, found by a pass instead of a sort.
+  auto distinct = [](const std::vector<double>& v) {
+    if (v.empty()) return 0;
+    double first = *std::min_element(v.begin(), v.end());
+    int count = 1;
+    for (; count < 4; ++count) {
+      double next = HUGE_VAL;
+      for (double value : v) {
+        if (value > first && !(std::fabs(value - first) < 1e-6)) next = std::min(next, value);
+      }
+      if (next == HUGE_VAL) break;
+      first = next;
+    }
+    return count;
   };
   const int spread = std::min(distinct(xs), distinct(ys));
   if (spread < 2) return out;
