@@ -86,10 +86,10 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
   // subset held as a mask of places is then listed in that order, the order its fit sums in,
   // without sorting it at every step.
   const size_t hood_stride = static_cast<size_t>(n_max);
-  std::vector<uint8_t> by_number(points.size() * hood_stride);
-  parallel_for(points.size(), [&](size_t begin, size_t end, unsigned) {
+  std::vector<uint8_t> by_number(n_max <= 64 ? points.size() * hood_stride : 0);
+  if (!by_number.empty()) parallel_for(points.size(), [&](size_t begin, size_t end, unsigned) {
     for (size_t i = begin; i < end; ++i) {
-      if (hood[i].size() > 64 || hood[i].size() > hood_stride) continue;
+      if (hood[i].size() > hood_stride) continue;
       uint8_t* places = &by_number[i * hood_stride];
       for (size_t m = 0; m < hood[i].size(); ++m) places[m] = static_cast<uint8_t>(m);
       std::sort(places, places + hood[i].size(), [&](uint8_t a, uint8_t b) { return hood[i][a] < hood[i][b]; });
@@ -141,7 +141,7 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
         by_distance.push_back({std::fabs(points[j].z - reference[i]), j, static_cast<unsigned>(m)});
       }
       std::nth_element(by_distance.begin(), by_distance.begin() + (h - 1), by_distance.end());
-      const bool masked = n <= 64 && n <= n_max;
+      const bool masked = !by_number.empty() && n <= n_max;
       uint64_t mask = 0;
       if (masked) {
         for (int m = 0; m < h; ++m) mask |= uint64_t{1} << by_distance[m].position;
