@@ -62,8 +62,8 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
 
   std::vector<double> reference(points.size());
   const unsigned workers = worker_count();
-  // Each worker's scratch: (|residual|, neighbour index) pairs, the chosen subset and the one fitted
-  // before it, the window's heights.
+  // Each worker's scratch: the neighbours ranked by |residual| (with their numbers and places), the
+  // chosen subset and the one fitted before it, the window's heights.
   std::vector<std::vector<Ranked>> by_distance_of(workers);
   std::vector<std::vector<size_t>> chosen_of(workers), fitted_of(workers);
   std::vector<std::vector<double>> values_of(workers);
@@ -182,10 +182,9 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
           if (masked && keeps_mask(by_distance, mask)) break;
           std::nth_element(by_distance.begin(), by_distance.begin() + (h - 1), by_distance.end());
           if (masked) {
-            const uint64_t fitted_mask = mask;
+            // A step that keeps its subset ended above (the h smallest are one set): this one moves.
             mask = 0;
             for (int m = 0; m < h; ++m) mask |= uint64_t{1} << by_distance[m].position;
-            if (mask == fitted_mask) break;
             list_subset(i, mask, chosen);
             continue;
           }
