@@ -80,7 +80,8 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
   // so one whose estimate came out equal to its reference stays there: it is not computed again.
   // After the first iterations most of a scan has settled so, and only the moving points cost.
   std::vector<char> settled(points.size(), 0);
-  // Each point's last start subset, as a mask over its neighbourhood (0: none yet, or more than 64).
+  // Each point's last start subset, as a mask over its neighbourhood (0: none yet, or a window too
+  // large for masks, over 7 x 7).
   std::vector<uint64_t> start_mask(points.size(), 0);
   // Each neighbourhood's places in the order of their point numbers (for windows of up to 64): a
   // subset held as a mask of places is then listed in that order, the order its fit sums in,
