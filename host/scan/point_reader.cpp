@@ -40,7 +40,7 @@ double parse_number(std::string_view field, const std::string& name, size_t line
 }
 
 // Text point files hold no NUL: one is damage (or a binary file), named by its line.
-void check_no_nul(const std::string& text, const std::string& name) {
+void check_no_nul(std::string_view text, const std::string& name) {
   const size_t at = text.find('\0');
   if (at == std::string::npos) return;
   const size_t line = 1 + static_cast<size_t>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
@@ -97,10 +97,10 @@ std::string_view trim_view(std::string_view s) {
 }
 
 // The next row of `text` from `at` (without its '\n'), moving `at` past it; false at the end.
-bool next_row(const std::string& text, size_t& at, std::string_view& row) {
+bool next_row(std::string_view text, size_t& at, std::string_view& row) {
   if (at >= text.size()) return false;
   const size_t end = std::min(text.find('\n', at), text.size());
-  row = std::string_view(text).substr(at, end - at);
+  row = text.substr(at, end - at);
   at = end + 1;
   return true;
 }
@@ -207,7 +207,7 @@ void check_duplicate_points(const PointCloud& cloud, const std::function<std::st
   if (earliest->first != SIZE_MAX) throw PointFileError(where_is(earliest->first) + ": the same point as " + where_is(earliest->second));
 }
 
-PointCloud parse_csv_points(const std::string& text, const std::string& name) {
+PointCloud parse_csv_points(std::string_view text, const std::string& name) {
   check_no_nul(text, name);
   size_t at = 0;
   std::string_view row;
@@ -297,17 +297,17 @@ PointCloud parse_csv_points(const std::string& text, const std::string& name) {
   return cloud;
 }
 
-PointCloud parse_xyz_points(const std::string& text, const std::string& name) {
+PointCloud parse_xyz_points(std::string_view text, const std::string& name) {
   check_no_nul(text, name);
   // A CloudCompare export names its columns on a first line starting "//": read by those names.
   {
-    std::istringstream first(text);
+    std::istringstream first{std::string(text)};
     std::string row;
     while (std::getline(first, row) && trim(row).empty()) {
     }
     if (trim(row).rfind("//", 0) == 0) return parse_csv_points(text, name);
   }
-  std::istringstream in(text);
+  std::istringstream in{std::string(text)};
   std::string row;
   size_t line_no = 0;
   PointCloud cloud;
@@ -378,17 +378,19 @@ PointCloud read_points(const std::string& path, bool as_measured) {
     }
     return cloud;
   }
-  std::string bytes;
-  if (!read_whole_file(path, &bytes)) throw PointFileError(path + ": cannot open: " + std::strerror(errno));
+  FileBytes file;
+  if (!file.read(path)) throw PointFileError(path + ": cannot open: " + std::strerror(errno));
+  const std::string_view bytes = file.view();
   if (format == FileFormat::kCsv) return parse_csv_points(bytes, path);
   if (format == FileFormat::kXyz || format == FileFormat::kText) return parse_xyz_points(bytes, path);
   if (format == FileFormat::kPly) {
     return parse_ply_points(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), path);
   }
   if (format == FileFormat::kBcncProbe || format == FileFormat::kCandleMap || format == FileFormat::kKlipperMesh) {
-    const HeightMap map = format == FileFormat::kBcncProbe ? parse_bcnc_probe(bytes, path)
-                          : format == FileFormat::kCandleMap ? parse_candle_map(bytes, path)
-                                                             : parse_klipper_mesh(bytes, path);
+    const std::string text(bytes);
+    const HeightMap map = format == FileFormat::kBcncProbe ? parse_bcnc_probe(text, path)
+                          : format == FileFormat::kCandleMap ? parse_candle_map(text, path)
+                                                             : parse_klipper_mesh(text, path);
     PointCloud cloud;
     cloud.points = map.points();
     return cloud;

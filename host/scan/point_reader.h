@@ -5,6 +5,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "host/geometry/point3.h"
@@ -36,8 +37,8 @@ struct PointCloud {
 // not points) and by its calibration record, if it has them; `as_measured` leaves them as the
 // device measured them (for the device's own fit, which was made of those).
 PointCloud read_points(const std::string& path, bool as_measured = false);
-PointCloud parse_csv_points(const std::string& text, const std::string& name);
-PointCloud parse_xyz_points(const std::string& text, const std::string& name);
+PointCloud parse_csv_points(std::string_view text, const std::string& name);
+PointCloud parse_xyz_points(std::string_view text, const std::string& name);
 // Throws for a point that repeats an earlier one; where_is(i) names point i ("in.csv:12").
 void check_duplicate_points(const PointCloud& cloud, const std::function<std::string(size_t)>& where_is);
 

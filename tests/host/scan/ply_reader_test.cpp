@@ -5,6 +5,7 @@
 #include <CppUTest/TestHarness.h>
 
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -199,4 +200,84 @@ TEST(PlyReader, AMeshsBadFaceIsNamed) {
   STRCMP_CONTAINS("a PLY nominal must be a mesh",
                   mesh_error_of("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
                                 "end_header\n0 0 0\n").c_str());
+}
+
+namespace {
+
+// `count` vertices (double x, y, z, uint line, float sigma, uchar red), as binary in either byte
+// order or as ASCII; `edit` may change vertex values before they are written.
+struct PlyVertex {
+  double x, y, z;
+  uint32_t line;
+  float sigma;
+};
+
+std::vector<PlyVertex> many_vertices(size_t count) {
+  std::vector<PlyVertex> v(count);
+  for (size_t i = 0; i < count; ++i) {
+    v[i] = {0.37 * static_cast<double>(i % 173), 0.11 * static_cast<double>(i / 173), std::sin(0.001 * static_cast<double>(i)),
+            static_cast<uint32_t>(i / 173), 0.001f + 0.0001f * static_cast<float>(i % 7)};
+  }
+  return v;
+}
+
+std::string many_vertices_ply(const std::vector<PlyVertex>& v, const char* format) {
+  std::string s = std::string("ply\nformat ") + format + " 1.0\nelement vertex " + std::to_string(v.size()) +
+                  "\nproperty double x\nproperty double y\nproperty double z\nproperty uint line\nproperty float sigma\n"
+                  "property uchar red\nend_header\n";
+  const bool ascii = std::strcmp(format, "ascii") == 0, big = std::strcmp(format, "binary_big_endian") == 0;
+  for (const PlyVertex& p : v) {
+    if (ascii) {
+      char row[160];
+      std::snprintf(row, sizeof row, "%.17g %.17g %.17g %u %.17g 7\n", p.x, p.y, p.z, p.line, static_cast<double>(p.sigma));
+      s += row;
+      continue;
+    }
+    put<double>(s, p.x, big);
+    put<double>(s, p.y, big);
+    put<double>(s, p.z, big);
+    put<uint32_t>(s, p.line, big);
+    put<float>(s, p.sigma, big);
+    put<uint8_t>(s, 7, big);
+  }
+  return s;
+}
+
+}  // namespace
+
+// Binary vertices of one record size are decoded on every core at once, the others value by value:
+// both byte orders read what the ASCII file of the same vertices holds.
+TEST(PlyReader, ManyBinaryVerticesReadAsTheirAsciiTwin) {
+  const std::vector<PlyVertex> v = many_vertices(20000);
+  const dg::host::PointCloud ascii = read(many_vertices_ply(v, "ascii"));
+  for (const char* format : {"binary_little_endian", "binary_big_endian"}) {
+    const dg::host::PointCloud c = read(many_vertices_ply(v, format));
+    LONGS_EQUAL(v.size(), c.points.size());
+    CHECK(c.line.has_value() && c.sigma.has_value());
+    for (size_t i = 0; i < v.size(); ++i) {
+      DOUBLES_EQUAL(ascii.points[i].x, c.points[i].x, 0);
+      DOUBLES_EQUAL(ascii.points[i].y, c.points[i].y, 0);
+      DOUBLES_EQUAL(ascii.points[i].z, c.points[i].z, 0);
+      LONGS_EQUAL((*ascii.line)[i], (*c.line)[i]);
+      DOUBLES_EQUAL((*ascii.sigma)[i], (*c.sigma)[i], 0);
+    }
+  }
+}
+
+// A bad value among many binary vertices is named by the first vertex that holds one, as when the
+// file is read value by value.
+TEST(PlyReader, ABadValueAmongManyBinaryVerticesNamesTheFirstVertexHoldingOne) {
+  std::vector<PlyVertex> v = many_vertices(20000);
+  v[17000].z = std::nan("");
+  v[12345].y = HUGE_VAL;
+  STRCMP_CONTAINS("in.ply: vertex 12345: 'y' is not finite", error_of(many_vertices_ply(v, "binary_little_endian")).c_str());
+  v = many_vertices(20000);
+  v[15001].sigma = 0;
+  STRCMP_CONTAINS("in.ply: vertex 15001: sigma must be > 0", error_of(many_vertices_ply(v, "binary_big_endian")).c_str());
+  v = many_vertices(20000);
+  v[9000] = v[3];
+  STRCMP_CONTAINS("in.ply: vertex 9000: the same point as in.ply: vertex 3", error_of(many_vertices_ply(v, "binary_little_endian")).c_str());
+  std::string cut = many_vertices_ply(many_vertices(20000), "binary_little_endian");
+  cut.resize(cut.size() - 40);  // the last vertex (33 bytes) and part of the one before
+  STRCMP_CONTAINS("in.ply: file ends inside vertex 19998", error_of(cut).c_str());
 }
