@@ -7,6 +7,7 @@
 #include <map>
 #include <optional>
 
+#include "host/fit/bucket_sort.h"
 #include "host/fit/fit_error.h"
 #include "host/fit/knot_support.h"
 #include "host/geometry/closest_point.h"
@@ -282,39 +283,49 @@ std::vector<int> validation_folds(const PointCloud& cloud, int folds) {
 FoldSupport::FoldSupport(const PointCloud& cloud, const Parameters& params, int folds, bool fill_outside)
     : fill_outside_(fill_outside) {
   const std::vector<int> fold = validation_folds(cloud, folds);
-  // Each fold's points' parameters are sorted once along each direction (group 0: the points of
-  // no fold); a fold's remaining points' sorted parameters are the merge of the other groups', the
-  // same array their own sort would give, so the sites are those distinct_sites() finds.
-  const size_t groups = static_cast<size_t>(std::max(folds, 0)) + 1;
-  std::vector<std::vector<double>> sorted(2 * groups);  // [direction * groups + group]
-  for (size_t i = 0; i < fold.size(); ++i) {
-    const size_t group = static_cast<size_t>(std::max(fold[i], -1) + 1);
-    sorted[group].push_back(params.uv[i].u);
-    sorted[groups + group].push_back(params.uv[i].v);
-  }
-  const double group_merge = site_merge_distance(fold.size() / groups);
-  parallel_for(sorted.size(), [&](size_t begin, size_t end, unsigned) {
-    for (size_t g = begin; g < end; ++g) sort_site_values(sorted[g], group_merge);
+  const size_t fold_count = static_cast<size_t>(std::max(folds, 0));
+  // Each direction's parameters are sorted once, each with its fold: a fold's remaining points'
+  // sorted parameters are that run without the fold's own, the same values in the same order as
+  // sorting them alone, so one pass over it gives the sites distinct_sites() finds. (Sorting each
+  // fold's group and merging the others took twice as long, one fold to a core.)
+  struct Tagged {
+    double value;
+    int fold;
+  };
+  std::vector<Tagged> sorted[2];
+  const double all_merge = site_merge_distance(fold.size());
+  parallel_for(2, [&](size_t begin, size_t end, unsigned) {
+    for (size_t direction = begin; direction < end; ++direction) {
+      std::vector<Tagged>& run = sorted[direction];
+      run.resize(fold.size());
+      for (size_t i = 0; i < fold.size(); ++i) run[i] = {direction == 0 ? params.uv[i].u : params.uv[i].v, fold[i]};
+      sort_by_buckets(run, all_merge, [](const Tagged& t) { return t.value; });
+    }
   }, 1);
-  // The folds on every core.
-  std::vector<std::optional<SiteIndex>> built(static_cast<size_t>(std::max(folds, 0)));
+  std::vector<size_t> held(fold_count, 0);
+  for (int f : fold) {
+    if (f >= 0 && static_cast<size_t>(f) < fold_count) ++held[static_cast<size_t>(f)];
+  }
+  // Each fold's sites along each direction, then its index, as separate tasks on every core.
+  std::vector<std::vector<double>> sites(2 * fold_count);
+  parallel_for(sites.size(), [&](size_t begin, size_t end, unsigned) {
+    for (size_t task = begin; task < end; ++task) {
+      const int f = static_cast<int>(task / 2);
+      SiteGrouping grouping(site_merge_distance(fold.size() - held[task / 2]));
+      for (const Tagged& t : sorted[task % 2]) {
+        if (t.fold != f) grouping.add(t.value);
+      }
+      sites[task] = grouping.finish();
+    }
+  }, 1);
+  // The folds hold nearly equal numbers of points, so their buckets mostly have one side: every
+  // point is bucketed once at the first fold's, and each fold takes its points out of that.
+  const SiteIndex::Shared shared =
+      fold_count == 0 ? SiteIndex::Shared{} : SiteIndex::share(params.uv, fold, fold.size() - held[0]);
+  std::vector<std::optional<SiteIndex>> built(fold_count);
   parallel_for(built.size(), [&](size_t begin, size_t end, unsigned) {
     for (size_t f = begin; f < end; ++f) {
-      const size_t kept = fold.size() - sorted[f + 1].size();
-      const double merge = site_merge_distance(kept);
-      std::vector<double> sites[2];
-      for (size_t direction = 0; direction < 2; ++direction) {
-        std::vector<double> merged, next;
-        for (size_t g = 0; g < groups; ++g) {
-          if (g == f + 1) continue;
-          const std::vector<double>& group = sorted[direction * groups + g];
-          next.resize(merged.size() + group.size());
-          std::merge(merged.begin(), merged.end(), group.begin(), group.end(), next.begin());
-          merged.swap(next);
-        }
-        sites[direction] = sites_of_sorted(merged, merge);
-      }
-      built[f].emplace(params.uv, fold, static_cast<int>(f), std::move(sites[0]), std::move(sites[1]));
+      built[f].emplace(params.uv, fold, static_cast<int>(f), std::move(sites[2 * f]), std::move(sites[2 * f + 1]), shared);
     }
   }, 1);
   kept_sites_.reserve(built.size());

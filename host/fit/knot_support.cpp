@@ -3,6 +3,7 @@
 #include "host/fit/knot_support.h"
 
 #include "common/fit/bspline_basis.h"
+#include "host/fit/bucket_sort.h"
 #include "host/geometry/bspline_surface.h"
 #include "host/fit/site_index.h"
 
@@ -12,60 +13,19 @@
 
 namespace dg::host {
 
-namespace {
-
-// Sorts `values` through buckets (a counting sort on the bucket, then each bucket sorted on its
-// own): every fit and every validation fold asks for the distinct sites of all its points, and a
-// comparison sort of 200,000 parameters each time was a fifth of a fit's time. At least one bucket
-// per value (or per `width`), so each bucket's own sort has next to nothing to do.
-void sort_by_buckets(std::vector<double>& values, double width) {
-  if (values.size() < 2) return;
-  const auto [lo_it, hi_it] = std::minmax_element(values.begin(), values.end());
-  const double lo = *lo_it, span = *hi_it - lo;
-  const double by_width = width > 0 ? span / width + 1 : 1.0;
-  const size_t buckets = static_cast<size_t>(std::min(4.0 * static_cast<double>(values.size()),
-                                                      std::max(by_width, static_cast<double>(values.size()))));
-  if (!(span > 0) || buckets < 2) {
-    std::sort(values.begin(), values.end());
-    return;
-  }
-  auto bucket = [&](double v) { return std::min(buckets - 1, static_cast<size_t>((v - lo) / span * static_cast<double>(buckets))); };
-  std::vector<size_t> start(buckets + 1, 0);
-  for (double v : values) ++start[bucket(v) + 1];
-  for (size_t b = 0; b < buckets; ++b) start[b + 1] += start[b];
-  std::vector<double> sorted(values.size());
-  std::vector<size_t> next(start.begin(), start.end() - 1);
-  for (double v : values) sorted[next[bucket(v)]++] = v;
-  for (size_t b = 0; b < buckets; ++b) {
-    std::sort(sorted.begin() + static_cast<std::ptrdiff_t>(start[b]), sorted.begin() + static_cast<std::ptrdiff_t>(start[b + 1]));
-  }
-  values.swap(sorted);
-}
-
-}  // namespace
 
 std::vector<double> distinct_sites(const std::vector<UV>& uv, bool along_u, double merge) {
   std::vector<double> values;
   values.reserve(uv.size());
   for (const UV& p : uv) values.push_back(along_u ? p.u : p.v);
-  sort_by_buckets(values, merge);
+  sort_by_buckets(values, merge, [](double v) { return v; });
   return sites_of_sorted(values, merge);
 }
 
-void sort_site_values(std::vector<double>& values, double merge) { sort_by_buckets(values, merge); }
-
 std::vector<double> sites_of_sorted(const std::vector<double>& values, double merge) {
-  std::vector<double> sites;
-  size_t start = 0;
-  for (size_t k = 1; k <= values.size(); ++k) {
-    if (k == values.size() || values[k] - values[start] > merge) {
-      double sum = 0;
-      for (size_t i = start; i < k; ++i) sum += values[i];
-      if (k > start) sites.push_back(sum / static_cast<double>(k - start));
-      start = k;
-    }
-  }
-  return sites;
+  SiteGrouping grouping(merge);
+  for (double v : values) grouping.add(v);
+  return grouping.finish();
 }
 
 double site_merge_distance(size_t points) {

@@ -14,10 +14,36 @@ namespace dg::host {
 // differ only by the table's jitter) are one site, not hundreds. Sorted, each the group's mean.
 std::vector<double> distinct_sites(const std::vector<UV>& uv, bool along_u, double merge);
 
-// distinct_sites() in two steps, for callers that sort once and reuse the order: `values` sorted
-// ascending (`merge` only sizes the buckets of the sort), then the sites of sorted values.
-void sort_site_values(std::vector<double>& values, double merge);
+// distinct_sites() of values already sorted ascending.
 std::vector<double> sites_of_sorted(const std::vector<double>& sorted, double merge);
+
+// The same one value at a time, ascending: for a caller that picks the values out of a larger
+// sorted run (a validation fold's remaining points out of all of them).
+class SiteGrouping {
+ public:
+  explicit SiteGrouping(double merge) : merge_(merge) {}
+  void add(double value) {
+    if (count_ > 0 && value - first_ > merge_) close_site();
+    if (count_ == 0) first_ = value;
+    sum_ += value;  // in ascending order, the sum distinct_sites() always took
+    ++count_;
+  }
+  std::vector<double> finish() {
+    if (count_ > 0) close_site();
+    return std::move(sites_);
+  }
+
+ private:
+  void close_site() {
+    sites_.push_back(sum_ / static_cast<double>(count_));
+    sum_ = 0;
+    count_ = 0;
+  }
+  double merge_;
+  double first_ = 0, sum_ = 0;
+  size_t count_ = 0;
+  std::vector<double> sites_;
+};
 
 // The merge distance for distinct_sites(): a tenth of the spacing of an even grid of that many points.
 double site_merge_distance(size_t points);

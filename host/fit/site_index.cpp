@@ -29,12 +29,64 @@ SiteIndex::SiteIndex(const std::vector<UV>& uv, const std::vector<int>& group, i
   build_buckets(&group, left_out);
 }
 
+SiteIndex::SiteIndex(const std::vector<UV>& uv, const std::vector<int>& group, int left_out,
+                     std::vector<double> sites_u, std::vector<double> sites_v, const Shared& shared)
+    : uv_(&uv), subset_(true), sites_u_(std::move(sites_u)), sites_v_(std::move(sites_v)) {
+  if (uv.size() >= UINT32_MAX) throw std::length_error("more than 4 billion points");
+  size_t count = 0;
+  for (int g : group) count += g != left_out;
+  if (shared.side != side_for(count) || shared.order.size() != uv.size()) {
+    build_buckets(&group, left_out);
+    return;
+  }
+  // The shared buckets without the left-out group: each bucket's points stay in point order, as
+  // build_buckets() places them.
+  side_ = shared.side;
+  start_.assign(side_ * side_ + 1, 0);
+  order_.resize(count);
+  uint32_t kept = 0;
+  for (size_t b = 0; b + 1 < shared.start.size(); ++b) {
+    start_[b] = kept;
+    for (uint32_t n = shared.start[b]; n < shared.start[b + 1]; ++n) {
+      if (shared.group_in_order[n] != left_out) order_[kept++] = shared.order[n];
+    }
+  }
+  start_.back() = kept;
+}
+
+SiteIndex::Shared SiteIndex::share(const std::vector<UV>& uv, const std::vector<int>& group, size_t subset_count) {
+  Shared shared;
+  if (uv.size() >= UINT32_MAX || group.size() != uv.size()) return shared;
+  shared.side = side_for(subset_count);
+  const size_t side = shared.side;
+  shared.start.assign(side * side + 1, 0);
+  std::vector<uint32_t> bucket_of(uv.size());
+  for (size_t k = 0; k < uv.size(); ++k) {
+    bucket_of[k] = static_cast<uint32_t>(bucket_at(uv[k].v, side) * side + bucket_at(uv[k].u, side));
+    ++shared.start[bucket_of[k] + 1];
+  }
+  for (size_t b = 0; b + 1 < shared.start.size(); ++b) shared.start[b + 1] += shared.start[b];
+  shared.order.resize(uv.size());
+  shared.group_in_order.resize(uv.size());
+  std::vector<uint32_t> next(shared.start.begin(), shared.start.end() - 1);
+  for (size_t k = 0; k < uv.size(); ++k) {
+    const uint32_t n = next[bucket_of[k]]++;
+    shared.order[n] = static_cast<uint32_t>(k);
+    shared.group_in_order[n] = group[k];
+  }
+  return shared;
+}
+
+size_t SiteIndex::side_for(size_t count) {
+  return static_cast<size_t>(std::clamp(std::sqrt(static_cast<double>(count) / 4.0), 1.0, 2048.0));
+}
+
 void SiteIndex::build_buckets(const std::vector<int>* group, int left_out) {
   const std::vector<UV>& uv = *uv_;
   auto included = [&](size_t k) { return !group || (*group)[k] != left_out; };
   size_t count = 0;
   for (size_t k = 0; k < uv.size(); ++k) count += included(k);
-  side_ = static_cast<size_t>(std::clamp(std::sqrt(static_cast<double>(count) / 4.0), 1.0, 2048.0));
+  side_ = side_for(count);
   start_.assign(side_ * side_ + 1, 0);
   std::vector<uint32_t> bucket_of(uv.size());
   for (size_t k = 0; k < uv.size(); ++k) {
@@ -50,11 +102,11 @@ void SiteIndex::build_buckets(const std::vector<int>* group, int left_out) {
   }
 }
 
-size_t SiteIndex::bucket(double t) const {
+size_t SiteIndex::bucket_at(double t, size_t side) {
   // Parameters lie on [0, 1]; anything else (or NaN) goes to the nearest edge bucket.
   if (!(t > 0)) return 0;
-  if (!(t < 1)) return side_ - 1;
-  return std::min(side_ - 1, static_cast<size_t>(t * static_cast<double>(side_)));
+  if (!(t < 1)) return side - 1;
+  return std::min(side - 1, static_cast<size_t>(t * static_cast<double>(side)));
 }
 
 }  // namespace dg::host

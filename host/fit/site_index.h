@@ -22,6 +22,18 @@ class SiteIndex {
   // in uv, the whole set's.
   SiteIndex(const std::vector<UV>& uv, const std::vector<int>& group, int left_out, std::vector<double> sites_u,
             std::vector<double> sites_v);
+  // Every point bucketed once, with its group, for several such indexes of one point set: an index
+  // whose buckets have the same side takes its points out of these in one pass instead of
+  // bucketing them again (FoldSupport's five folds spent 0.07 s doing that for a million points).
+  struct Shared {
+    size_t side = 0;
+    std::vector<uint32_t> start;  // as start_ and order_ over every point
+    std::vector<uint32_t> order;
+    std::vector<int> group_in_order;  // group[order[n]]
+  };
+  static Shared share(const std::vector<UV>& uv, const std::vector<int>& group, size_t subset_count);
+  SiteIndex(const std::vector<UV>& uv, const std::vector<int>& group, int left_out, std::vector<double> sites_u,
+            std::vector<double> sites_v, const Shared& shared);
   // Whether the index holds only some of uv's points.
   bool subset() const { return subset_; }
 
@@ -56,7 +68,9 @@ class SiteIndex {
     const size_t middle = (count - 1) / 2, step = (n + 1) / 2;
     return first + (n % 2 == 1 ? middle + step : middle - step);
   }
-  size_t bucket(double t) const;
+  size_t bucket(double t) const { return bucket_at(t, side_); }
+  static size_t bucket_at(double t, size_t side);
+  static size_t side_for(size_t count);
   // Over the points k with (*group)[k] != left_out, or every point without `group`.
   void build_buckets(const std::vector<int>* group, int left_out);
 

@@ -5,6 +5,8 @@
 
 #include <CppUTest/TestHarness.h>
 
+#include <array>
+
 #include <cmath>
 #include <cstdlib>
 #include <random>
@@ -154,6 +156,14 @@ TEST(FitValidation, EachFoldsIndexHoldsItsRemainingPointsAndTheirSitesToTheBit) 
       });
       LONGS_EQUAL(kept.size(), visited.size());
       for (size_t k : visited) CHECK(fold[k] != f);
+      // In the order the fold's own bucketing gives (the support takes it out of every point's).
+      const SiteIndex own(p.uv, fold, f, {}, {});
+      for (const std::array<double, 4>& box : {std::array<double, 4>{0, 1, 0, 1}, std::array<double, 4>{0.2, 0.45, 0.6, 0.7}}) {
+        std::vector<size_t> in_support, in_own;
+        support.kept_sites(f).visit(box[0], box[1], box[2], box[3], [&](size_t k) { in_support.push_back(k); return true; });
+        own.visit(box[0], box[1], box[2], box[3], [&](size_t k) { in_own.push_back(k); return true; });
+        CHECK(in_support == in_own);
+      }
     }
   }
 }
