@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <cstdio>
 #include <cstring>
+#include <exception>
 #include <functional>
 #include <map>
 #include <sstream>
@@ -265,33 +266,111 @@ PointCloud parse_csv_points(std::string_view text, const std::string& name) {
   auto column_of = [&](const char* column) { return index.count(column) ? index.at(column) : SIZE_MAX; };
   const size_t cx = column_of("x"), cy = column_of("y"), cz = column_of("z"), cline = column_of("line");
   const size_t cnx = column_of("nx"), cny = column_of("ny"), cnz = column_of("nz"), csigma = column_of("sigma");
-  std::vector<size_t> source_lines;
-  std::vector<std::string_view> fields;
-  while (next_row(text, at, row)) {
-    ++line_no;
-    if (trim_view(row).empty()) continue;
-    split_views(row, separator, fields);
-    if (fields.size() != columns.size()) {
-      throw PointFileError(where(name, line_no) + ": " + std::to_string(fields.size()) +
-                           " values, the header has " + std::to_string(columns.size()));
+  // The rows in pieces on every core, each piece from a row's start: with its first row's line
+  // number known (the newlines before it counted first), each names its own errors, and the first
+  // piece in the file with one holds the file's first. One core took 0.1 s for a million rows.
+  struct Piece {
+    size_t begin = 0, end = 0, first_line = 0;
+    PointCloud cloud;
+    std::vector<size_t> source_lines;
+    std::exception_ptr error;
+  };
+  const size_t body = text.size() - std::min(at, text.size());
+  const size_t piece_count = body < (size_t{1} << 20) ? 1 : std::max(1u, worker_count());
+  std::vector<Piece> pieces(piece_count);
+  for (size_t p = 0; p < piece_count; ++p) {
+    size_t begin = p == 0 ? at : pieces[p - 1].end;
+    size_t end = p + 1 == piece_count ? text.size() : std::max(begin, at + body * (p + 1) / piece_count);
+    if (end < text.size()) {
+      const size_t newline = text.find('\n', end);
+      end = newline == std::string_view::npos ? text.size() : newline + 1;
     }
-    auto value = [&](size_t field, const char* column) { return parse_number(fields[field], name, line_no, column); };
-    cloud.points.push_back({value(cx, "x"), value(cy, "y"), value(cz, "z")});
-    if (cloud.line) {
-      const double l = value(cline, "line");
-      // 4294967295 (UINT32_MAX) is kept for "no line" by the code that reads lines.
-      if (l < 0 || l != std::floor(l) || l > 4294967294.0) {
-        throw PointFileError(where(name, line_no) + ": line must be a whole number from 0 to 4294967294");
+    pieces[p].begin = std::min(begin, text.size());
+    pieces[p].end = end;
+  }
+  std::vector<size_t> newlines(piece_count, 0);
+  parallel_for(piece_count, [&](size_t first, size_t last, unsigned) {
+    for (size_t p = first; p < last; ++p) {
+      newlines[p] = static_cast<size_t>(std::count(text.begin() + static_cast<std::ptrdiff_t>(pieces[p].begin),
+                                                   text.begin() + static_cast<std::ptrdiff_t>(pieces[p].end), '\n'));
+    }
+  }, 1);
+  size_t total_newlines = 0;
+  for (size_t p = 0; p < piece_count; ++p) {
+    pieces[p].first_line = line_no + total_newlines;
+    total_newlines += newlines[p];
+  }
+  parallel_for(piece_count, [&](size_t first, size_t last, unsigned) {
+    for (size_t p = first; p < last; ++p) {
+      Piece& piece = pieces[p];
+      PointCloud& part = piece.cloud;
+      if (cloud.line) part.line.emplace();
+      if (cloud.normal) part.normal.emplace();
+      if (cloud.sigma) part.sigma.emplace();
+      // A row to a newline at most (and one after the last): each vector is allocated once, and the
+      // first piece's hold the others' rows too, appended below without moving (growing them was a
+      // third of the reading, the kernel zeroing the new pages and the copies).
+      const size_t rows_at_most = (p == 0 ? total_newlines : newlines[p]) + 1;
+      part.points.reserve(rows_at_most);
+      if (part.line) part.line->reserve(rows_at_most);
+      if (part.normal) part.normal->reserve(rows_at_most);
+      if (part.sigma) part.sigma->reserve(rows_at_most);
+      piece.source_lines.reserve(rows_at_most);
+      const std::string_view rows = text.substr(piece.begin, piece.end - piece.begin);
+      size_t row_at = 0, row_line = piece.first_line;
+      std::string_view row_text;
+      std::vector<std::string_view> fields;
+      try {
+        while (next_row(rows, row_at, row_text)) {
+          ++row_line;
+          if (trim_view(row_text).empty()) continue;
+          split_views(row_text, separator, fields);
+          if (fields.size() != columns.size()) {
+            throw PointFileError(where(name, row_line) + ": " + std::to_string(fields.size()) +
+                                 " values, the header has " + std::to_string(columns.size()));
+          }
+          auto value = [&](size_t field, const char* column) { return parse_number(fields[field], name, row_line, column); };
+          part.points.push_back({value(cx, "x"), value(cy, "y"), value(cz, "z")});
+          if (part.line) {
+            const double l = value(cline, "line");
+            // 4294967295 (UINT32_MAX) is kept for "no line" by the code that reads lines.
+            if (l < 0 || l != std::floor(l) || l > 4294967294.0) {
+              throw PointFileError(where(name, row_line) + ": line must be a whole number from 0 to 4294967294");
+            }
+            part.line->push_back(static_cast<uint32_t>(l));
+          }
+          if (part.normal) part.normal->push_back({value(cnx, "nx"), value(cny, "ny"), value(cnz, "nz")});
+          if (part.sigma) {
+            const double s = value(csigma, "sigma");
+            if (s <= 0) throw PointFileError(where(name, row_line) + ": sigma must be > 0");
+            part.sigma->push_back(s);
+          }
+          piece.source_lines.push_back(row_line);
+        }
+      } catch (...) {
+        piece.error = std::current_exception();
       }
-      cloud.line->push_back(static_cast<uint32_t>(l));
     }
-    if (cloud.normal) cloud.normal->push_back({value(cnx, "nx"), value(cny, "ny"), value(cnz, "nz")});
-    if (cloud.sigma) {
-      const double s = value(csigma, "sigma");
-      if (s <= 0) throw PointFileError(where(name, line_no) + ": sigma must be > 0");
-      cloud.sigma->push_back(s);
-    }
-    source_lines.push_back(line_no);
+  }, 1);
+  for (const Piece& piece : pieces) {
+    if (piece.error) std::rethrow_exception(piece.error);
+  }
+  std::vector<size_t> source_lines = std::move(pieces[0].source_lines);
+  {
+    PointCloud& first = pieces[0].cloud;
+    cloud.points = std::move(first.points);
+    if (cloud.line) cloud.line = std::move(first.line);
+    if (cloud.normal) cloud.normal = std::move(first.normal);
+    if (cloud.sigma) cloud.sigma = std::move(first.sigma);
+  }
+  auto append = [](auto& to, const auto& from) { to.insert(to.end(), from.begin(), from.end()); };
+  for (size_t p = 1; p < piece_count; ++p) {
+    const PointCloud& part = pieces[p].cloud;
+    append(cloud.points, part.points);
+    if (cloud.line) append(*cloud.line, *part.line);
+    if (cloud.normal) append(*cloud.normal, *part.normal);
+    if (cloud.sigma) append(*cloud.sigma, *part.sigma);
+    append(source_lines, pieces[p].source_lines);
   }
   check_duplicate_points(cloud, [&](size_t i) { return where(name, source_lines[i]); });
   return cloud;

@@ -4,6 +4,7 @@
 #include <CppUTest/TestHarness.h>
 
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -85,6 +86,39 @@ TEST(PointReader, NamesTheFirstRepeatInALargeFile) {
   // Row 60,003 repeats row 30,001, row 60,004 repeats row 11 (file lines are one more: the header).
   csv += row(60000) + row(60001) + row(30000) + row(10);
   STRCMP_CONTAINS("in.csv:60004: the same point as in.csv:30002", error_of(csv).c_str());
+}
+
+// A file over a megabyte is parsed in pieces on every core: every row is read, in file order, the
+// lines are numbered across the pieces (blank lines and CRLF endings counted), and of two bad rows
+// the one named is the first in the file.
+TEST(PointReader, ALargeFileReadInPiecesKeepsItsRowsAndLineNumbers) {
+  std::string csv = "\r\nx,z,y,line,sigma\r\n";
+  std::vector<size_t> line_of_row;
+  size_t line = 2;
+  for (int i = 0; i < 80000; ++i) {
+    if (i % 997 == 0) csv += "\r\n", ++line;  // a blank line now and then
+    csv += std::to_string(i % 400) + "," + std::to_string(i) + ".25," + std::to_string(i / 400) + "," + std::to_string(i / 400) +
+           ",0.002\r\n";
+    line_of_row.push_back(++line);
+  }
+  CHECK(csv.size() > (size_t{1} << 20));
+  const dg::host::PointCloud c = dg::host::parse_csv_points(csv, "in.csv");
+  LONGS_EQUAL(80000, c.points.size());
+  CHECK(c.line.has_value() && c.sigma.has_value());
+  for (size_t i = 0; i < c.points.size(); i += 1) {
+    DOUBLES_EQUAL(static_cast<double>(i % 400), c.points[i].x, 0);
+    DOUBLES_EQUAL(static_cast<double>(i) + 0.25, c.points[i].z, 0);
+    LONGS_EQUAL(i / 400, (*c.line)[i]);
+  }
+  // Bad rows late in the file and in its first half: the first is named, by its own line.
+  std::string bad = csv;
+  const std::string late = "399,79999.25,199,199,0.002";
+  bad.replace(bad.find(late), late.size(), "399,79999.25,199,199,-1");
+  STRCMP_CONTAINS(("in.csv:" + std::to_string(line_of_row[79999]) + ": sigma must be > 0").c_str(), error_of(bad).c_str());
+  const std::string early = "\n17,17.25,0,0,0.002";
+  bad.replace(bad.find(early), early.size(), "\n17,x,0,0,0.002");
+  STRCMP_CONTAINS(("in.csv:" + std::to_string(line_of_row[17]) + ": column 'z' is not a finite decimal number: 'x'").c_str(),
+                  error_of(bad).c_str());
 }
 
 TEST(PointReader, ReadsWhitespaceXyzAndRefusesShortRows) {
