@@ -36,7 +36,7 @@ Neighbourhoods nearest_neighbours(const std::vector<Point3>& points, size_t k) {
   }
   k = std::min(k, points.size());
   out.k = k;
-  out.nearest.resize(points.size() * k);
+  out.nearest.reset(new size_t[points.size() * k]);
   out.position.resize(points.size());
   for (size_t m = 0; m < members.size(); ++m) out.position[members[m]] = m;
   if (k == 0) {
@@ -126,7 +126,7 @@ Neighbourhoods nearest_neighbours(const std::vector<Point3>& points, size_t k) {
         const double reach = static_cast<double>(ring) * cell;
         done = (held == k && best[k - 1].first <= reach * reach) || seen == points.size();
       }
-      size_t* nearest = out.nearest.data() + position * k;
+      size_t* nearest = out.nearest.get() + position * k;
       for (size_t b = 0; b < held; ++b) *nearest++ = best[b].second;
     }
   }, 64);
