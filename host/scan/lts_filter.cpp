@@ -323,7 +323,8 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
   // The window whose prediction replaces point i, or -1 for an inlier.
   // `prior`: the suspects of the last classification (none before the first).
   std::vector<char> prior(points.size(), 0);
-  auto outlier_window = [&](size_t i) {
+  // `final_judgement`: see lts::vouches().
+  auto outlier_window = [&](size_t i, bool final_judgement = false) {
     // A cubic that keeps 90 % of the window's unsuspected points within the noise: a crease leaves
     // more than a tenth of it off any one surface. Only a grid has the wider windows; scattered
     // points never pass a neighbour over.
@@ -332,7 +333,7 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
       const LooModel m = loo_model(points, others_in(wide[i], i, prior), i, reference, 3, 0.9);
       return m.ok && m.scale <= 2.5 * sigma;
     };
-    const int window = verdict(tests[i], sigma, options.outlier_sigmas, &prior, smooth_around);
+    const int window = verdict(tests[i], sigma, options.outlier_sigmas, &prior, smooth_around, final_judgement);
     if (window < 0) return -1;
     // The judging window's prediction errs by the noise its gain amplifies: at a corner of the
     // scan a whole window's cubic reaches a gain of 9 to 11, and put a clean point 6 sigma off.
@@ -347,7 +348,7 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
     // condemns it (a whole window at the scan's edge with its suspects left out, gain 11, missed an
     // outlier of 21 sigma that a half-plane of gain 0.7 saw 21 sigma off).
     for (int w = 0; w < kWindows + kLines; ++w) {
-      if (w != window && vouches(tests[i], w, sigma, options.outlier_sigmas)) return -1;
+      if (w != window && vouches(tests[i], w, sigma, options.outlier_sigmas, final_judgement)) return -1;
     }
     for (int w = 0; w < kWindows; ++w) {
       const LooFit& m = tests[i].model[w];
@@ -410,7 +411,7 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
   }
   // The final verdict on point i and, for an outlier, the height that replaces it.
   auto judge = [&](size_t i, double& prediction) {
-    const int window = outlier_window(i);
+    const int window = outlier_window(i, true);
     bool outlier = window >= 0;
     prediction = outlier ? tests[i].model[window].prediction : 0;
     // Near a crease, a window cut along it has a second say when its two sides describe their

@@ -211,7 +211,7 @@ bool whole_judges(const PointTest& t, double sigma, double k, const std::vector<
   return true;
 }
 
-bool vouches(const PointTest& t, int w, double sigma, double k) {
+bool vouches(const PointTest& t, int w, double sigma, double k, bool final_judgement) {
   const LooFit& m = t.model[w];
   // A window whose prediction has a gain beyond kWindowGainMax extrapolates too far to vouch: a
   // cubic over a window at the scan's edge with its suspects left out reached a gain of 30 and a
@@ -219,6 +219,7 @@ bool vouches(const PointTest& t, int w, double sigma, double k) {
   if (!m.ok || m.near_kept < 2 || m.scale > 2.0 * sigma || (w < kWindows && m.gain > kWindowGainMax)) return false;
   const double bound = w < kWindows ? prediction_bound(k, sigma, m.gain, m.scale)
                                      : 0.8 * k * sigma * std::sqrt(1 + m.gain);
+  if (final_judgement && w == 0 && std::isfinite(m.near_worst) && m.near_worst > kWholeFarMiss * bound) return false;
   return std::fabs(t.residual[w]) <= bound;
 }
 
@@ -230,13 +231,13 @@ bool a_line_vouches(const PointTest& t, double sigma, double k) {
 }
 
 int verdict(const PointTest& t, double sigma, double k, const std::vector<char>* suspect,
-            const std::function<bool()>& smooth_around) {
+            const std::function<bool()>& smooth_around, bool final_judgement) {
   if (whole_judges(t, sigma, k, suspect, smooth_around)) return std::fabs(t.residual[0]) <= k * std::hypot(sigma, t.model[0].scale) ? -1 : 0;
   int best = -1;
   for (int w = 0; w < kWindows + kLines; ++w) {
     const LooFit& m = t.model[w];
     if (!m.ok || m.near_kept < 2 || m.scale > 2.0 * sigma) continue;
-    if (vouches(t, w, sigma, k)) return -1;
+    if (vouches(t, w, sigma, k, final_judgement)) return -1;
     if (w < kWindows && (best < 0 || m.scale < t.model[best].scale)) best = w;
   }
   // No window vouches and none that describes its neighbours keeps the point's nearest ones: they

@@ -218,6 +218,24 @@ TEST(LtsRecall, AnOutlierTheModelResolvingItsSurfaceMissesIsListedNotPassed) {
   }
 }
 
+TEST(LtsRecall, AWholeWindowThatSkipsThePointsRowDoesNotVouchForIt) {
+  // On the step gauge a cubic fitted to 70 % of a 5 x 5 window took the rows on either side of a
+  // step one row wide and skipped the point's own row: it put outliers 0.5 and 0.98 mm down that
+  // step within a few sigma of its prediction, while missing their clean row neighbours by 194 and
+  // 257 sigma, and both passed unlisted. Each is now caught or listed.
+  struct Scan {
+    double sigma_um;
+    unsigned seed;
+    size_t outlier;
+  };
+  for (const Scan& scan : {Scan{2.0, 3, 238}, Scan{5.0, 1, 527}}) {
+    const dg::test::Planted p = dg::test::plant_outliers(dg::sim::PartKind::kStepGauge, scan.sigma_um, scan.seed);
+    CHECK(p.outliers.count(scan.outlier) == 1);
+    const LtsResult r = lts_filter(p.points, LtsOptions{});
+    CHECK(caught_or_listed(r).count(scan.outlier) == 1);
+  }
+}
+
 TEST(LtsRecall, FewRealPointsAtTheBallPlatesFeetAreCondemned) {
   // The balls rise 0.6 mm in their first grid step from the plate; a line along the plate beside a
   // foot point described its own points and condemned the point (18 to 20 of these clean scans
