@@ -195,8 +195,15 @@ void check_units(size_t n, Unit unit, FitValidation& out) {
   out.range_worst = all.where;
 }
 
+// Each point's four nearest neighbours in the parameter plane, itself among them.
+Neighbourhoods parameter_plane_neighbours(const Parameters& params) {
+  std::vector<Point3> plane(params.uv.size());
+  for (size_t i = 0; i < plane.size(); ++i) plane[i] = {params.uv[i].u, params.uv[i].v, 0.0};
+  return nearest_neighbours(plane, 5);
+}
+
 void check_neighbours(const BSplineSurface& surface, const PointCloud& cloud, const Parameters& params,
-                      const ValidationOptions& options, FitValidation& out) {
+                      const ValidationOptions& options, const FoldSupport* support, FitValidation& out) {
   const NeighbourCheck check(surface, cloud, params, options.tolerance_mm, options.certify_by_curvature);
   if (cloud.line) {
     const std::vector<std::vector<size_t>> lines = lines_of(cloud);
@@ -244,11 +251,13 @@ void check_neighbours(const BSplineSurface& surface, const PointCloud& cloud, co
     }, out);
     return;
   }
-  // Scattered points: each point and its four nearest neighbours in the parameter plane.
-  std::vector<Point3> plane(cloud.points.size());
-  for (size_t i = 0; i < plane.size(); ++i) plane[i] = {params.uv[i].u, params.uv[i].v, 0.0};
+  // Scattered points: each point and its four nearest neighbours in the parameter plane, the
+  // support's when it has found them.
+  std::optional<Neighbourhoods> own;
+  const Neighbourhoods* found = support ? support->plane_neighbours() : nullptr;
+  if (!found) found = &own.emplace(parameter_plane_neighbours(params));
+  const Neighbourhoods& near = *found;
   // Taken in the buckets' order, so each point's neighbours are mostly in the cache already.
-  const Neighbourhoods near = nearest_neighbours(plane, 5);
   check_units(near.order.size(), [&](size_t position, RangeWorst& worst) {
     const size_t i = near.order[position];
     for (const size_t* j = near.at_position(position); j != near.at_position(position) + near.k; ++j) {
@@ -282,6 +291,7 @@ std::vector<int> validation_folds(const PointCloud& cloud, int folds) {
 
 FoldSupport::FoldSupport(const PointCloud& cloud, const Parameters& params, int folds, bool fill_outside)
     : fill_outside_(fill_outside) {
+  if (!cloud.line) plane_search_ = std::async(std::launch::async, [&params] { return parameter_plane_neighbours(params); });
   const std::vector<int> fold = validation_folds(cloud, folds);
   const size_t fold_count = static_cast<size_t>(std::max(folds, 0));
   // Each direction's parameters are sorted once, each with its fold: a fold's remaining points'
@@ -332,6 +342,16 @@ FoldSupport::FoldSupport(const PointCloud& cloud, const Parameters& params, int 
   for (std::optional<SiteIndex>& index : built) kept_sites_.push_back(std::move(*index));
 }
 
+FoldSupport::~FoldSupport() {
+  // A search still running reads the parameters: it ends before they may go.
+  if (plane_search_.valid()) plane_search_.wait();
+}
+
+const Neighbourhoods* FoldSupport::plane_neighbours() const {
+  if (plane_search_.valid()) plane_neighbours_.emplace(plane_search_.get());
+  return plane_neighbours_ ? &*plane_neighbours_ : nullptr;
+}
+
 std::string FoldSupport::problem(const std::vector<double>& knots_u, int degree_u, const std::vector<double>& knots_v,
                                  int degree_v) const {
   const std::string of_folds = std::to_string(kept_sites_.size());
@@ -380,8 +400,8 @@ FitValidation validate_fit(const PointCloud& cloud, const Parameters& params, co
   spec.fill_outside = options.fill_outside;
   // The refits use each fold's index of its remaining points: the caller's, or built here.
   std::vector<FoldRefit> own_refits;
+  std::optional<FoldSupport> own_support;  // read by the checks between the samples too
   if (!made || made->size() != static_cast<size_t>(options.folds)) {
-    std::optional<FoldSupport> own_support;
     if (!support && options.folds >= 1) support = &own_support.emplace(cloud, params, options.folds, options.fill_outside);
     std::vector<const SiteIndex*> kept_sites;
     for (int f = 0; f < options.folds; ++f) kept_sites.push_back(&support->kept_sites(f));
@@ -424,7 +444,7 @@ FitValidation validate_fit(const PointCloud& cloud, const Parameters& params, co
     }
   }
   if (out.held_out_points > 0) out.held_out_rms_mm = std::sqrt(sum_sq / static_cast<double>(out.held_out_points));
-  check_neighbours(surface, cloud, params, options, out);
+  check_neighbours(surface, cloud, params, options, support, out);
   if (!(options.tolerance_mm > 0)) return out;
   if (out.held_out_max_mm > options.tolerance_mm) {
     out.problem = "a surface fitted without the point " + at(out.held_out_worst) + " misses it by " +

@@ -85,6 +85,9 @@ TEST(FitValidation, TheToleranceLoopsFoldIndexesGiveTheSameFiguresAsFoldsBuiltAf
     const BSplineSurface s = fit(c, p, 12, 10);
     const FoldSupport support(c, p, 5);
     check_same(validate_on("2", c, p, s, nullptr), validate_on("2", c, p, s, &support));
+    // Points without lines had their neighbours found beside the fit, each point's four nearest.
+    CHECK((support.plane_neighbours() == nullptr) == lines);
+    if (!lines) LONGS_EQUAL(5, support.plane_neighbours()->k);
   }
 }
 
