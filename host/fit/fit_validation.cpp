@@ -291,7 +291,10 @@ std::vector<int> validation_folds(const PointCloud& cloud, int folds) {
 
 FoldSupport::FoldSupport(const PointCloud& cloud, const Parameters& params, int folds, bool fill_outside)
     : fill_outside_(fill_outside) {
-  if (!cloud.line) plane_search_ = std::async(std::launch::async, [&params] { return parameter_plane_neighbours(params); });
+  // With one worker allowed (DIGITIZER_THREADS=1) the search waits for plane_neighbours() and runs
+  // there, on the caller's thread.
+  const std::launch when = worker_count() > 1 ? std::launch::async : std::launch::deferred;
+  if (!cloud.line) plane_search_ = std::async(when, [&params] { return parameter_plane_neighbours(params); });
   const std::vector<int> fold = validation_folds(cloud, folds);
   const size_t fold_count = static_cast<size_t>(std::max(folds, 0));
   // Each direction's parameters are sorted once, each with its fold: a fold's remaining points'

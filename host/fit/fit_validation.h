@@ -39,7 +39,8 @@ class FoldSupport {
   // (and itself), for the checks between neighbouring samples; null for one with lines. They
   // depend on the parameters alone, so the search starts on a thread of its own as the
   // FoldSupport is made and runs beside the fit's single-threaded stretches (for a million points
-  // it took 0.18 s of validate_fit's 0.44). Waits for the search; not for two threads at once.
+  // it took 0.18 s of validate_fit's 0.44), unless one worker thread is allowed (worker_count()).
+  // Waits for the search; not for two threads at once.
   const Neighbourhoods* plane_neighbours() const;
   ~FoldSupport();
 
