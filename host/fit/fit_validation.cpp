@@ -2,6 +2,7 @@
 #include "host/fit/fit_validation.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -346,8 +347,11 @@ FoldSupport::FoldSupport(const PointCloud& cloud, const Parameters& params, int 
 }
 
 FoldSupport::~FoldSupport() {
-  // A search still running reads the parameters: it ends before they may go.
-  if (plane_search_.valid()) plane_search_.wait();
+  // A search still running reads the parameters: it ends before they may go. A deferred one (one
+  // worker thread) that nothing asked for has not started, and waiting would run it.
+  if (plane_search_.valid() && plane_search_.wait_for(std::chrono::seconds(0)) != std::future_status::deferred) {
+    plane_search_.wait();
+  }
 }
 
 const Neighbourhoods* FoldSupport::plane_neighbours() const {
