@@ -58,22 +58,9 @@ SiteIndex::Shared SiteIndex::share(const std::vector<UV>& uv, const std::vector<
   Shared shared;
   if (uv.size() >= UINT32_MAX || group.size() != uv.size()) return shared;
   shared.side = side_for(subset_count);
-  const size_t side = shared.side;
-  shared.start.assign(side * side + 1, 0);
-  std::vector<uint32_t> bucket_of(uv.size());
-  for (size_t k = 0; k < uv.size(); ++k) {
-    bucket_of[k] = static_cast<uint32_t>(bucket_at(uv[k].v, side) * side + bucket_at(uv[k].u, side));
-    ++shared.start[bucket_of[k] + 1];
-  }
-  for (size_t b = 0; b + 1 < shared.start.size(); ++b) shared.start[b + 1] += shared.start[b];
-  shared.order.resize(uv.size());
   shared.group_in_order.resize(uv.size());
-  std::vector<uint32_t> next(shared.start.begin(), shared.start.end() - 1);
-  for (size_t k = 0; k < uv.size(); ++k) {
-    const uint32_t n = next[bucket_of[k]]++;
-    shared.order[n] = static_cast<uint32_t>(k);
-    shared.group_in_order[n] = group[k];
-  }
+  sort_into_buckets(uv, shared.side, [](size_t) { return true; }, shared.start, shared.order,
+                    [&](uint32_t n, size_t k) { shared.group_in_order[n] = group[k]; });
   return shared;
 }
 
@@ -87,19 +74,7 @@ void SiteIndex::build_buckets(const std::vector<int>* group, int left_out) {
   size_t count = 0;
   for (size_t k = 0; k < uv.size(); ++k) count += included(k);
   side_ = side_for(count);
-  start_.assign(side_ * side_ + 1, 0);
-  std::vector<uint32_t> bucket_of(uv.size());
-  for (size_t k = 0; k < uv.size(); ++k) {
-    if (!included(k)) continue;
-    bucket_of[k] = static_cast<uint32_t>(bucket(uv[k].v) * side_ + bucket(uv[k].u));
-    ++start_[bucket_of[k] + 1];
-  }
-  for (size_t b = 0; b + 1 < start_.size(); ++b) start_[b + 1] += start_[b];
-  order_.resize(count);
-  std::vector<uint32_t> next(start_.begin(), start_.end() - 1);
-  for (size_t k = 0; k < uv.size(); ++k) {
-    if (included(k)) order_[next[bucket_of[k]]++] = static_cast<uint32_t>(k);
-  }
+  sort_into_buckets(uv, side_, included, start_, order_, [](uint32_t, size_t) {});
 }
 
 size_t SiteIndex::bucket_at(double t, size_t side) {

@@ -73,6 +73,31 @@ class SiteIndex {
   static size_t side_for(size_t count);
   // Over the points k with (*group)[k] != left_out, or every point without `group`.
   void build_buckets(const std::vector<int>* group, int left_out);
+  // The counting sort of the points `included(k)` into side x side buckets: bucket b's points are
+  // order[start[b] .. start[b + 1]), in point order; placed(n, k) is told that point k went to
+  // order[n].
+  template <typename Included, typename Placed>
+  static void sort_into_buckets(const std::vector<UV>& uv, size_t side, Included included, std::vector<uint32_t>& start,
+                                std::vector<uint32_t>& order, Placed placed) {
+    start.assign(side * side + 1, 0);
+    std::vector<uint32_t> bucket_of(uv.size());
+    size_t count = 0;
+    for (size_t k = 0; k < uv.size(); ++k) {
+      if (!included(k)) continue;
+      bucket_of[k] = static_cast<uint32_t>(bucket_at(uv[k].v, side) * side + bucket_at(uv[k].u, side));
+      ++start[bucket_of[k] + 1];
+      ++count;
+    }
+    for (size_t b = 0; b + 1 < start.size(); ++b) start[b + 1] += start[b];
+    order.resize(count);
+    std::vector<uint32_t> next(start.begin(), start.end() - 1);
+    for (size_t k = 0; k < uv.size(); ++k) {
+      if (!included(k)) continue;
+      const uint32_t n = next[bucket_of[k]]++;
+      order[n] = static_cast<uint32_t>(k);
+      placed(n, k);
+    }
+  }
 
   const std::vector<UV>* uv_;
   bool subset_ = false;
