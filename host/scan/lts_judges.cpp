@@ -7,28 +7,49 @@
 
 namespace dg::host::lts {
 
-PointTest test_point(const std::vector<Point3>& points, const std::vector<size_t>& hood, size_t i,
-                     const std::vector<double>& reference, const std::vector<char>& excluded, Windows which) {
+namespace {
+
+// Fits point i's windows `first` to `last` (0: the whole neighbourhood, 1 to 8: the half-planes)
+// into t, from its neighbours not excluded.
+void fit_windows(const std::vector<Point3>& points, const std::vector<size_t>& hood, size_t i,
+                 const std::vector<double>& reference, const std::vector<char>& excluded, int first, int last,
+                 PointTest& t) {
   // Half-planes bounded by the lines through the point along x, y and both diagonals: a crease
   // that crosses the window at any of these angles leaves one of them wholly on the point's side.
-  PointTest t;
   std::vector<size_t> windows[kWindows];
   for (size_t j : hood) {
     if (j == i || excluded[j]) continue;
-    windows[0].push_back(j);
-    if (which == Windows::kWholeOnly) continue;
+    if (first == 0) windows[0].push_back(j);
+    if (last == 0) continue;
     for (int w = 0; w < 8; ++w) {
       if (in_half_plane(points[i], points[j], w)) windows[w + 1].push_back(j);
     }
   }
-  for (int w = 0; w < (which == Windows::kAll ? kWindows : 1); ++w) {
+  for (int w = first; w <= last; ++w) {
     // The whole neighbourhood, a cubic: at 0.5 um of noise a quadratic's shape error over 5 x 5 mm
     // of the canister's dish is several sigma. A half-plane holds too few points for one.
     t.model[w] = w == 0 ? loo_model(points, windows[w], i, reference, 3, 0.7, &t.whole_misses)
                         : loo_model(points, windows[w], i, reference, 2);
     if (t.model[w].ok) t.residual[w] = points[i].z - t.model[w].prediction;
   }
+}
+
+}  // namespace
+
+PointTest test_point(const std::vector<Point3>& points, const std::vector<size_t>& hood, size_t i,
+                     const std::vector<double>& reference, const std::vector<char>& excluded, Windows which) {
+  PointTest t;
+  fit_windows(points, hood, i, reference, excluded, 0, which == Windows::kWholeOnly ? 0 : kWindows - 1, t);
   return t;
+}
+
+void add_half_planes(const std::vector<Point3>& points, const std::vector<size_t>& hood, size_t i,
+                     const std::vector<double>& reference, const std::vector<char>& excluded, PointTest& t) {
+  fit_windows(points, hood, i, reference, excluded, 1, kWindows - 1, t);
+}
+
+bool whole_clears(const PointTest& t, double sigma, double k) {
+  return whole_judges(t, sigma, k) && std::fabs(t.residual[0]) <= k * std::hypot(sigma, t.model[0].scale);
 }
 
 bool some_window_describes(const PointTest& t, double sigma) {

@@ -42,6 +42,11 @@ PointTest test_point(const std::vector<Point3>& points, const std::vector<size_t
                      const std::vector<double>& reference, const std::vector<char>& excluded,
                      Windows windows = Windows::kAll);
 
+// Adds the half-planes' models to a test of the whole window alone (test_point's kWholeOnly), made
+// with the same neighbours excluded.
+void add_half_planes(const std::vector<Point3>& points, const std::vector<size_t>& hood, size_t i,
+                     const std::vector<double>& reference, const std::vector<char>& excluded, PointTest& t);
+
 // Some window describes its own neighbours: a trimmed scale that noise gives.
 bool some_window_describes(const PointTest& t, double sigma);
 
@@ -106,6 +111,12 @@ void add_line_models(const std::vector<Point3>& points, const LineSides& sides, 
 // point beside it.
 bool whole_judges(const PointTest& t, double sigma, double k, const std::vector<char>* suspect = nullptr,
                   const std::function<bool()>& smooth_around = {});
+
+// The whole window judges alone (whole_judges, no suspects) and puts the point within its bound.
+// Such a point stays cleared whatever its half-planes say: every verdict on it asks the whole
+// window first, and suspects only make that window judge more readily (`LtsJudges` checks it). So
+// its half-planes need not be fitted: eight of its nine models, on a smooth part most points'.
+bool whole_clears(const PointTest& t, double sigma, double k);
 
 // Window or line w describes its own points and predicts point i within its bound. A window's
 // prediction errs by its noise and by its model's scale; a line's by the noise its extrapolation
