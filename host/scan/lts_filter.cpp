@@ -57,7 +57,10 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
   std::vector<std::vector<size_t>> hood;
   std::vector<std::vector<size_t>> rows_and_columns;
   std::vector<LineSides> sides;
-  result.gridded = grid_neighbourhoods(points, options.window, hood, rows_and_columns, sides);
+  // Where outliers crowd a window so that none of its parts describes its own points, the test is
+  // made on a window two steps wider (`wide`, a grid's only), where they are fewer among more.
+  std::vector<std::vector<size_t>> wide;
+  result.gridded = grid_neighbourhoods(points, options.window, hood, rows_and_columns, sides, &wide);
   if (!result.gridded) nearest_neighbourhoods(points, static_cast<size_t>(n_max), hood);
 
   std::vector<double> reference(points.size());
@@ -290,14 +293,6 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
       if (!whole_clears(tests[i], sigma, options.outlier_sigmas)) add_half_planes(points, hood[i], i, reference, suspect, tests[i]);
     }
   });
-  // Where outliers crowd a window so that none of its parts describes its own points, the test is
-  // made on a window two steps wider, where they are fewer among more.
-  std::vector<std::vector<size_t>> wide;
-  if (result.gridded) {
-    std::vector<std::vector<size_t>> unused_lines;
-    std::vector<LineSides> unused_sides;
-    grid_neighbourhoods(points, options.window + 2, wide, unused_lines, unused_sides);
-  }
   // Only a wider window that is one smooth surface as a whole stands in: at a crease the wider
   // window holds more of the other surface, and a sliver point there has its lines instead.
   // As in the first test, the half-planes of a point its whole window clears are not fitted: in

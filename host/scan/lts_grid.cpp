@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <utility>
 
+#include "host/parallel/parallel_for.h"
+
 namespace dg::host::lts {
 
 namespace {
@@ -84,7 +86,8 @@ class GridCells {
 }  // namespace
 
 bool grid_neighbourhoods(const std::vector<Point3>& points, int window, std::vector<std::vector<size_t>>& out,
-                         std::vector<std::vector<size_t>>& rows_and_columns, std::vector<LineSides>& sides) {
+                         std::vector<std::vector<size_t>>& rows_and_columns, std::vector<LineSides>& sides,
+                         std::vector<std::vector<size_t>>* wide) {
   std::vector<double> xs, ys;
   for (const auto& p : points) xs.push_back(p.x), ys.push_back(p.y);
   const double sx = grid_step(xs), sy = grid_step(ys);
@@ -128,30 +131,36 @@ bool grid_neighbourhoods(const std::vector<Point3>& points, int window, std::vec
   // Near an edge of the scan the window shifts inward rather than being cut, so that a point at an
   // edge or a corner keeps a full window x window neighbourhood: a cut 3 x 3 corner window leaves a
   // plane on 8 points, whose curvature bias on a 1 mm grid is tens of sigma.
-  const long r = window / 2;
-  auto start = [r](long index, long lo, long hi) {
-    return hi - lo < 2 * r ? lo : std::clamp(index - r, lo, hi - 2 * r);
-  };
-  out.assign(points.size(), {});
-  sides.assign(points.size(), {});
-  static const long kStep[kLines][2] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}, {-1, -1}, {1, 1}, {-1, 1}, {1, -1}};
-  for (size_t i = 0; i < points.size(); ++i) {
-    for (int d = 0; d < kLines; ++d) {
-      for (long t = 1; t <= kLineReach; ++t) {
-        const size_t j = cell.find(at[i].first + t * kStep[d][0], at[i].second + t * kStep[d][1]);
-        if (j == GridCells::kNone) break;
-        sides[i][d].push_back(j);
-      }
-    }
-  }
-  for (size_t i = 0; i < points.size(); ++i) {
+  // The window of `side` points round point i into `hood`.
+  auto window_of = [&](size_t i, long side, std::vector<size_t>& hood) {
+    const long r = side / 2;
+    auto start = [r](long index, long lo, long hi) { return hi - lo < 2 * r ? lo : std::clamp(index - r, lo, hi - 2 * r); };
     const long first_x = start(at[i].first, lo_x, hi_x), first_y = start(at[i].second, lo_y, hi_y);
+    hood.reserve(static_cast<size_t>(side * side));
     for (long y = first_y; y <= first_y + 2 * r; ++y)
       for (long x = first_x; x <= first_x + 2 * r; ++x) {
         const size_t j = cell.find(x, y);
-        if (j != GridCells::kNone) out[i].push_back(j);
+        if (j != GridCells::kNone) hood.push_back(j);
       }
-  }
+  };
+  out.assign(points.size(), {});
+  sides.assign(points.size(), {});
+  if (wide != nullptr) wide->assign(points.size(), {});
+  static const long kStep[kLines][2] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}, {-1, -1}, {1, 1}, {-1, 1}, {1, -1}};
+  // Each point's lists are its own, so the points are shared among the cores.
+  parallel_for(points.size(), [&](size_t begin, size_t end, unsigned) {
+    for (size_t i = begin; i < end; ++i) {
+      for (int d = 0; d < kLines; ++d) {
+        for (long t = 1; t <= kLineReach; ++t) {
+          const size_t j = cell.find(at[i].first + t * kStep[d][0], at[i].second + t * kStep[d][1]);
+          if (j == GridCells::kNone) break;
+          sides[i][d].push_back(j);
+        }
+      }
+      window_of(i, window, out[i]);
+      if (wide != nullptr) window_of(i, window + 2, (*wide)[i]);
+    }
+  });
   return true;
 }
 

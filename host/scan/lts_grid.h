@@ -20,8 +20,10 @@ using LineSides = std::array<std::vector<size_t>, kLines>;
 
 // When the points lie on a regular XY grid (holes allowed): true, with each point's window x window
 // grid neighbourhood in `out` (shifted inwards at the scan's edges), the rows and columns in
-// `rows_and_columns`, and each point's kLines sides of line neighbours in `sides`. False otherwise.
+// `rows_and_columns`, and each point's kLines sides of line neighbours in `sides`; with `wide`, also
+// each point's (window + 2) x (window + 2) neighbourhood there. False otherwise.
 bool grid_neighbourhoods(const std::vector<Point3>& points, int window, std::vector<std::vector<size_t>>& out,
-                         std::vector<std::vector<size_t>>& rows_and_columns, std::vector<LineSides>& sides);
+                         std::vector<std::vector<size_t>>& rows_and_columns, std::vector<LineSides>& sides,
+                         std::vector<std::vector<size_t>>* wide = nullptr);
 
 }  // namespace dg::host::lts
