@@ -302,12 +302,12 @@ bool read_fixed_vertices(const uint8_t* body, const PlyElement& vertex, const in
       cloud.points[i] = {values[0], values[1], values[2]};
       if (cloud.normal) (*cloud.normal)[i] = {values[3], values[4], values[5]};
       if (cloud.line) {
-        const double l = values[6];
-        ok = ok && l >= 0 && l == std::floor(l) && l <= 4294967294.0;
-        (*cloud.line)[i] = ok ? static_cast<uint32_t>(l) : 0;
+        uint32_t l = 0;
+        ok = ok && line_number_of(values[6], l);
+        (*cloud.line)[i] = l;
       }
       if (cloud.sigma) {
-        ok = ok && values[7] > 0;
+        ok = ok && valid_sigma(values[7]);
         (*cloud.sigma)[i] = values[7];
       }
       if (!ok) refused.store(true, std::memory_order_relaxed);
@@ -449,14 +449,12 @@ PointCloud parse_ply(const uint8_t* data, size_t size, const std::string& name, 
         }
       }
       if (cloud.line) {
-        const double l = values[slot_of[6]];
-        if (l < 0 || l != std::floor(l) || l > 4294967294.0) {
-          throw PointFileError(at() + ": line must be a whole number from 0 to 4294967294");
-        }
-        cloud.line->push_back(static_cast<uint32_t>(l));
+        uint32_t l = 0;
+        if (!line_number_of(values[slot_of[6]], l)) throw PointFileError(at() + ": " + kLineNumberRule);
+        cloud.line->push_back(l);
       }
       if (cloud.sigma) {
-        if (!(values[slot_of[7]] > 0)) throw PointFileError(at() + ": sigma must be > 0");
+        if (!valid_sigma(values[slot_of[7]])) throw PointFileError(at() + ": " + kSigmaRule);
         cloud.sigma->push_back(values[slot_of[7]]);
       }
       cloud.points.push_back({values[slot_of[0]], values[slot_of[1]], values[slot_of[2]]});

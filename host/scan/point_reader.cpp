@@ -332,17 +332,14 @@ PointCloud parse_csv_points(std::string_view text, const std::string& name) {
           auto value = [&](size_t field, const char* column) { return parse_number(fields[field], name, row_line, column); };
           part.points.push_back({value(cx, "x"), value(cy, "y"), value(cz, "z")});
           if (part.line) {
-            const double l = value(cline, "line");
-            // 4294967295 (UINT32_MAX) is kept for "no line" by the code that reads lines.
-            if (l < 0 || l != std::floor(l) || l > 4294967294.0) {
-              throw PointFileError(where(name, row_line) + ": line must be a whole number from 0 to 4294967294");
-            }
-            part.line->push_back(static_cast<uint32_t>(l));
+            uint32_t l = 0;
+            if (!line_number_of(value(cline, "line"), l)) throw PointFileError(where(name, row_line) + ": " + kLineNumberRule);
+            part.line->push_back(l);
           }
           if (part.normal) part.normal->push_back({value(cnx, "nx"), value(cny, "ny"), value(cnz, "nz")});
           if (part.sigma) {
             const double s = value(csigma, "sigma");
-            if (s <= 0) throw PointFileError(where(name, row_line) + ": sigma must be > 0");
+            if (!valid_sigma(s)) throw PointFileError(where(name, row_line) + ": " + kSigmaRule);
             part.sigma->push_back(s);
           }
           piece.source_lines.push_back(row_line);

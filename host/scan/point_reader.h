@@ -1,5 +1,6 @@
 // Reading point clouds in millimetres: CSV with a header, whitespace XYZ, PLY and scan files.
 #pragma once
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -37,6 +38,18 @@ struct PointCloud {
 // not points) and by its calibration record, if it has them; `as_measured` leaves them as the
 // device measured them (for the device's own fit, which was made of those).
 PointCloud read_points(const std::string& path, bool as_measured = false);
+
+// A `line` column's value as a line number: a whole number from 0 to 4294967294 (4294967295,
+// UINT32_MAX, is kept for "no line" by the code that reads lines); false for any other value.
+inline bool line_number_of(double value, uint32_t& line) {
+  if (!(value >= 0 && value == std::floor(value) && value <= 4294967294.0)) return false;
+  line = static_cast<uint32_t>(value);
+  return true;
+}
+inline constexpr const char* kLineNumberRule = "line must be a whole number from 0 to 4294967294";
+// A `sigma` column's value is a standard uncertainty: above zero.
+inline bool valid_sigma(double value) { return value > 0; }
+inline constexpr const char* kSigmaRule = "sigma must be > 0";
 PointCloud parse_csv_points(std::string_view text, const std::string& name);
 PointCloud parse_xyz_points(std::string_view text, const std::string& name);
 // Throws for a point that repeats an earlier one; where_is(i) names point i ("in.csv:12").

@@ -128,6 +128,14 @@ TEST(PlyReader, NamesWhatIsWrongAndWhere) {
 // Found by the mesh reader's fuzzer: another element with more plain properties than the vertex
 // element once wrote past the vertex's values; such a file is read (its other element skipped)
 // or refused, never overrun. An element named twice is refused.
+TEST(PlyReader, ALineOrSigmaOutOfItsRangeNamesTheVertex) {
+  const std::string head = "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\n"
+                           "property double line\nproperty double sigma\nend_header\n1 2 3 0 0.001\n";
+  STRCMP_CONTAINS("in.ply:11 (vertex 1): line must be a whole number from 0 to 4294967294",
+                  error_of(head + "4 5 6 2.5 0.001\n").c_str());
+  STRCMP_CONTAINS("in.ply:11 (vertex 1): sigma must be > 0", error_of(head + "4 5 6 1 0\n").c_str());
+}
+
 TEST(PlyReader, AnElementWithMorePropertiesThanTheVertexIsSkippedSafely) {
   const std::string bytes =
       "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"

@@ -150,3 +150,13 @@ TEST(PointReader, TakesDecimalNumbersOnlyAndQuotesBadFieldsSafely) {
   CHECK(escape_error.find('\x1b') == std::string::npos);
   STRCMP_CONTAINS("\\x1b[2J", escape_error.c_str());
 }
+
+TEST(PointReader, ALineNumberMustBeAWholeNumberBelowTheNoLineMark) {
+  const std::string head = "x,y,z,line\n1,2,3,0\n";
+  for (const char* bad : {"-1", "2.5", "4294967295", "1e12"}) {
+    STRCMP_CONTAINS("in.csv:3: line must be a whole number from 0 to 4294967294",
+                    error_of(head + "4,5,6," + bad + "\n").c_str());
+  }
+  const dg::host::PointCloud c = dg::host::parse_csv_points(head + "4,5,6,4294967294\n", "in.csv");
+  LONGS_EQUAL(4294967294u, (*c.line)[1]);
+}
