@@ -576,3 +576,16 @@ TEST(LtsRecall, RealPointsOnASteepFlankThatTheWholeWindowPredictsAreListedNotCon
   }
   CHECK(r.outliers.size() <= 3);
 }
+
+TEST(LtsRecall, ARealPointAtABallsFootThatTheWholeWindowPredictsIsCleared) {
+  // The ball plate at 10 um, seed 1: the crease's envelope of plate and ball put the real point
+  // (20, 14) on a ball's foot 1.18 mm off, where the whole window's cubic, describing its points,
+  // predicted it within the bound of a left-out point's prediction (its gain counted).
+  const dg::test::Planted p = dg::test::plant_outliers(dg::sim::PartKind::kBallPlate, 10.0, 1);
+  const size_t i = 14 * 41 + 20;
+  DOUBLES_EQUAL(20.0, p.points[i].x, 1e-9);
+  DOUBLES_EQUAL(14.0, p.points[i].y, 1e-9);
+  CHECK(p.outliers.count(i) == 0);
+  const LtsResult r = lts_filter(p.points, LtsOptions{});
+  for (const LtsOutlier& o : r.outliers) CHECK(o.index != i);
+}
