@@ -610,7 +610,7 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
           // extrapolated (gain 4.6) condemned real points 27 sigma off, which the whole window's
           // cubic put 2.4 sigma off (32 of 56 false alarms over that clean scan; over six seeds and
           // five noise levels false alarms on the sphere 64 -> 51 and the ball plate 84 -> 83, and on
-          // seeds 7 to 14 81 -> 67 and 131 -> 125, one step gauge outlier listed instead of caught,
+          // seeds 7 to 14 81 -> 65 and 131 -> 125, one step gauge outlier listed instead of caught,
           // none passed unlisted).
           if (of_condemned && whole.ok && whole.scale > 2.5 * sigma && whole.scale <= kUnresolvedScale * sigma &&
               std::fabs(tests[i].residual[0]) <= prediction_bound(options.outlier_sigmas, sigma, whole.gain, 0)) {
