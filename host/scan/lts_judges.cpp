@@ -9,6 +9,9 @@ namespace dg::host::lts {
 
 namespace {
 
+// The whole window's bound on a point: k times the noise and the window's trimmed scale together.
+double whole_bound(const LooFit& whole, double sigma, double k) { return k * std::hypot(sigma, whole.scale); }
+
 // Fits point i's windows `first` to `last` (0: the whole neighbourhood, 1 to 8: the half-planes)
 // into t, from its neighbours not excluded.
 void fit_windows(const std::vector<Point3>& points, const std::vector<size_t>& hood, size_t i,
@@ -49,7 +52,7 @@ void add_half_planes(const std::vector<Point3>& points, const std::vector<size_t
 }
 
 bool whole_clears(const PointTest& t, double sigma, double k) {
-  return whole_judges(t, sigma, k) && std::fabs(t.residual[0]) <= k * std::hypot(sigma, t.model[0].scale);
+  return whole_judges(t, sigma, k) && std::fabs(t.residual[0]) <= whole_bound(t.model[0], sigma, k);
 }
 
 bool some_window_describes(const PointTest& t, double sigma) {
@@ -200,7 +203,7 @@ bool whole_judges(const PointTest& t, double sigma, double k, const std::vector<
                   const std::function<bool()>& smooth_around) {
   const LooFit& whole = t.model[0];
   if (!whole.ok || whole.scale > 2.5 * sigma || !std::isfinite(whole.near_worst)) return false;
-  const double bound = k * std::hypot(sigma, whole.scale);
+  const double bound = whole_bound(whole, sigma, k);
   // A cubic that misses three of the window's points by twice its bound, none of them suspected,
   // is not one smooth surface: it has trimmed a crease's other side. At the dome's rim, where the
   // base plate is a strip along the scan's edge, such a cubic was the cap continued below the
@@ -253,7 +256,7 @@ bool a_line_vouches(const PointTest& t, double sigma, double k) {
 
 int verdict(const PointTest& t, double sigma, double k, const std::vector<char>* suspect,
             const std::function<bool()>& smooth_around, bool final_judgement) {
-  if (whole_judges(t, sigma, k, suspect, smooth_around)) return std::fabs(t.residual[0]) <= k * std::hypot(sigma, t.model[0].scale) ? -1 : 0;
+  if (whole_judges(t, sigma, k, suspect, smooth_around)) return std::fabs(t.residual[0]) <= whole_bound(t.model[0], sigma, k) ? -1 : 0;
   int best = -1;
   for (int w = 0; w < kWindows + kLines; ++w) {
     const LooFit& m = t.model[w];

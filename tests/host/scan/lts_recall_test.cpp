@@ -554,8 +554,9 @@ TEST(LtsRecall, OneThreadAndFourGiveTheSameResult) {
 TEST(LtsRecall, RealPointsOnASteepFlankThatTheWholeWindowPredictsAreListedNotCondemned) {
   // The reference sphere's flank beside its foot, scanned at 0.1 mm with readings free of noise but
   // for their 1 um rounding: a 5 x 5 window's cubic follows the surface to 2.5 to 5 noise sigmas
-  // there. Half-planes whose quadratics extrapolated to the point condemned five real points 14 to
-  // 27 sigma off that the whole window's cubic put within 2.4 sigma; they are listed as not judged.
+  // there. The filter condemned five real points 12 to 27 sigma off (the one examined, (23.6, 3.1),
+  // by a half-plane's quadratic extrapolating with a gain of 4.6, where the whole window's cubic put
+  // it 2.4 sigma off); each is now listed as not judged.
   std::vector<Point3> points;
   for (int iy = 0; iy < 50; ++iy) {
     for (int ix = 0; ix < 60; ++ix) {
