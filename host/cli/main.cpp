@@ -4,6 +4,7 @@
 #include <new>
 #include <stdexcept>
 
+#include "host/cli/calibrate_command.h"
 #include "host/cli/characterize_command.h"
 #include "host/cli/config_command.h"
 #include "host/cli/config_file.h"
@@ -18,12 +19,12 @@
 #include "host/cli/info_command.h"
 #include "host/cli/inspect_command.h"
 #include "host/cli/scan_command.h"
-#include "host/cli/calibrate_command.h"
-#include "host/cli/verify_command.h"
 #include "host/cli/segment_command.h"
 #include "host/cli/self_description.h"
 #include "host/cli/superquadric_command.h"
+#include "host/cli/verify_command.h"
 #include "host/io/standard_output.h"
+#include "host/parallel/memory_reuse.h"
 
 namespace {
 
@@ -37,6 +38,7 @@ constexpr int kExitUsage = 2;
 }  // namespace
 
 int main(int argc, char** argv) {
+  keep_freed_memory();  // large vectors reuse freed pages (memory_reuse.h)
   // Named here, so that usage lines say "digitizer" and not the path it was started by.
   CLI::App app{"bench digitizer: scan parts on an XY table with a dial gauge", "digitizer"};
   app.require_subcommand(1);

@@ -15,6 +15,7 @@
 #include "host/parallel/parallel_for.h"
 #include "host/fit/tolerance_fit.h"
 #include "host/fit/orthogonal_distances.h"
+#include "host/parallel/memory_reuse.h"
 
 using namespace dg::host;
 
@@ -90,6 +91,7 @@ void write_clouds(const PointCloud& c, const std::string& dir) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  keep_freed_memory();  // large vectors reuse freed pages (memory_reuse.h)
   const bool quick = argc > 1 && std::string(argv[1]) == "--quick";
   if (argc > 2 && std::string(argv[1]) == "--write-clouds") {
     write_clouds(make(1000000, false), argv[2]);

@@ -6,12 +6,14 @@
 #include <cstring>
 
 #include "host/device/repeatability.h"
+#include "host/parallel/memory_reuse.h"
 #include "host/scan/lts_filter.h"
 #include "host/transport/transport.h"
 #include "tests/support/monte_carlo_uncertainty.h"
 #include "tests/support/planted_outliers.h"
 
 int main(int argc, char** argv) {
+  dg::host::keep_freed_memory();  // large vectors reuse freed pages (memory_reuse.h)
   using Clock = std::chrono::steady_clock;
   // `--lts-seeds FIRST:LAST`: only the LTS table, over those seeds (default 1:6, then the rest).
   unsigned first_seed = 1, last_seed = 6;

@@ -8,11 +8,13 @@
 #include "host/fit/noise_estimate.h"
 #include "host/fit/regions.h"
 #include "host/fit/tolerance_fit.h"
+#include "host/parallel/memory_reuse.h"
 #include "tests/support/part_scan.h"
 
 using namespace dg::host;
 
 int main() {
+  keep_freed_memory();  // large vectors reuse freed pages (memory_reuse.h)
   std::printf("%-9s %5s %7s %-8s %9s %8s %7s %7s %s\n", "part", "noise", "tol", "result", "true-max", "rms/sig",
               "net", "time", "reason");
   int false_kept = 0;
