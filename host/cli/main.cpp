@@ -38,7 +38,7 @@ constexpr int kExitUsage = 2;
 }  // namespace
 
 int main(int argc, char** argv) {
-  keep_freed_memory();  // large vectors reuse freed pages (memory_reuse.h)
+  tune_memory(argv);  // huge pages, freed blocks kept (memory_reuse.h)
   // Named here, so that usage lines say "digitizer" and not the path it was started by.
   CLI::App app{"bench digitizer: scan parts on an XY table with a dial gauge", "digitizer"};
   app.require_subcommand(1);

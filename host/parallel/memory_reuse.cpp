@@ -1,18 +1,81 @@
-// glibc's allocator told to keep large freed blocks (memory_reuse.h).
+// glibc's allocator asked for huge pages and to keep freed blocks (memory_reuse.h).
 #include "host/parallel/memory_reuse.h"
+
+#include <cstdlib>
+#include <cstring>
+#include <string>
 
 #if defined(__GLIBC__)
 #include <malloc.h>
+#include <unistd.h>
 #endif
 
 namespace dg::host {
 
-void keep_freed_memory() {
+namespace {
+
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+constexpr bool kSanitized = true;  // the sanitizer's allocator, not glibc's
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || __has_feature(memory_sanitizer)
+constexpr bool kSanitized = true;
+#else
+constexpr bool kSanitized = false;
+#endif
+#else
+constexpr bool kSanitized = false;
+#endif
+
+// Set in the restarted program, with the caller's own GLIBC_TUNABLES (or kUnset) to put back.
+constexpr const char* kRestarted = "DIGITIZER_CALLER_TUNABLES";
+constexpr const char* kUnset = "\x01";
+
+}  // namespace
+
+void tune_memory(char** argv) {
 #if defined(__GLIBC__)
-  // No block from its own mapping (a thread's arena still maps one larger than its heap can hold),
-  // and the heap's free top kept up to 1 GiB.
+  if (const char* caller = std::getenv(kRestarted)) {
+    const std::string tunables = caller;
+    if (tunables == kUnset) {
+      unsetenv("GLIBC_TUNABLES");
+    } else {
+      setenv("GLIBC_TUNABLES", tunables.c_str(), 1);
+    }
+    unsetenv(kRestarted);
+    return;
+  }
+  // Both kept by mallopt in any case: no block from a mapping of its own (a thread's arena still
+  // maps one larger than its heaps), and the heap's free top kept up to 1 GiB.
   mallopt(M_MMAP_MAX, 0);
   mallopt(M_TRIM_THRESHOLD, 1 << 30);
+  const char* wanted = std::getenv("DIGITIZER_HUGE_PAGES");
+  if (!huge_pages_asked_for_by_restart() || argv == nullptr || argv[0] == nullptr ||
+      (wanted && std::strcmp(wanted, "0") == 0)) {
+    return;
+  }
+  const char* caller = std::getenv("GLIBC_TUNABLES");
+  // The caller's own settings come last, so they win over these.
+  std::string tunables = "glibc.malloc.hugetlb=1:glibc.malloc.mmap_max=0:glibc.malloc.trim_threshold=1073741824";
+  if (caller && *caller) tunables += std::string(":") + caller;
+  if (setenv(kRestarted, caller ? caller : kUnset, 1) != 0 || setenv("GLIBC_TUNABLES", tunables.c_str(), 1) != 0) return;
+  execv("/proc/self/exe", argv);
+  // Not restarted (no /proc, say): as it was, with freed blocks kept.
+  if (caller) {
+    setenv("GLIBC_TUNABLES", caller, 1);
+  } else {
+    unsetenv("GLIBC_TUNABLES");
+  }
+  unsetenv(kRestarted);
+#else
+  (void)argv;
+#endif
+}
+
+bool huge_pages_asked_for_by_restart() {
+#if defined(__GLIBC__)
+  return !kSanitized;
+#else
+  return false;
 #endif
 }
 

@@ -1,15 +1,26 @@
-// Keeping freed memory in the process, so the next large vector reuses pages already mapped.
+// Large memory on huge pages and freed memory kept in the process, so big vectors cost few page faults.
 #pragma once
 
 namespace dg::host {
 
-// glibc hands every freed block above its mmap threshold back to the kernel, and every vector of
-// a million points allocated after it faults its pages in again. On a virtual machine a fault is
-// dear: on the 2-core benchmark machine touching fresh memory ran at about 0.4 GB/s, and page
-// faults were 11 % of fit_bench's time. Called once at the start of a program, before its
-// threads: large blocks come from the heap and freed ones stay there for the next. Peak memory
-// is unchanged (fit_bench 224-232 MB either way); memory freed is not returned before exit, which
-// suits a command that runs one job.
-void keep_freed_memory();
+// A page fault is dear on a virtual machine: on the 2-core benchmark machine fresh memory was
+// touched at about 0.4 GB/s, and faults were 9 to 11 % of the LTS filter's and fit_bench's time.
+// glibc can do two things about it, neither by default:
+//  - keep large freed blocks for the next allocation, instead of handing each back to the kernel
+//    (every vector of a million points then faulted its pages in again);
+//  - ask the kernel for transparent huge pages on its heaps (one fault per 2 MB, not per 4 kB),
+//    which most distributions grant only to memory that asks (THP "madvise").
+// The second is only a tunable read from GLIBC_TUNABLES at start-up, so the first call starts the
+// program again (execv of /proc/self/exe, same arguments) with both set; the second run puts the
+// caller's GLIBC_TUNABLES back before anything else, so programs it starts (the simulator, a
+// browser) see the environment it was given. Where that cannot be done (no /proc, a sanitizer
+// build, DIGITIZER_HUGE_PAGES=0), freed blocks are still kept, by mallopt.
+// Peak memory was unchanged within a few per cent (fit_bench, `filter --lts`, `fit` on 1e6 points).
+// Call first in main(), before any thread starts.
+void tune_memory(char** argv);
+
+// Whether tune_memory restarts the program with huge pages asked for: a glibc build without a
+// sanitizer (whose allocator replaces glibc's).
+bool huge_pages_asked_for_by_restart();
 
 }  // namespace dg::host
