@@ -290,12 +290,13 @@ std::vector<int> validation_folds(const PointCloud& cloud, int folds) {
   return fold;
 }
 
-FoldSupport::FoldSupport(const PointCloud& cloud, const Parameters& params, int folds, bool fill_outside)
+FoldSupport::FoldSupport(const PointCloud& cloud, const Parameters& params, int folds, bool fill_outside,
+                         bool neighbours)
     : fill_outside_(fill_outside) {
   // With one worker allowed (DIGITIZER_THREADS=1) the search waits for plane_neighbours() and runs
   // there, on the caller's thread.
   const std::launch when = worker_count() > 1 ? std::launch::async : std::launch::deferred;
-  if (!cloud.line) plane_search_ = std::async(when, [&params] { return parameter_plane_neighbours(params); });
+  if (!cloud.line && neighbours) plane_search_ = std::async(when, [&params] { return parameter_plane_neighbours(params); });
   const std::vector<int> fold = validation_folds(cloud, folds);
   const size_t fold_count = static_cast<size_t>(std::max(folds, 0));
   // Each direction's parameters are sorted once, each with its fold: a fold's remaining points'
@@ -359,33 +360,40 @@ const Neighbourhoods* FoldSupport::plane_neighbours() const {
   return plane_neighbours_ ? &*plane_neighbours_ : nullptr;
 }
 
+std::string FoldSupport::fold_problem(size_t f, const std::vector<double>& knots_u, int degree_u,
+                                      const std::vector<double>& knots_v, int degree_v) const {
+  const std::string which = "with validation fold " + std::to_string(f + 1) + " of " + std::to_string(kept_sites_.size());
+  const SiteIndex& sites = kept_sites_[f];
+  if (fill_outside_) {
+    const std::vector<char> outside = outside_control_points(knots_u, degree_u, knots_v, degree_v, sites, kRegionMinProduct);
+    const auto [i, j] = unmatched_control_point(knots_u, degree_u, knots_v, degree_v, sites, kRegionMinProduct, &outside);
+    if (i < 0) return "";
+    return which + " held out, the remaining points of the region cannot determine control point (" + std::to_string(i) +
+           ", " + std::to_string(j) + ") of the net";
+  }
+  // A margin (each control point with a site where its basis function is at least 0.1) keeps
+  // the nets the tolerance loop reaches well conditioned for every fold.
+  if (schoenberg_whitney_gap(knots_u, degree_u, sites.sites_u(), 0.1) >= 0 ||
+      schoenberg_whitney_gap(knots_v, degree_v, sites.sites_v(), 0.1) >= 0) {
+    return which + " held out, the remaining points cannot determine the net";
+  }
+  const auto [i, j] = unmatched_control_point(knots_u, degree_u, knots_v, degree_v, sites, 0.01);
+  if (i < 0) return "";
+  return which + " held out, the remaining points cannot determine control point (" + std::to_string(i) + ", " +
+         std::to_string(j) + ") of the net (a hole in the scan beside it)";
+}
+
 std::string FoldSupport::problem(const std::vector<double>& knots_u, int degree_u, const std::vector<double>& knots_v,
                                  int degree_v) const {
-  const std::string of_folds = std::to_string(kept_sites_.size());
-  for (size_t f = 0; f < kept_sites_.size(); ++f) {
-    const SiteIndex& sites = kept_sites_[f];
-    if (fill_outside_) {
-      const std::vector<char> outside =
-          outside_control_points(knots_u, degree_u, knots_v, degree_v, sites, kRegionMinProduct);
-      const auto [i, j] = unmatched_control_point(knots_u, degree_u, knots_v, degree_v, sites, kRegionMinProduct, &outside);
-      if (i < 0) continue;
-      return "with validation fold " + std::to_string(f + 1) + " of " + of_folds +
-             " held out, the remaining points of the region cannot determine control point (" + std::to_string(i) +
-             ", " + std::to_string(j) + ") of the net";
-    }
-    // A margin (each control point with a site where its basis function is at least 0.1) keeps
-    // the nets the tolerance loop reaches well conditioned for every fold.
-    if (schoenberg_whitney_gap(knots_u, degree_u, sites.sites_u(), 0.1) >= 0 ||
-        schoenberg_whitney_gap(knots_v, degree_v, sites.sites_v(), 0.1) >= 0) {
-      return "with validation fold " + std::to_string(f + 1) + " of " + of_folds +
-             " held out, the remaining points cannot determine the net";
-    }
-    const auto [i, j] = unmatched_control_point(knots_u, degree_u, knots_v, degree_v, sites, 0.01);
-    if (i >= 0) {
-      return "with validation fold " + std::to_string(f + 1) + " of " + of_folds +
-             " held out, the remaining points cannot determine control point (" + std::to_string(i) + ", " +
-             std::to_string(j) + ") of the net (a hole in the scan beside it)";
-    }
+  // The folds are asked on every core (the tolerance loop asks this of every knot it would add,
+  // a twelfth of its time on a million points), and the first fold with a problem answers, as
+  // asking them in turn would.
+  std::vector<std::string> problems(kept_sites_.size());
+  parallel_for(kept_sites_.size(), [&](size_t begin, size_t end, unsigned) {
+    for (size_t f = begin; f < end; ++f) problems[f] = fold_problem(f, knots_u, degree_u, knots_v, degree_v);
+  }, 1);
+  for (std::string& problem : problems) {
+    if (!problem.empty()) return problem;
   }
   return "";
 }

@@ -25,7 +25,10 @@ class FoldSupport {
   // `fill_outside`: a region's net (LsqSpec::fill_outside), whose control points beyond the points
   // are placed, not fitted; only the others must be determined. The indexes refer to params.uv,
   // which must outlive the FoldSupport.
-  FoldSupport(const PointCloud& cloud, const Parameters& params, int folds, bool fill_outside = false);
+  // `neighbours`: false for a caller that will not validate (the tolerance loop's sampled first
+  // pass, which only finds knots), sparing the search below.
+  FoldSupport(const PointCloud& cloud, const Parameters& params, int folds, bool fill_outside = false,
+              bool neighbours = true);
   FoldSupport(const FoldSupport&) = delete;  // one index per fold, built once
   FoldSupport& operator=(const FoldSupport&) = delete;
   std::string problem(const std::vector<double>& knots_u, int degree_u, const std::vector<double>& knots_v,
@@ -45,6 +48,9 @@ class FoldSupport {
   ~FoldSupport();
 
  private:
+  // Fold f's problem, or "" (problem() asks every fold).
+  std::string fold_problem(size_t f, const std::vector<double>& knots_u, int degree_u, const std::vector<double>& knots_v,
+                           int degree_v) const;
   std::vector<SiteIndex> kept_sites_;  // per fold, the points that remain
   bool fill_outside_ = false;
   mutable std::future<Neighbourhoods> plane_search_;

@@ -124,7 +124,7 @@ ToleranceResult refine(const PointCloud& cloud, const Parameters& params, const 
   // The net may grow only while every validation fold's remaining points still determine it, so
   // the surface reached can be checked between the samples (fit_validation.h).
   const ValidationOptions validation_options{options.tolerance_mm, options.validation_folds, 3, options.fill_outside};
-  const FoldSupport fold_support(cloud, params, options.validation_folds, options.fill_outside);
+  const FoldSupport fold_support(cloud, params, options.validation_folds, options.fill_outside, !knots_only);
   auto allowed_u = [&](const std::vector<double>& knots) {
     return fold_support.problem(knots, spec.degree_u, spec.knots_v, spec.degree_v).empty();
   };
