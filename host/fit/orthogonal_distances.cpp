@@ -16,4 +16,18 @@ std::vector<double> orthogonal_distances(const BSplineSurface& surface, const st
   return d;
 }
 
+std::vector<double> orthogonal_distances(const BSplineSurface& surface, const std::vector<Point3>& points,
+                                         const Parameters& params, std::vector<double>& start) {
+  std::vector<double> d(points.size());
+  start.resize(points.size());
+  parallel_for(points.size(), [&](size_t begin, size_t end, unsigned) {
+    for (size_t k = begin; k < end; ++k) {
+      const Closest c = closest_point(surface, points[k], params.uv[k].u, params.uv[k].v);
+      d[k] = c.distance;
+      start[k] = c.start_distance;
+    }
+  }, 1024);
+  return d;
+}
+
 }  // namespace dg::host

@@ -10,4 +10,9 @@ namespace dg::host {
 std::vector<double> orthogonal_distances(const BSplineSurface& surface, const std::vector<Point3>& points,
                                          const Parameters& params);
 
+// The same, and each point's distance at its own parameters (parameter_distances' figure, an
+// upper bound of the orthogonal one) in `start`, from the same evaluation.
+std::vector<double> orthogonal_distances(const BSplineSurface& surface, const std::vector<Point3>& points,
+                                         const Parameters& params, std::vector<double>& start);
+
 }  // namespace dg::host

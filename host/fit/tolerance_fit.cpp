@@ -159,7 +159,16 @@ ToleranceResult refine(const PointCloud& cloud, const Parameters& params, const 
     // can still flag a span: once both of a point's spans are flagged, its bound stands in for its
     // distance (the best surface's distances are computed exactly at the end). On a coarse net
     // most points exceed the tolerance, and this keeps those iterations from projecting them all.
-    const std::vector<double> bound = parameter_distances(surface, points, params);
+    // After a sampled first pass the full set's first net is nearly always its last (the sample
+    // found the knots), and the kept surface's exact distances are wanted at the end: they are
+    // computed now, with the bounds from the same evaluations, and the end makes no second pass.
+    const bool exact_now = iteration == 1 && !sampled_knots_u.empty();
+    std::vector<double> bound, exact;
+    if (exact_now) {
+      exact = orthogonal_distances(surface, points, params, bound);
+    } else {
+      bound = parameter_distances(surface, points, params);
+    }
     std::vector<char> flagged_u(static_cast<size_t>(surface.count_u), 0), flagged_v(static_cast<size_t>(surface.count_v), 0);
     std::vector<double> span_sq_u(static_cast<size_t>(surface.count_u), 0.0), span_sq_v(static_cast<size_t>(surface.count_v), 0.0);
     std::vector<size_t> span_n_u(static_cast<size_t>(surface.count_u), 0), span_n_v(static_cast<size_t>(surface.count_v), 0);
@@ -175,7 +184,7 @@ ToleranceResult refine(const PointCloud& cloud, const Parameters& params, const 
       ++span_n_v[static_cast<size_t>(sv)];
       if (bound[k] > options.tolerance_mm) {
         if (!flagged_u[static_cast<size_t>(su)] || !flagged_v[static_cast<size_t>(sv)]) {
-          d = std::fabs(closest_point(surface, points[k], params.uv[k].u, params.uv[k].v).distance);
+          d = std::fabs(exact_now ? exact[k] : closest_point(surface, points[k], params.uv[k].u, params.uv[k].v).distance);
           if (d > options.tolerance_mm) {
             flagged_u[static_cast<size_t>(su)] = flagged_v[static_cast<size_t>(sv)] = 1;
           }
@@ -197,6 +206,7 @@ ToleranceResult refine(const PointCloud& cloud, const Parameters& params, const 
       best.max_distance_mm = worst;  // an upper bound until the exact distances at the end
       best.iterations = sampled_iterations + iteration;
       best.rms_mm = rms;
+      best.distances = std::move(exact);  // empty unless computed exactly above
     }
     if (within) {
       tolerance_held = true;
@@ -260,7 +270,7 @@ ToleranceResult refine(const PointCloud& cloud, const Parameters& params, const 
   }
   if (best.surface.control.empty()) throw FitError(refusal.empty() ? "no fit" : refusal);
   if (knots_only) return best;
-  best.distances = orthogonal_distances(best.surface, points, params);
+  if (best.distances.size() != points.size()) best.distances = orthogonal_distances(best.surface, points, params);
   best.max_distance_mm = 0;
   for (double d : best.distances) best.max_distance_mm = std::max(best.max_distance_mm, std::fabs(d));
   // The contract: success only with every distance within the tolerance, and the surface checked

@@ -18,6 +18,7 @@ Closest closest_point(const BSplineSurface& surface, const Point3& p, double u0,
   double u = std::clamp(u0, u_lo, u_hi), v = std::clamp(v0, v_lo, v_hi);
   Point3 s, su, sv;
   surface.evaluate(u, v, s, su, sv);
+  const double start_distance = norm(p - s);
   for (int iteration = 0; iteration < 30; ++iteration) {
     const Point3 r = p - s;
     double a = dot(su, su), b = dot(su, sv), c = dot(sv, sv);
@@ -85,6 +86,7 @@ Closest closest_point(const BSplineSurface& surface, const Point3& p, double u0,
     sv = nsv;
   }
   Closest result;
+  result.start_distance = start_distance;
   result.u = u;
   result.v = v;
   result.point = s;

@@ -11,6 +11,9 @@ struct Closest {
   Point3 point;
   double distance = 0;  // signed: positive on the side of S_u x S_v (above a height field)
   Point3 normal;        // unit, towards positive distances, at the foot (0 where it has none)
+  // |P - S(u0, v0)| with (u0, v0) clamped to the domain: the distance at the parameters it
+  // started from, an upper bound of `distance`'s size.
+  double start_distance = 0;
 };
 
 // Gauss-Newton on |P - S(u, v)|^2 from (u0, v0), clamped to the domain; at a boundary the
