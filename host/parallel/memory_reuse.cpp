@@ -7,6 +7,7 @@
 
 #if defined(__GLIBC__)
 #include <malloc.h>
+#include <sys/stat.h>
 #include <unistd.h>
 #endif
 
@@ -26,13 +27,24 @@ constexpr bool kSanitized = false;
 constexpr bool kSanitized = false;
 #endif
 
+#if defined(__GLIBC__)
+// Whether an argument names a regular file of at least kLargeInputBytes.
+bool names_large_file(char** argv) {
+  for (char** arg = argv + 1; *arg; ++arg) {
+    struct stat st;
+    if (stat(*arg, &st) == 0 && S_ISREG(st.st_mode) && st.st_size >= kLargeInputBytes) return true;
+  }
+  return false;
+}
+#endif
+
 // Set in the restarted program, with the caller's own GLIBC_TUNABLES (or kUnset) to put back.
 constexpr const char* kRestarted = "DIGITIZER_CALLER_TUNABLES";
 constexpr const char* kUnset = "\x01";
 
 }  // namespace
 
-void tune_memory(char** argv) {
+void tune_memory(char** argv, Restart when) {
 #if defined(__GLIBC__)
   if (const char* caller = std::getenv(kRestarted)) {
     const std::string tunables = caller;
@@ -50,7 +62,7 @@ void tune_memory(char** argv) {
   mallopt(M_TRIM_THRESHOLD, 1 << 30);
   const char* wanted = std::getenv("DIGITIZER_HUGE_PAGES");
   if (!huge_pages_asked_for_by_restart() || argv == nullptr || argv[0] == nullptr ||
-      (wanted && std::strcmp(wanted, "0") == 0)) {
+      (wanted && std::strcmp(wanted, "0") == 0) || (when == Restart::kForLargeInput && !names_large_file(argv))) {
     return;
   }
   const char* caller = std::getenv("GLIBC_TUNABLES");
@@ -68,6 +80,7 @@ void tune_memory(char** argv) {
   unsetenv(kRestarted);
 #else
   (void)argv;
+  (void)when;
 #endif
 }
 

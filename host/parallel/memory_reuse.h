@@ -16,8 +16,13 @@ namespace dg::host {
 // browser) see the environment it was given. Where that cannot be done (no /proc, a sanitizer
 // build, DIGITIZER_HUGE_PAGES=0), freed blocks are still kept, by mallopt.
 // Peak memory was unchanged within a few per cent (fit_bench, `filter --lts`, `fit` on 1e6 points).
+// The restart costs a second start-up (about 65 ms for `digitizer`, most of it the CAD kernel's
+// libraries), so by default it is made only for a large job: one of whose arguments names a file
+// of at least kLargeInputBytes (the 1e5-point grid scan is 1.3 MB; its LTS filter gained 0.37 s).
 // Call first in main(), before any thread starts.
-void tune_memory(char** argv);
+enum class Restart { kForLargeInput, kAlways };
+constexpr long long kLargeInputBytes = 1 << 20;
+void tune_memory(char** argv, Restart when = Restart::kForLargeInput);
 
 // Whether tune_memory restarts the program with huge pages asked for: a glibc build without a
 // sanitizer (whose allocator replaces glibc's).

@@ -80,7 +80,7 @@ double occ_approximation(const std::vector<Point3>& points, int columns, int row
 }  // namespace
 
 int main(int argc, char** argv) {
-  tune_memory(argv);  // huge pages, freed blocks kept (memory_reuse.h)
+  tune_memory(argv, Restart::kAlways);  // huge pages, freed blocks kept (memory_reuse.h)
   if (argc < 3) {
     std::fprintf(stderr, "usage: anchor_fit lsq POINTS.f64 | occ POINTS.f64 COLUMNS ROWS TOLERANCE_MM\n");
     return 2;

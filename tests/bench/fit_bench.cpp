@@ -91,7 +91,7 @@ void write_clouds(const PointCloud& c, const std::string& dir) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  tune_memory(argv);  // huge pages, freed blocks kept (memory_reuse.h)
+  tune_memory(argv, Restart::kAlways);  // huge pages, freed blocks kept (memory_reuse.h)
   const bool quick = argc > 1 && std::string(argv[1]) == "--quick";
   if (argc > 2 && std::string(argv[1]) == "--write-clouds") {
     write_clouds(make(1000000, false), argv[2]);

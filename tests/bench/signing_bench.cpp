@@ -13,7 +13,7 @@
 #include "tests/support/planted_outliers.h"
 
 int main(int argc, char** argv) {
-  dg::host::tune_memory(argv);  // huge pages, freed blocks kept (memory_reuse.h)
+  dg::host::tune_memory(argv, dg::host::Restart::kAlways);  // huge pages, freed blocks kept (memory_reuse.h)
   using Clock = std::chrono::steady_clock;
   // `--lts-seeds FIRST:LAST`: only the LTS table, over those seeds (default 1:6, then the rest).
   unsigned first_seed = 1, last_seed = 6;

@@ -14,7 +14,7 @@
 using namespace dg::host;
 
 int main(int, char** argv) {
-  tune_memory(argv);  // huge pages, freed blocks kept (memory_reuse.h)
+  tune_memory(argv, Restart::kAlways);  // huge pages, freed blocks kept (memory_reuse.h)
   std::printf("%-9s %5s %7s %-8s %9s %8s %7s %7s %s\n", "part", "noise", "tol", "result", "true-max", "rms/sig",
               "net", "time", "reason");
   int false_kept = 0;

@@ -1,4 +1,4 @@
-// memory-probe: calls tune_memory as a program's main does and reports what the test of it reads.
+// memory-probe: calls tune_memory as digitizer's main does and reports what the test of it reads.
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
