@@ -15,7 +15,8 @@ namespace dg::host {
 // caller's GLIBC_TUNABLES back before anything else, so programs it starts (the simulator, a
 // browser) see the environment it was given. Where that cannot be done (no /proc, a sanitizer
 // build, DIGITIZER_HUGE_PAGES=0), freed blocks are still kept, by mallopt.
-// Peak memory was unchanged within a few per cent (fit_bench, `filter --lts`, `fit` on 1e6 points).
+// Peak memory moves by up to about 10 % from run to run with huge pages (`fit` on the 1e6-point PLY:
+// 259-287 MB, against 256-277 MB before any of this).
 // The restart costs a second start-up (about 65 ms for `digitizer`, most of it the CAD kernel's
 // libraries), so by default it is made only for a large job: one of whose arguments names a file
 // of at least kLargeInputBytes (the 1e5-point grid scan is 1.3 MB; its LTS filter gained 0.37 s).
