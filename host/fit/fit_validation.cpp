@@ -385,9 +385,9 @@ std::string FoldSupport::fold_problem(size_t f, const std::vector<double>& knots
 
 std::string FoldSupport::problem(const std::vector<double>& knots_u, int degree_u, const std::vector<double>& knots_v,
                                  int degree_v) const {
-  // The folds are asked on every core (the tolerance loop asks this of every knot it would add,
-  // a twelfth of its time on a million points), and the first fold with a problem answers, as
-  // asking them in turn would.
+  // The folds are asked on every core (the tolerance loop asks this of every knot it would add: on
+  // fit_bench's million points the sampled pass's last knots took about 60 ms of checks beside a
+  // 13 ms fit), and the first fold with a problem answers, as asking them in turn would.
   std::vector<std::string> problems(kept_sites_.size());
   parallel_for(kept_sites_.size(), [&](size_t begin, size_t end, unsigned) {
     for (size_t f = begin; f < end; ++f) problems[f] = fold_problem(f, knots_u, degree_u, knots_v, degree_v);

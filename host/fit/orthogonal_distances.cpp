@@ -7,27 +7,33 @@
 
 namespace dg::host {
 
-std::vector<double> orthogonal_distances(const BSplineSurface& surface, const std::vector<Point3>& points,
-                                         const Parameters& params) {
-  std::vector<double> d(points.size());
-  parallel_for(points.size(), [&](size_t begin, size_t end, unsigned) {
-    for (size_t k = begin; k < end; ++k) d[k] = closest_point(surface, points[k], params.uv[k].u, params.uv[k].v).distance;
-  }, 1024);
-  return d;
-}
+namespace {
 
-std::vector<double> orthogonal_distances(const BSplineSurface& surface, const std::vector<Point3>& points,
-                                         const Parameters& params, std::vector<double>& start) {
+// Both overloads: each point's signed distance, and its start distance into `start` when given.
+std::vector<double> distances(const BSplineSurface& surface, const std::vector<Point3>& points, const Parameters& params,
+                              std::vector<double>* start) {
   std::vector<double> d(points.size());
-  start.resize(points.size());
+  if (start) start->resize(points.size());
   parallel_for(points.size(), [&](size_t begin, size_t end, unsigned) {
     for (size_t k = begin; k < end; ++k) {
       const Closest c = closest_point(surface, points[k], params.uv[k].u, params.uv[k].v);
       d[k] = c.distance;
-      start[k] = c.start_distance;
+      if (start) (*start)[k] = c.start_distance;
     }
   }, 1024);
   return d;
+}
+
+}  // namespace
+
+std::vector<double> orthogonal_distances(const BSplineSurface& surface, const std::vector<Point3>& points,
+                                         const Parameters& params) {
+  return distances(surface, points, params, nullptr);
+}
+
+std::vector<double> orthogonal_distances(const BSplineSurface& surface, const std::vector<Point3>& points,
+                                         const Parameters& params, std::vector<double>& start) {
+  return distances(surface, points, params, &start);
 }
 
 }  // namespace dg::host

@@ -10,8 +10,9 @@ namespace dg::host {
 std::vector<double> orthogonal_distances(const BSplineSurface& surface, const std::vector<Point3>& points,
                                          const Parameters& params);
 
-// The same, and each point's distance at its own parameters (parameter_distances' figure, an
-// upper bound of the orthogonal one) in `start`, from the same evaluation.
+// The same, and each point's distance at its own parameters clamped to the surface's domain (an
+// upper bound of the orthogonal one; parameter_distances' figure where they lie inside it) in
+// `start`, from the same evaluation.
 std::vector<double> orthogonal_distances(const BSplineSurface& surface, const std::vector<Point3>& points,
                                          const Parameters& params, std::vector<double>& start);
 

@@ -42,18 +42,26 @@ bool names_large_file(char** argv) {
 constexpr const char* kRestarted = "DIGITIZER_CALLER_TUNABLES";
 constexpr const char* kUnset = "\x01";
 
+#if defined(__GLIBC__)
+// GLIBC_TUNABLES as the caller gave it (kUnset: it had none), and the mark gone.
+void put_back_tunables(const char* caller) {
+  if (std::strcmp(caller, kUnset) != 0) {
+    setenv("GLIBC_TUNABLES", caller, 1);
+  } else {
+    unsetenv("GLIBC_TUNABLES");
+  }
+  unsetenv(kRestarted);
+}
+#endif
+
 }  // namespace
 
 void tune_memory(char** argv, Restart when) {
 #if defined(__GLIBC__)
   if (const char* caller = std::getenv(kRestarted)) {
-    const std::string tunables = caller;
-    if (tunables == kUnset) {
-      unsetenv("GLIBC_TUNABLES");
-    } else {
-      setenv("GLIBC_TUNABLES", tunables.c_str(), 1);
-    }
-    unsetenv(kRestarted);
+    // A copy: unsetting the mark may release the string getenv returned.
+    const std::string saved = caller;
+    put_back_tunables(saved.c_str());
     return;
   }
   // Both kept by mallopt in any case: no block from a mapping of its own (a thread's arena still
@@ -65,19 +73,19 @@ void tune_memory(char** argv, Restart when) {
       (wanted && std::strcmp(wanted, "0") == 0) || (when == Restart::kForLargeInput && !names_large_file(argv))) {
     return;
   }
-  const char* caller = std::getenv("GLIBC_TUNABLES");
+  // The caller's value, copied: setting the variable below may release the string getenv gave.
+  const char* found = std::getenv("GLIBC_TUNABLES");
+  const std::string caller = found ? found : kUnset;
   // The caller's own settings come last, so they win over these.
   std::string tunables = "glibc.malloc.hugetlb=1:glibc.malloc.mmap_max=0:glibc.malloc.trim_threshold=1073741824";
-  if (caller && *caller) tunables += std::string(":") + caller;
-  if (setenv(kRestarted, caller ? caller : kUnset, 1) != 0 || setenv("GLIBC_TUNABLES", tunables.c_str(), 1) != 0) return;
+  if (found && *found) tunables += ":" + caller;
+  if (setenv(kRestarted, caller.c_str(), 1) != 0 || setenv("GLIBC_TUNABLES", tunables.c_str(), 1) != 0) {
+    put_back_tunables(caller.c_str());
+    return;
+  }
   execv("/proc/self/exe", argv);
   // Not restarted (no /proc, say): as it was, with freed blocks kept.
-  if (caller) {
-    setenv("GLIBC_TUNABLES", caller, 1);
-  } else {
-    unsetenv("GLIBC_TUNABLES");
-  }
-  unsetenv(kRestarted);
+  put_back_tunables(caller.c_str());
 #else
   (void)argv;
   (void)when;
