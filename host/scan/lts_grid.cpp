@@ -88,6 +88,8 @@ class GridCells {
 bool grid_neighbourhoods(const std::vector<Point3>& points, int window, std::vector<std::vector<size_t>>& out,
                          std::vector<std::vector<size_t>>& rows_and_columns, std::vector<LineSides>& sides,
                          std::vector<std::vector<size_t>>* wide) {
+  // Line sides hold 32-bit point numbers.
+  if (points.size() > UINT32_MAX) return false;
   std::vector<double> xs, ys;
   for (const auto& p : points) xs.push_back(p.x), ys.push_back(p.y);
   const double sx = grid_step(xs), sy = grid_step(ys);

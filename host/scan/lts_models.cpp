@@ -59,8 +59,8 @@ LineQuadratic line_quadratic(const std::vector<double>& ts, const std::vector<do
 
 }  // namespace
 
-LooFit line_model(const std::vector<Point3>& points, const std::vector<size_t>& reach, size_t i,
-                  const std::vector<char>& suspect, double sigma) {
+LooFit line_model(const std::vector<Point3>& points, const LineSide& reach, size_t i, const std::vector<char>& suspect,
+                  double sigma) {
   LooFit out;
   std::vector<double> ts, zs;
   for (size_t j : reach) {
@@ -97,8 +97,8 @@ LooFit line_model(const std::vector<Point3>& points, const std::vector<size_t>& 
   return out;
 }
 
-LooFit through_line_model(const std::vector<Point3>& points, const std::vector<size_t>& before,
-                          const std::vector<size_t>& after, size_t i, const std::vector<char>& suspect) {
+LooFit through_line_model(const std::vector<Point3>& points, const LineSide& before, const LineSide& after, size_t i,
+                          const std::vector<char>& suspect) {
   LooFit out;
   std::vector<double> ts, zs;
   for (int side = 0; side < 2; ++side) {

@@ -9,6 +9,7 @@
 
 #include "host/geometry/point3.h"
 #include "host/scan/local_polynomial.h"
+#include "host/scan/lts_grid.h"
 
 namespace dg::host::lts {
 
@@ -90,8 +91,8 @@ inline double prediction_bound(double k, double sigma, double gain, double scale
 // `sigma` explains the quadratic term (|c| within two standard errors), a straight line stands in:
 // on a flat sliver whose nearest neighbour is an outlier, the quadratic through the next five
 // points extrapolates with a gain of 15.8 and may not vouch, the straight line with 1.8.
-LooFit line_model(const std::vector<Point3>& points, const std::vector<size_t>& reach, size_t i,
-                    const std::vector<char>& suspect, double sigma);
+LooFit line_model(const std::vector<Point3>& points, const LineSide& reach, size_t i, const std::vector<char>& suspect,
+                  double sigma);
 
 // A quadratic along a row, column or diagonal through point i, from up to kThroughLineSide
 // neighbours on each side that are not suspected (at least two each): an interpolation, with a
@@ -101,8 +102,8 @@ LooFit line_model(const std::vector<Point3>& points, const std::vector<size_t>& 
 constexpr int kThroughLineSide = 3;
 // A line through a point judges with at least this many degrees of freedom left to its quadratic.
 constexpr int kThroughLineDof = 3;
-LooFit through_line_model(const std::vector<Point3>& points, const std::vector<size_t>& before,
-                            const std::vector<size_t>& after, size_t i, const std::vector<char>& suspect);
+LooFit through_line_model(const std::vector<Point3>& points, const LineSide& before, const LineSide& after, size_t i,
+                          const std::vector<char>& suspect);
 
 // The window's points other than i and those `excluded` marks.
 std::vector<size_t> others_in(const std::vector<size_t>& window, size_t i, const std::vector<char>& excluded);

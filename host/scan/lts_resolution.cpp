@@ -23,7 +23,7 @@ std::vector<char> in_small_groups(const std::vector<LineSides>& sides, const std
       stack.pop_back();
       group.push_back(a);
       // Each side's first point is the grid neighbour in that direction (a side ends at a gap).
-      for (const std::vector<size_t>& side : sides[a]) {
+      for (const LineSide& side : sides[a]) {
         if (side.empty() || !marked[side.front()] || seen[side.front()]) continue;
         seen[side.front()] = 1;
         stack.push_back(side.front());
@@ -43,7 +43,7 @@ namespace {
 // where an outlier stands above or below them.
 bool between_neighbours_on_every_line(const std::vector<Point3>& points, const LineSides& sides, size_t i,
                                       const std::vector<char>& in_groups, double min_spread = 0) {
-  auto first = [&](const std::vector<size_t>& side) -> const Point3* {
+  auto first = [&](const LineSide& side) -> const Point3* {
     for (size_t j : side) {
       if (!in_groups[j]) return &points[j];
     }
@@ -62,7 +62,7 @@ bool between_neighbours_on_every_line(const std::vector<Point3>& points, const L
 double grid_step_mm(const std::vector<Point3>& points, const LineSides& sides, size_t i) {
   double step_mm = HUGE_VAL;
   for (int d = 0; d < 4; ++d) {
-    const std::vector<size_t>& side = sides[static_cast<size_t>(d)];
+    const LineSide& side = sides[static_cast<size_t>(d)];
     if (!side.empty()) step_mm = std::min(step_mm, std::hypot(points[side[0]].x - points[i].x, points[side[0]].y - points[i].y));
   }
   return step_mm;
@@ -178,8 +178,8 @@ bool surface_resolved(const std::vector<Point3>& points, const std::vector<size_
   // The slope across the point from its neighbours alone, along x (sides 0 and 1) and y (2 and 3).
   double slope[2] = {0, 0};
   for (int a = 0; a < 2; ++a) {
-    const std::vector<size_t>& minus = sides[static_cast<size_t>(2 * a)];
-    const std::vector<size_t>& plus = sides[static_cast<size_t>(2 * a + 1)];
+    const LineSide& minus = sides[static_cast<size_t>(2 * a)];
+    const LineSide& plus = sides[static_cast<size_t>(2 * a + 1)];
     auto rise = [&](size_t p, size_t q) {
       return (points[q].z - points[p].z) / std::hypot(points[q].x - points[p].x, points[q].y - points[p].y);
     };
@@ -198,7 +198,7 @@ bool surface_resolved(const std::vector<Point3>& points, const std::vector<size_
   // line from one side (the plate beside a ball's foot) would judge by the other surface.
   if (whole.ok && on_unresolved_slope(points, sides, i, in_groups, whole.near_worst, sigma)) return vouched;
   for (int d = 0; d < kLines; ++d) {
-    const std::vector<size_t>& side = sides[static_cast<size_t>(d)];
+    const LineSide& side = sides[static_cast<size_t>(d)];
     if (side.empty()) continue;
     // Only a line within 30 degrees of the level direction: one down the slope leaves the surface.
     const double ux = points[side[0]].x - points[i].x, uy = points[side[0]].y - points[i].y;
