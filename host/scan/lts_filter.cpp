@@ -249,7 +249,7 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
   parallel_for(points.size(), [&](size_t begin, size_t end, unsigned) {
     for (size_t i = begin; i < end; ++i) {
       tests[i] = test_point(points, hood[i], i, reference, suspect, Windows::kWholeOnly);
-      abs_full[i] = std::fabs(tests[i].residual[0]);
+      abs_full[i] = std::fabs(tests[i].residual(0));
     }
   });
   // 1.4826 * MAD of the whole-neighbourhood residuals: the noise of the scan (outliers and model
@@ -333,7 +333,7 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
     auto beyond_bound = [&](int w) {
       const LooFit& m = tests[i].model[w];
       const double bound = prediction_bound(options.outlier_sigmas, sigma, m.gain, m.scale);
-      return std::fabs(tests[i].residual[w]) > std::max(limit, bound);
+      return std::fabs(tests[i].residual(w)) > std::max(limit, bound);
     };
     if (beyond_bound(window)) return window;
     // Within it, the other windows decide as where no window judges alone: one that vouches clears
@@ -613,7 +613,7 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
           // seeds 7 to 14 81 -> 65 and 131 -> 125, one step gauge outlier listed instead of caught,
           // none passed unlisted).
           if (of_condemned && whole.ok && whole.scale > 2.5 * sigma && whole.scale <= kUnresolvedScale * sigma &&
-              std::fabs(tests[i].residual[0]) <= prediction_bound(options.outlier_sigmas, sigma, whole.gain, 0)) {
+              std::fabs(tests[i].residual(0)) <= prediction_bound(options.outlier_sigmas, sigma, whole.gain, 0)) {
             unjudged[i] = 1;
             continue;
           }

@@ -33,7 +33,6 @@ void fit_windows(const std::vector<Point3>& points, const std::vector<size_t>& h
     // of the canister's dish is several sigma. A half-plane holds too few points for one.
     t.model[w] = w == 0 ? loo_model(points, windows[w], i, reference, 3, 0.7, &t.whole_misses)
                         : loo_model(points, windows[w], i, reference, 2);
-    if (t.model[w].ok) t.residual[w] = points[i].z - t.model[w].prediction;
   }
 }
 
@@ -42,6 +41,7 @@ void fit_windows(const std::vector<Point3>& points, const std::vector<size_t>& h
 PointTest test_point(const std::vector<Point3>& points, const std::vector<size_t>& hood, size_t i,
                      const std::vector<double>& reference, const std::vector<char>& excluded, Windows which) {
   PointTest t;
+  t.z = points[i].z;
   fit_windows(points, hood, i, reference, excluded, 0, which == Windows::kWholeOnly ? 0 : kWindows - 1, t);
   return t;
 }
@@ -52,7 +52,7 @@ void add_half_planes(const std::vector<Point3>& points, const std::vector<size_t
 }
 
 bool whole_clears(const PointTest& t, double sigma, double k) {
-  return whole_judges(t, sigma, k) && std::fabs(t.residual[0]) <= whole_bound(t.model[0], sigma, k);
+  return whole_judges(t, sigma, k) && std::fabs(t.residual(0)) <= whole_bound(t.model[0], sigma, k);
 }
 
 bool some_window_describes(const PointTest& t, double sigma) {
@@ -195,7 +195,6 @@ void add_line_models(const std::vector<Point3>& points, const LineSides& sides, 
   for (int d = 0; d < kLines; ++d) {
     LooFit& m = t.model[kWindows + d];
     m = line_model(points, sides[static_cast<size_t>(d)], i, suspect, sigma);
-    if (m.ok) t.residual[kWindows + d] = points[i].z - m.prediction;
   }
 }
 
@@ -223,7 +222,7 @@ bool whole_judges(const PointTest& t, double sigma, double k, const std::vector<
   // Having passed over a neighbour, the window judges only a point it finds far off (twice the
   // bound): its verdict rests on one neighbour fewer, and a false suspect on a sliver of surface at a
   // crease, passed over, made a rim point 9 sigma off its window's cubic an outlier.
-  if (std::fabs(t.residual[0]) <= 2 * bound || !smooth_around()) return false;
+  if (std::fabs(t.residual(0)) <= 2 * bound || !smooth_around()) return false;
   // Every point of the window the model misses by twice the bound must be a suspect too: at a
   // crease the other surface's points are many and mostly not suspected. (Twice: the window's
   // corners lie where the cubic's own error is largest; one at 2.7 sigma of noise was 5.9 off.)
@@ -244,7 +243,7 @@ bool vouches(const PointTest& t, int w, double sigma, double k, bool final_judge
   const double bound = w < kWindows ? prediction_bound(k, sigma, m.gain, m.scale)
                                      : 0.8 * k * sigma * std::sqrt(1 + m.gain);
   if (final_judgement && w == 0 && std::isfinite(m.near_worst) && m.near_worst > kWholeFarMiss * bound) return false;
-  return std::fabs(t.residual[w]) <= bound;
+  return std::fabs(t.residual(w)) <= bound;
 }
 
 bool a_line_vouches(const PointTest& t, double sigma, double k) {
@@ -256,7 +255,7 @@ bool a_line_vouches(const PointTest& t, double sigma, double k) {
 
 int verdict(const PointTest& t, double sigma, double k, const std::vector<char>* suspect,
             const std::function<bool()>& smooth_around, bool final_judgement) {
-  if (whole_judges(t, sigma, k, suspect, smooth_around)) return std::fabs(t.residual[0]) <= whole_bound(t.model[0], sigma, k) ? -1 : 0;
+  if (whole_judges(t, sigma, k, suspect, smooth_around)) return std::fabs(t.residual(0)) <= whole_bound(t.model[0], sigma, k) ? -1 : 0;
   int best = -1;
   for (int w = 0; w < kWindows + kLines; ++w) {
     const LooFit& m = t.model[w];

@@ -31,8 +31,11 @@ inline bool in_half_plane(const Point3& p, const Point3& q, int w) {
 
 struct PointTest {
   LooFit model[kWindows + kLines];
-  double residual[kWindows + kLines] = {};
+  double z = 0;  // the point's measured height
   WindowMisses whole_misses;  // of model[0]
+  // The point's height less model w's prediction (0 where the model is not ok). Worked out, not
+  // stored: every point of a scan holds a test, and seventeen residuals were an eighth of it.
+  double residual(int w) const { return model[w].ok ? z - model[w].prediction : 0; }
 };
 
 // Which of a point's windows test_point fits: all nine, or the whole neighbourhood alone (the

@@ -29,7 +29,7 @@ TEST(LtsJudges, AWholeWindowThatJudgesAloneWithoutSuspectsStillJudgesAloneWithAn
     t.model[0].scale = 2.5 * sigma * unit(rng);
     t.model[0].near_worst = 1.0;
     const double bound = k * std::hypot(sigma, t.model[0].scale);
-    t.residual[0] = (unit(rng) - 0.5) * 6 * bound;
+    t.z = (unit(rng) - 0.5) * 6 * bound;  // model 0 predicts 0
     // Ten window points: four nearest, five worst, drawn from the same ten.
     std::vector<size_t> order(10);
     for (size_t m = 0; m < order.size(); ++m) order[m] = m;
