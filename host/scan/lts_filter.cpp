@@ -34,6 +34,8 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
   const int n_max = options.window * options.window;
   if (options.order < 0 || options.order > 2) throw std::invalid_argument("--order must be 0, 1 or 2");
   if (options.h < 0 || options.h > n_max) throw std::invalid_argument("h must be 1.." + std::to_string(n_max));
+  // Windows and lines hold 32-bit point numbers (lts_grid.h).
+  if (points.size() > UINT32_MAX) throw std::invalid_argument("the LTS filter takes at most 4,294,967,295 points");
   // Points on one line in XY (a single scan line, a profile) have no neighbourhood to model a
   // surface on.
   if (points.size() >= 3) {
@@ -54,14 +56,14 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
   for (size_t i = 0; i < points.size(); ++i) result.z[i] = points[i].z;
   if (points.size() < 3) return result;
 
-  std::vector<std::vector<size_t>> hood;
+  WindowLists hood;
   std::vector<std::vector<size_t>> rows_and_columns;
   std::vector<LineSides> sides;
   // Where outliers crowd a window so that none of its parts describes its own points, the test is
   // made on a window two steps wider (`wide`, a grid's only), where they are fewer among more.
-  std::vector<std::vector<size_t>> wide;
+  WindowLists wide;
   result.gridded = grid_neighbourhoods(points, options.window, hood, rows_and_columns, sides, &wide);
-  if (!result.gridded) nearest_neighbourhoods(points, static_cast<size_t>(n_max), hood);
+  if (!result.gridded) nearest_windows(points, static_cast<size_t>(n_max), hood);
 
   std::vector<double> reference(points.size());
   const unsigned workers = worker_count();
@@ -425,16 +427,16 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
     };
     if (result.gridded && near_crease(tests[i], sigma) && !whole_judges(tests[i], sigma, options.outlier_sigmas)) {
       for (int w : {0, 1}) {
-        const std::vector<size_t>* around = w == 0 ? &hood[i] : &wide[i];
+        const IndexSpan around = w == 0 ? hood[i] : wide[i];
         // Only a window that is not one smooth surface: where outliers crowd a smooth one, the
         // larger or smaller of two fits to the same surface is biased by their noise. A smooth
         // cubic that keeps fewer than two of the point's four nearest neighbours models another
         // surface than the point's, and the envelope is tried: at 10 um of noise one cubic spans
         // the dome's rim within 2.5 sigma, and plate points 0.5 to 0.6 mm low near the corners,
         // where the cap continued past its rim would dip, passed as the cap's.
-        const LooModel single = loo_model(points, others_in(*around, i, suspect), i, reference, 3);
+        const LooModel single = loo_model(points, others_in(around, i, suspect), i, reference, 3);
         if (single.ok && single.scale <= 2.5 * sigma && single.near_kept >= 2) continue;
-        const CreaseModel crease = crease_model(points, *around, i, reference, suspect, cut_of(w));
+        const CreaseModel crease = crease_model(points, around, i, reference, suspect, cut_of(w));
         // A scale up to 2.5 sigma, as for any window that describes its points: the envelope of two
         // cubics bends less sharply than a sphere meeting its plate, and a clean rim point 0.14 mm
         // above the plate (the dome's (3, 26) of seed 4 at 0.5 um) was left to the plate's
@@ -521,8 +523,8 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
     const std::vector<char> suspect_at_judgement = suspect;
     suspect = condemned;
     auto suspects_changed = [&](size_t i) {
-      for (const std::vector<size_t>* around : {&hood[i], &wide[i]}) {
-        for (size_t j : *around) {
+      for (const IndexSpan around : {hood[i], wide[i]}) {
+        for (size_t j : around) {
           if (suspect_at_judgement[j] != suspect[j]) return true;
         }
       }

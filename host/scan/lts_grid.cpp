@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "host/parallel/parallel_for.h"
+#include "host/scan/neighbours.h"
 
 namespace dg::host::lts {
 
@@ -85,11 +86,29 @@ class GridCells {
 
 }  // namespace
 
-bool grid_neighbourhoods(const std::vector<Point3>& points, int window, std::vector<std::vector<size_t>>& out,
+void WindowLists::reset(size_t n, size_t slots) {
+  slots_ = slots;
+  index_.reset(new uint32_t[n * slots]);
+  count_.assign(n, 0);
+}
+
+void WindowLists::set(size_t i, const size_t* members, size_t count) {
+  uint32_t* slot = index_.get() + i * slots_;
+  for (size_t m = 0; m < count; ++m) slot[m] = static_cast<uint32_t>(members[m]);
+  count_[i] = static_cast<uint32_t>(count);
+}
+
+void nearest_windows(const std::vector<Point3>& points, size_t k, WindowLists& out) {
+  const Neighbourhoods flat = nearest_neighbours(points, k);
+  out.reset(points.size(), flat.k);
+  parallel_for(points.size(), [&](size_t begin, size_t end, unsigned) {
+    for (size_t i = begin; i < end; ++i) out.set(i, flat.of(i), flat.k);
+  }, 4096);
+}
+
+bool grid_neighbourhoods(const std::vector<Point3>& points, int window, WindowLists& out,
                          std::vector<std::vector<size_t>>& rows_and_columns, std::vector<LineSides>& sides,
-                         std::vector<std::vector<size_t>>* wide) {
-  // Line sides hold 32-bit point numbers.
-  if (points.size() > UINT32_MAX) return false;
+                         WindowLists* wide) {
   std::vector<double> xs, ys;
   for (const auto& p : points) xs.push_back(p.x), ys.push_back(p.y);
   const double sx = grid_step(xs), sy = grid_step(ys);
@@ -133,24 +152,27 @@ bool grid_neighbourhoods(const std::vector<Point3>& points, int window, std::vec
   // Near an edge of the scan the window shifts inward rather than being cut, so that a point at an
   // edge or a corner keeps a full window x window neighbourhood: a cut 3 x 3 corner window leaves a
   // plane on 8 points, whose curvature bias on a 1 mm grid is tens of sigma.
-  // The window of `side` points round point i into `hood`.
-  auto window_of = [&](size_t i, long side, std::vector<size_t>& hood) {
+  // The window of `side` points round point i into `lists`, through the caller's `scratch`.
+  auto window_of = [&](size_t i, long side, WindowLists& lists, std::vector<size_t>& scratch) {
     const long r = side / 2;
     auto start = [r](long index, long lo, long hi) { return hi - lo < 2 * r ? lo : std::clamp(index - r, lo, hi - 2 * r); };
     const long first_x = start(at[i].first, lo_x, hi_x), first_y = start(at[i].second, lo_y, hi_y);
-    hood.reserve(static_cast<size_t>(side * side));
+    scratch.clear();
     for (long y = first_y; y <= first_y + 2 * r; ++y)
       for (long x = first_x; x <= first_x + 2 * r; ++x) {
         const size_t j = cell.find(x, y);
-        if (j != GridCells::kNone) hood.push_back(j);
+        if (j != GridCells::kNone) scratch.push_back(j);
       }
+    lists.set(i, scratch.data(), scratch.size());
   };
-  out.assign(points.size(), {});
+  const auto slots = [](long side) { return static_cast<size_t>(side * side); };
+  out.reset(points.size(), slots(window));
   sides.assign(points.size(), {});
-  if (wide != nullptr) wide->assign(points.size(), {});
+  if (wide != nullptr) wide->reset(points.size(), slots(window + 2));
   static const long kStep[kLines][2] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}, {-1, -1}, {1, 1}, {-1, 1}, {1, -1}};
   // Each point's lists are its own, so the points are shared among the cores.
   parallel_for(points.size(), [&](size_t begin, size_t end, unsigned) {
+    std::vector<size_t> scratch;
     for (size_t i = begin; i < end; ++i) {
       for (int d = 0; d < kLines; ++d) {
         for (long t = 1; t <= kLineReach; ++t) {
@@ -159,8 +181,8 @@ bool grid_neighbourhoods(const std::vector<Point3>& points, int window, std::vec
           sides[i][d].push_back(j);
         }
       }
-      window_of(i, window, out[i]);
-      if (wide != nullptr) window_of(i, window + 2, (*wide)[i]);
+      window_of(i, window, out, scratch);
+      if (wide != nullptr) window_of(i, window + 2, *wide, scratch);
     }
   });
   return true;

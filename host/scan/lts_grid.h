@@ -4,6 +4,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "host/geometry/point3.h"
@@ -36,12 +37,49 @@ class LineSide {
 };
 using LineSides = std::array<LineSide, kLines>;
 
+// Point numbers in place, read as a window's or a line's members.
+class IndexSpan {
+ public:
+  IndexSpan(const uint32_t* first, size_t count) : first_(first), count_(count) {}
+  size_t size() const { return count_; }
+  bool empty() const { return count_ == 0; }
+  size_t operator[](size_t k) const { return first_[k]; }
+  const uint32_t* begin() const { return first_; }
+  const uint32_t* end() const { return first_ + count_; }
+
+ private:
+  const uint32_t* first_;
+  size_t count_;
+};
+
+// Every point's window of neighbours in one array, a fixed number of slots a point: a vector a
+// point for the window and one for the wider window were 200,000 allocations on a 1e5-point grid.
+class WindowLists {
+ public:
+  // n points, up to `slots` members each, none yet.
+  void reset(size_t n, size_t slots);
+  // Point i's members, set once (from one thread a point).
+  void set(size_t i, const size_t* members, size_t count);
+  IndexSpan operator[](size_t i) const { return {index_.get() + i * slots_, count_[i]}; }
+
+ private:
+  size_t slots_ = 0;
+  // Not a std::vector: every slot in use is written, and zeroing them first would touch every page
+  // on one core.
+  std::unique_ptr<uint32_t[]> index_;
+  std::vector<uint32_t> count_;
+};
+
 // When the points lie on a regular XY grid (holes allowed): true, with each point's window x window
 // grid neighbourhood in `out` (shifted inwards at the scan's edges), the rows and columns in
 // `rows_and_columns`, and each point's kLines sides of line neighbours in `sides`; with `wide`, also
 // each point's (window + 2) x (window + 2) neighbourhood there. False otherwise.
-bool grid_neighbourhoods(const std::vector<Point3>& points, int window, std::vector<std::vector<size_t>>& out,
+bool grid_neighbourhoods(const std::vector<Point3>& points, int window, WindowLists& out,
                          std::vector<std::vector<size_t>>& rows_and_columns, std::vector<LineSides>& sides,
-                         std::vector<std::vector<size_t>>* wide = nullptr);
+                         WindowLists* wide = nullptr);
+
+// Every point's `k` nearest in XY (nearest_neighbours) as window lists: the windows of scattered
+// points.
+void nearest_windows(const std::vector<Point3>& points, size_t k, WindowLists& out);
 
 }  // namespace dg::host::lts

@@ -14,7 +14,7 @@ double whole_bound(const LooFit& whole, double sigma, double k) { return k * std
 
 // Fits point i's windows `first` to `last` (0: the whole neighbourhood, 1 to 8: the half-planes)
 // into t, from its neighbours not excluded.
-void fit_windows(const std::vector<Point3>& points, const std::vector<size_t>& hood, size_t i,
+void fit_windows(const std::vector<Point3>& points, IndexSpan hood, size_t i,
                  const std::vector<double>& reference, const std::vector<char>& excluded, int first, int last,
                  PointTest& t) {
   // Half-planes bounded by the lines through the point along x, y and both diagonals: a crease
@@ -38,7 +38,7 @@ void fit_windows(const std::vector<Point3>& points, const std::vector<size_t>& h
 
 }  // namespace
 
-PointTest test_point(const std::vector<Point3>& points, const std::vector<size_t>& hood, size_t i,
+PointTest test_point(const std::vector<Point3>& points, IndexSpan hood, size_t i,
                      const std::vector<double>& reference, const std::vector<char>& excluded, Windows which) {
   PointTest t;
   t.z = points[i].z;
@@ -46,7 +46,7 @@ PointTest test_point(const std::vector<Point3>& points, const std::vector<size_t
   return t;
 }
 
-void add_half_planes(const std::vector<Point3>& points, const std::vector<size_t>& hood, size_t i,
+void add_half_planes(const std::vector<Point3>& points, IndexSpan hood, size_t i,
                      const std::vector<double>& reference, const std::vector<char>& excluded, PointTest& t) {
   fit_windows(points, hood, i, reference, excluded, 1, kWindows - 1, t);
 }
@@ -69,7 +69,7 @@ bool near_crease(const PointTest& t, double sigma) {
   return false;
 }
 
-SplitModels split_model(const std::vector<Point3>& points, const std::vector<size_t>& hood, size_t i,
+SplitModels split_model(const std::vector<Point3>& points, IndexSpan hood, size_t i,
                      const std::vector<double>& reference, const std::vector<char>& excluded) {
   std::vector<size_t> members;
   double step = HUGE_VAL;
@@ -133,7 +133,7 @@ SplitModels split_model(const std::vector<Point3>& points, const std::vector<siz
   return best;
 }
 
-CreaseModel crease_model(const std::vector<Point3>& points, const std::vector<size_t>& hood, size_t i,
+CreaseModel crease_model(const std::vector<Point3>& points, IndexSpan hood, size_t i,
                          const std::vector<double>& reference, const std::vector<char>& excluded,
                          const SplitModels& start) {
   CreaseModel best;

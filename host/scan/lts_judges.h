@@ -41,13 +41,13 @@ struct PointTest {
 // Which of a point's windows test_point fits: all nine, or the whole neighbourhood alone (the
 // half-planes' models are then not ok).
 enum class Windows { kAll, kWholeOnly };
-PointTest test_point(const std::vector<Point3>& points, const std::vector<size_t>& hood, size_t i,
+PointTest test_point(const std::vector<Point3>& points, IndexSpan hood, size_t i,
                      const std::vector<double>& reference, const std::vector<char>& excluded,
                      Windows windows = Windows::kAll);
 
 // Adds the half-planes' models to a test of the whole window alone (test_point's kWholeOnly), made
 // with the same neighbours excluded.
-void add_half_planes(const std::vector<Point3>& points, const std::vector<size_t>& hood, size_t i,
+void add_half_planes(const std::vector<Point3>& points, IndexSpan hood, size_t i,
                      const std::vector<double>& reference, const std::vector<char>& excluded, PointTest& t);
 
 // Some window describes its own neighbours: a trimmed scale that noise gives.
@@ -75,7 +75,7 @@ constexpr double kSplitCondemnWiden = 3;
 struct SplitModels {
   LooModel own, other;
 };
-SplitModels split_model(const std::vector<Point3>& points, const std::vector<size_t>& hood, size_t i,
+SplitModels split_model(const std::vector<Point3>& points, IndexSpan hood, size_t i,
                      const std::vector<double>& reference, const std::vector<char>& excluded);
 
 // Two surfaces that meet in a crease make, together, the larger of the two (a ridge: the dome's
@@ -93,7 +93,7 @@ struct CreaseModel {
   double gain = 0;        // the active side's [(X^T X)^-1]_00 at point i
   double near_worst = HUGE_VAL;  // the largest |residual| among point i's four nearest neighbours
 };
-CreaseModel crease_model(const std::vector<Point3>& points, const std::vector<size_t>& hood, size_t i,
+CreaseModel crease_model(const std::vector<Point3>& points, IndexSpan hood, size_t i,
                          const std::vector<double>& reference, const std::vector<char>& excluded,
                          const SplitModels& start);
 

@@ -122,7 +122,7 @@ LooFit through_line_model(const std::vector<Point3>& points, const LineSide& bef
   return out;
 }
 
-std::vector<size_t> others_in(const std::vector<size_t>& window, size_t i, const std::vector<char>& excluded) {
+std::vector<size_t> others_in(IndexSpan window, size_t i, const std::vector<char>& excluded) {
   std::vector<size_t> out;
   for (size_t j : window) {
     if (j != i && !excluded[j]) out.push_back(j);

@@ -107,7 +107,7 @@ LooFit through_line_model(const std::vector<Point3>& points, const LineSide& bef
                           const std::vector<char>& suspect);
 
 // The window's points other than i and those `excluded` marks.
-std::vector<size_t> others_in(const std::vector<size_t>& window, size_t i, const std::vector<char>& excluded);
+std::vector<size_t> others_in(IndexSpan window, size_t i, const std::vector<char>& excluded);
 
 // Up to four of `members`, the nearest to point i in XY, nearest first (ties to the lower number).
 std::vector<size_t> nearest_four(const std::vector<Point3>& points, const std::vector<size_t>& members, size_t i);

@@ -102,7 +102,7 @@ bool on_unresolved_slope(const std::vector<Point3>& points, const LineSides& sid
   return window_near_worst_mm > slope_scale && between_neighbours_on_every_line(points, sides, i, in_groups, slope_scale);
 }
 
-bool surface_resolved(const std::vector<Point3>& points, const std::vector<size_t>& hood, const std::vector<size_t>& wide,
+bool surface_resolved(const std::vector<Point3>& points, IndexSpan hood, IndexSpan wide,
                       const LineSides& sides, size_t i, const std::vector<double>& reference,
                       const std::vector<char>& condemned, const std::vector<char>& in_groups, double sigma, double k,
                       bool* clears, bool* predicts, double limit_mm) {
@@ -128,8 +128,9 @@ bool surface_resolved(const std::vector<Point3>& points, const std::vector<size_
   if ((!whole.ok || whole.scale > slope_scale) && between_neighbours_on_every_line(points, sides, i, in_groups)) {
     return false;
   }
-  for (const std::vector<size_t>* around : {&hood, &wide}) {
-    const LooModel cubic = around == &hood ? whole : loo_model(points, others_in(*around, i, condemned), i, reference, 3);
+  for (int w : {0, 1}) {
+    const IndexSpan around = w == 0 ? hood : wide;
+    const LooModel cubic = w == 0 ? whole : loo_model(points, others_in(around, i, condemned), i, reference, 3);
     if (describes(cubic, 2.5)) {
       // Within the bound of any prediction of a point left out of its fit, the noise amplified by
       // the cubic's gain included: without the gain, a real point at a ball's foot that the cubic
@@ -139,7 +140,7 @@ bool surface_resolved(const std::vector<Point3>& points, const std::vector<size_
       if (predicted(cubic.prediction, cubic.gain, cubic.scale)) return true;
     }
     const CreaseModel crease =
-        crease_model(points, *around, i, reference, condemned, split_model(points, *around, i, reference, condemned));
+        crease_model(points, around, i, reference, condemned, split_model(points, around, i, reference, condemned));
     const double crease_bound = prediction_bound(k, sigma, crease.gain, crease.scale);
     if (crease.ok && crease.scale <= 2.5 * sigma && crease.near_worst <= crease_bound) {
       if (clears) *clears = std::fabs(points[i].z - crease.prediction) <= crease_bound;

@@ -79,7 +79,7 @@ constexpr double kFlatSlope = 0.1;
 // rows than its order needs (a diagonal half-plane's trimmed quadratic kept three rows: 709 -> 640
 // false alarms on the sphere over six seeds and five noise levels, no outlier lost). A line from one
 // side across the slope may be the other surface's (the plate beside the ring).
-bool surface_resolved(const std::vector<Point3>& points, const std::vector<size_t>& hood, const std::vector<size_t>& wide,
+bool surface_resolved(const std::vector<Point3>& points, IndexSpan hood, IndexSpan wide,
                       const LineSides& sides, size_t i, const std::vector<double>& reference,
                       const std::vector<char>& condemned, const std::vector<char>& in_groups, double sigma, double k,
                       bool* clears = nullptr, bool* predicts = nullptr, double limit_mm = 0);

@@ -1,5 +1,6 @@
-// The LTS filter's grid: each point's line sides along the rows, columns and diagonals, nearest
-// first, ending at a gap or after kLineReach points; and points that form no grid.
+// The LTS filter's grid: each point's windows, its line sides along the rows, columns and
+// diagonals (nearest first, ending at a gap or after kLineReach points); and points that form no
+// grid.
 #include "host/scan/lts_grid.h"
 
 #include <CppUTest/TestHarness.h>
@@ -10,6 +11,7 @@ using dg::host::Point3;
 using dg::host::lts::grid_neighbourhoods;
 using dg::host::lts::kLineReach;
 using dg::host::lts::LineSides;
+using dg::host::lts::WindowLists;
 
 namespace {
 
@@ -42,9 +44,10 @@ TEST_GROUP(LtsGrid){};
 TEST(LtsGrid, SidesRunNearestFirstAndEndAtAGapOrAfterTheirReach) {
   const int nx = 12, ny = 5;
   const std::vector<Point3> points = grid(nx, ny, {6 + nx * 2});  // a hole at (3.0, 1.0)
-  std::vector<std::vector<size_t>> hood, lines;
+  WindowLists hood, wide;
+  std::vector<std::vector<size_t>> lines;
   std::vector<LineSides> sides;
-  CHECK_TRUE(grid_neighbourhoods(points, 5, hood, lines, sides));
+  CHECK_TRUE(grid_neighbourhoods(points, 5, hood, lines, sides, &wide));
   const size_t i = index_at(points, 1.5, 1.0);  // cell (3, 2)
   // Towards +x: cells 4 and 5, then the hole.
   LONGS_EQUAL(2, sides[i][1].size());
@@ -60,11 +63,24 @@ TEST(LtsGrid, SidesRunNearestFirstAndEndAtAGapOrAfterTheirReach) {
   size_t expected_x = 1;
   for (size_t j : sides[corner][1]) DOUBLES_EQUAL(0.5 * static_cast<double>(expected_x++), points[j].x, 1e-12);
   CHECK_TRUE(sides[corner][0].empty());
+  // Windows shift inwards at the edges: the corner's 5 x 5 window spans cells 0 to 4 of the last
+  // five rows; the 7 x 7 one all five rows and cells 0 to 6, less the hole.
+  LONGS_EQUAL(25, hood[corner].size());
+  for (size_t j : hood[corner]) CHECK(points[j].x <= 2.0 + 1e-12);
+  LONGS_EQUAL(34, wide[corner].size());
+  // A window holds its own point: cells 1 to 5 round cell 3, all there. Round cell 5 it spans
+  // cells 3 to 7 and lacks the hole.
+  LONGS_EQUAL(25, hood[i].size());
+  bool holds_itself = false;
+  for (size_t j : hood[i]) holds_itself = holds_itself || j == i;
+  CHECK_TRUE(holds_itself);
+  LONGS_EQUAL(24, hood[index_at(points, 2.5, 1.0)].size());
 }
 
 TEST(LtsGrid, ScatteredPointsAreNoGrid) {
   const std::vector<Point3> points = {{0, 0, 0}, {1.3, 0.2, 0}, {0.4, 2.9, 0}, {3.7, 1.1, 0}, {2.2, 2.05, 0}};
-  std::vector<std::vector<size_t>> hood, lines;
+  WindowLists hood;
+  std::vector<std::vector<size_t>> lines;
   std::vector<LineSides> sides;
   CHECK_FALSE(grid_neighbourhoods(points, 5, hood, lines, sides));
 }
