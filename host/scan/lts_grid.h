@@ -19,8 +19,9 @@ namespace dg::host::lts {
 constexpr int kLines = 8;
 constexpr long kLineReach = 8;
 
-// One side of a point's line, held in place: eight vectors of their own for every point were a
-// quarter of the filter's memory (83 of 305 MB on a 1e5-point grid), all of it fresh pages.
+// One side of a point's line, held in place: with eight vectors of their own for every point the
+// filter's peak on a 1e5-point grid with outliers was 306 MB, with these 253 MB (and 2.43 against
+// 2.13 s, five runs each).
 class LineSide {
  public:
   void push_back(size_t j) { index_[count_++] = static_cast<uint32_t>(j); }
@@ -53,7 +54,8 @@ class IndexSpan {
 };
 
 // Every point's window of neighbours in one array, a fixed number of slots a point: a vector a
-// point for the window and one for the wider window were 200,000 allocations on a 1e5-point grid.
+// point for the window and one for the wider window were 200,000 allocations on a 1e5-point grid,
+// and the filter's peak there 227 MB against 192 MB with these.
 class WindowLists {
  public:
   // n points, up to `slots` members each, none yet.

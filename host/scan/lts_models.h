@@ -62,10 +62,10 @@ struct LooFit {
   // for a window's model [(X^T X)^-1]_00 of its trimmed subset (the verdict bounds a window by its
   // scale instead; the split judge, whose point lies at its side's edge, uses it).
   double gain = 0;
+  int dof = 1;  // the trimmed residuals' degrees of freedom, h - p (at least 1)
   // How many of those four neighbours the model kept: a model that trims them describes another
   // surface than the one i is on (across a crease from it). One byte, beside `ok`: the fit is
   // 40 bytes instead of 48 (seventeen a point).
-  int dof = 1;  // the trimmed residuals' degrees of freedom, h - p (at least 1)
   int8_t near_kept = 0;
   bool ok = false;
 };
