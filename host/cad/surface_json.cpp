@@ -111,6 +111,13 @@ std::string surface_json_text(const FittedSurface& f) {
 }
 
 void write_surface_json(const std::string& path, const FittedSurface& file) {
+  // Never a number that is not one: SURF.json would hold null where a result should be, and the
+  // command that made it would end as if all were well.
+  const std::string bad = non_finite_result(file);
+  if (!bad.empty()) {
+    throw std::runtime_error(path + ": not written: " + bad +
+                             " came out as no finite number (the computation overflowed or had no defined result)");
+  }
   write_file_atomically(path, surface_json_text(file));
 }
 

@@ -297,7 +297,7 @@ bool read_fixed_vertices(const uint8_t* body, const PlyElement& vertex, const in
         if (slot_of[s] < 0) continue;
         const size_t k = static_cast<size_t>(slot_of[s]);
         values[s] = decode(vertex.properties[k].type, record + offset_of[k], big_endian);
-        ok = ok && std::isfinite(values[s]);
+        ok = ok && std::isfinite(values[s]) && (s > 5 || plausible_coordinate(values[s]));
       }
       cloud.points[i] = {values[0], values[1], values[2]};
       if (cloud.normal) (*cloud.normal)[i] = {values[3], values[4], values[5]};
@@ -446,6 +446,9 @@ PointCloud parse_ply(const uint8_t* data, size_t size, const std::string& name, 
       for (int s = 0; s < kSlots; ++s) {
         if (slot_of[s] >= 0 && !std::isfinite(values[slot_of[s]])) {
           throw PointFileError(at() + ": '" + kUsed[s] + "' is not finite");
+        }
+        if (s <= 5 && slot_of[s] >= 0 && !plausible_coordinate(values[slot_of[s]])) {
+          throw PointFileError(at() + ": '" + kUsed[s] + "': " + kCoordinateRule);
         }
       }
       if (cloud.line) {

@@ -40,6 +40,13 @@ double parse_number(std::string_view field, const std::string& name, size_t line
   return v;
 }
 
+// A coordinate or a normal's component: a number within kCoordinateLimitMm.
+double parse_coordinate(std::string_view field, const std::string& name, size_t line, const std::string& column) {
+  const double v = parse_number(field, name, line, column);
+  if (!plausible_coordinate(v)) throw PointFileError(where(name, line) + ": column " + quoted(column) + " is " + quoted(field) + ": " + kCoordinateRule);
+  return v;
+}
+
 // Text point files hold no NUL: one is damage (or a binary file), named by its line.
 void check_no_nul(std::string_view text, const std::string& name) {
   const size_t at = text.find('\0');
@@ -330,13 +337,14 @@ PointCloud parse_csv_points(std::string_view text, const std::string& name) {
                                  " values, the header has " + std::to_string(columns.size()));
           }
           auto value = [&](size_t field, const char* column) { return parse_number(fields[field], name, row_line, column); };
-          part.points.push_back({value(cx, "x"), value(cy, "y"), value(cz, "z")});
+          auto coordinate = [&](size_t field, const char* column) { return parse_coordinate(fields[field], name, row_line, column); };
+          part.points.push_back({coordinate(cx, "x"), coordinate(cy, "y"), coordinate(cz, "z")});
           if (part.line) {
             uint32_t l = 0;
             if (!line_number_of(value(cline, "line"), l)) throw PointFileError(where(name, row_line) + ": " + kLineNumberRule);
             part.line->push_back(l);
           }
-          if (part.normal) part.normal->push_back({value(cnx, "nx"), value(cny, "ny"), value(cnz, "nz")});
+          if (part.normal) part.normal->push_back({coordinate(cnx, "nx"), coordinate(cny, "ny"), coordinate(cnz, "nz")});
           if (part.sigma) {
             const double s = value(csigma, "sigma");
             if (!valid_sigma(s)) throw PointFileError(where(name, row_line) + ": " + kSigmaRule);
@@ -400,9 +408,9 @@ PointCloud parse_xyz_points(std::string_view text, const std::string& name) {
       throw PointFileError(where(name, line_no) + ": expected 3 values (x y z), found " +
                            std::to_string(values.size()));
     }
-    cloud.points.push_back({parse_number(values[0], name, line_no, "x"),
-                            parse_number(values[1], name, line_no, "y"),
-                            parse_number(values[2], name, line_no, "z")});
+    cloud.points.push_back({parse_coordinate(values[0], name, line_no, "x"),
+                            parse_coordinate(values[1], name, line_no, "y"),
+                            parse_coordinate(values[2], name, line_no, "z")});
     source_lines.push_back(line_no);
   }
   check_duplicate_points(cloud, [&](size_t i) { return where(name, source_lines[i]); });
@@ -469,6 +477,12 @@ PointCloud read_points(const std::string& path, bool as_measured) {
                                                              : parse_klipper_mesh(text, path);
     PointCloud cloud;
     cloud.points = map.points();
+    for (size_t k = 0; k < cloud.points.size(); ++k) {
+      const Point3& p = cloud.points[k];
+      if (!plausible_coordinate(p.x) || !plausible_coordinate(p.y) || !plausible_coordinate(p.z)) {
+        throw PointFileError(path + ": the map's point " + std::to_string(k + 1) + ": " + kCoordinateRule);
+      }
+    }
     return cloud;
   }
   throw PointFileError(path + ": unknown point format (.csv, .xyz, .txt, .ply, .scan, or a height map .probe, .map, .cfg)");

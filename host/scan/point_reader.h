@@ -47,9 +47,18 @@ inline bool line_number_of(double value, uint32_t& line) {
   return true;
 }
 inline constexpr const char* kLineNumberRule = "line must be a whole number from 0 to 4294967294";
-// A `sigma` column's value is a standard uncertainty: above zero.
-inline bool valid_sigma(double value) { return value > 0; }
-inline constexpr const char* kSigmaRule = "sigma must be > 0";
+// A coordinate (x, y, z in mm) or a normal's component read lies within +-kCoordinateLimitMm: a
+// kilometre is far beyond any part a bench instrument measures, and within it the squares and
+// products the fits form stay far from overflow (a z of 1e200 mm made every distance of a fit
+// infinite, and `fit` wrote them as null and ended with success).
+inline constexpr double kCoordinateLimitMm = 1e6;
+inline bool plausible_coordinate(double value) { return std::fabs(value) <= kCoordinateLimitMm; }
+inline constexpr const char* kCoordinateRule = "coordinates and normals must lie within +-1000000 mm (1 km)";
+// A `sigma` column's value is a standard uncertainty: from a nanometre to a kilometre. A point of
+// 1e-12 mm among points of 0.001 weighed 1e18 times as much, and the fit took it for a hole in the
+// scan.
+inline bool valid_sigma(double value) { return value >= 1e-6 && value <= kCoordinateLimitMm; }
+inline constexpr const char* kSigmaRule = "sigma must be from 0.000001 to 1000000 mm (1 nm to 1 km)";
 PointCloud parse_csv_points(std::string_view text, const std::string& name);
 PointCloud parse_xyz_points(std::string_view text, const std::string& name);
 // Throws for a point that repeats an earlier one; where_is(i) names point i ("in.csv:12").

@@ -5,6 +5,8 @@
 #include <CppUTest/TestHarness.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 
@@ -223,4 +225,41 @@ TEST(SurfaceJson, ANegativeFaceUncertaintyIsRefused) {
     STRCMP_CONTAINS("face 2", e.what());
     STRCMP_CONTAINS("not a finite, non-negative number", e.what());
   }
+}
+
+// A fit whose numbers overflowed is refused, not written with null in a result's place: every
+// part of the report is checked, and the message names the first that is no finite number.
+TEST(SurfaceJson, AFitHoldingANumberThatIsNotFiniteIsNotWritten) {
+  const std::string path = "surface_json_not_finite_test.json";
+  std::remove(path.c_str());
+  auto refusal = [&](const FittedSurface& f) -> std::string {
+    try {
+      write_surface_json(path, f);
+    } catch (const std::runtime_error& e) {
+      return e.what();
+    }
+    return "";
+  };
+  FittedSurface f = fitted();
+  f.distance.count = 100;
+  f.distance.rms = HUGE_VAL;
+  STRCMP_CONTAINS("not written: the points' orthogonal distances came out as no finite number", refusal(f).c_str());
+  f = fitted();
+  f.surface.control[5].z = std::nan("");
+  STRCMP_CONTAINS("the surface's control point 6", refusal(f).c_str());
+  f = fitted();
+  f.validation.held_out_max_mm = std::nan("");
+  STRCMP_CONTAINS("the held-out points' errors", refusal(f).c_str());
+  f = fitted();
+  f.uncertainty.u_mm[4] = HUGE_VAL;
+  STRCMP_CONTAINS("the surface's uncertainty grid", refusal(f).c_str());
+  FILE* written = std::fopen(path.c_str(), "r");
+  CHECK(written == nullptr);
+  if (written) std::fclose(written);
+  // The same fit with finite numbers is written.
+  write_surface_json(path, fitted());
+  written = std::fopen(path.c_str(), "r");
+  CHECK(written != nullptr);
+  if (written) std::fclose(written);
+  std::remove(path.c_str());
 }

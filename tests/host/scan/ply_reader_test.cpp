@@ -133,7 +133,9 @@ TEST(PlyReader, ALineOrSigmaOutOfItsRangeNamesTheVertex) {
                            "property double line\nproperty double sigma\nend_header\n1 2 3 0 0.001\n";
   STRCMP_CONTAINS("in.ply:11 (vertex 1): line must be a whole number from 0 to 4294967294",
                   error_of(head + "4 5 6 2.5 0.001\n").c_str());
-  STRCMP_CONTAINS("in.ply:11 (vertex 1): sigma must be > 0", error_of(head + "4 5 6 1 0\n").c_str());
+  STRCMP_CONTAINS("in.ply:11 (vertex 1): sigma must be from 0.000001 to 1000000 mm", error_of(head + "4 5 6 1 0\n").c_str());
+  STRCMP_CONTAINS("in.ply:11 (vertex 1): 'z': coordinates and normals must lie within +-1000000 mm (1 km)",
+                  error_of(head + "4 5 1e200 1 0.001\n").c_str());
 }
 
 TEST(PlyReader, AnElementWithMorePropertiesThanTheVertexIsSkippedSafely) {
@@ -281,7 +283,11 @@ TEST(PlyReader, ABadValueAmongManyBinaryVerticesNamesTheFirstVertexHoldingOne) {
   STRCMP_CONTAINS("in.ply: vertex 12345: 'y' is not finite", error_of(many_vertices_ply(v, "binary_little_endian")).c_str());
   v = many_vertices(20000);
   v[15001].sigma = 0;
-  STRCMP_CONTAINS("in.ply: vertex 15001: sigma must be > 0", error_of(many_vertices_ply(v, "binary_big_endian")).c_str());
+  STRCMP_CONTAINS("in.ply: vertex 15001: sigma must be from 0.000001 to 1000000 mm", error_of(many_vertices_ply(v, "binary_big_endian")).c_str());
+  v = many_vertices(20000);
+  v[18000].x = -3e6;
+  STRCMP_CONTAINS("in.ply: vertex 18000: 'x': coordinates and normals must lie within +-1000000 mm (1 km)",
+                  error_of(many_vertices_ply(v, "binary_little_endian")).c_str());
   v = many_vertices(20000);
   v[9000] = v[3];
   STRCMP_CONTAINS("in.ply: vertex 9000: the same point as in.ply: vertex 3", error_of(many_vertices_ply(v, "binary_little_endian")).c_str());

@@ -114,7 +114,7 @@ TEST(PointReader, ALargeFileReadInPiecesKeepsItsRowsAndLineNumbers) {
   std::string bad = csv;
   const std::string late = "399,79999.25,199,199,0.002";
   bad.replace(bad.find(late), late.size(), "399,79999.25,199,199,-1");
-  STRCMP_CONTAINS(("in.csv:" + std::to_string(line_of_row[79999]) + ": sigma must be > 0").c_str(), error_of(bad).c_str());
+  STRCMP_CONTAINS(("in.csv:" + std::to_string(line_of_row[79999]) + ": sigma must be from 0.000001 to 1000000 mm").c_str(), error_of(bad).c_str());
   const std::string early = "\n17,17.25,0,0,0.002";
   bad.replace(bad.find(early), early.size(), "\n17,x,0,0,0.002");
   STRCMP_CONTAINS(("in.csv:" + std::to_string(line_of_row[17]) + ": column 'z' is not a finite decimal number: 'x'").c_str(),
@@ -149,6 +149,28 @@ TEST(PointReader, TakesDecimalNumbersOnlyAndQuotesBadFieldsSafely) {
   const std::string escape_error = error_of("x,y,z,\x1b[2J\n1,2,3,4\n");
   CHECK(escape_error.find('\x1b') == std::string::npos);
   STRCMP_CONTAINS("\\x1b[2J", escape_error.c_str());
+}
+
+// A coordinate or a normal beyond a kilometre, or a sigma below a nanometre or beyond a kilometre,
+// is refused with its line: within those the fits' squares and weights stay far from overflow (a z
+// of 1e200 made a fit's distances infinite, and a sigma of 1e-12 among 0.001 passed for a hole).
+TEST(PointReader, CoordinatesBeyondAKilometreAndSigmasBeyondANanometreToAKilometreAreRefused) {
+  STRCMP_CONTAINS("in.csv:3: column 'z' is '1e200': coordinates and normals must lie within +-1000000 mm (1 km)",
+                  error_of("x,y,z\n0,0,1\n1,0,1e200\n").c_str());
+  STRCMP_CONTAINS("in.csv:2: column 'x' is '-1000000.5'", error_of("x,y,z\n-1000000.5,0,1\n").c_str());
+  STRCMP_CONTAINS("in.csv:2: column 'nz' is '1e7'", error_of("x,y,z,nx,ny,nz\n0,0,1,0,0,1e7\n").c_str());
+  const dg::host::PointCloud edge = dg::host::parse_csv_points("x,y,z,sigma\n-1000000,1000000,1e6,1e-6\n1,2,3,1e6\n", "in.csv");
+  DOUBLES_EQUAL(1e6, edge.points[0].z, 0);
+  for (const char* bad : {"1e-12", "9.9e-7", "1000000.5", "0", "-0.001"}) {
+    STRCMP_CONTAINS("in.csv:3: sigma must be from 0.000001 to 1000000 mm (1 nm to 1 km)",
+                    error_of(std::string("x,y,z,sigma\n0,0,1,0.001\n1,0,1,") + bad + "\n").c_str());
+  }
+  try {
+    dg::host::parse_xyz_points("1 2 3\n4 5 -2e6\n", "in.xyz");
+    FAIL("a z of -2e6 mm accepted");
+  } catch (const dg::host::PointFileError& e) {
+    STRCMP_CONTAINS("in.xyz:2: column 'z' is '-2e6': coordinates and normals", e.what());
+  }
 }
 
 TEST(PointReader, ALineNumberMustBeAWholeNumberBelowTheNoLineMark) {
