@@ -38,6 +38,14 @@ CLI::App* add_filter_command(CLI::App& app, FilterArgs& a) {
 
 int run_filter(const FilterArgs& a) {
   const PointCloud cloud = read_points(a.input);
+  // Below the smallest window the filter has (3 x 3), no point has neighbours enough to be judged
+  // by, and the scatter it would print is that of a handful of points (one point gave "residual
+  // sigma 0.0000 mm" and success).
+  if (cloud.points.size() < kLtsFewestPoints) {
+    throw std::runtime_error(a.input + ": " + std::to_string(cloud.points.size()) + " point" +
+                             (cloud.points.size() == 1 ? "" : "s") + ": the LTS filter needs at least " +
+                             std::to_string(kLtsFewestPoints) + " (one 3 x 3 window) to judge any of them");
+  }
   LtsOptions options = a.options;
   if (cloud.resolution_mm) options.resolution_mm = *cloud.resolution_mm;  // the scan file says it
   const LtsResult r = lts_filter(cloud.points, options);

@@ -7,6 +7,9 @@
 
 namespace dg::host {
 
+// The fewest points the filter judges: one window of the smallest size it has, 3 x 3.
+constexpr size_t kLtsFewestPoints = 9;
+
 struct LtsOptions {
   int window = 5;           // grid: window x window neighbours; scattered: window^2 nearest
   int order = 2;            // 0: constant (the paper's p = 1); 1: plane (p = 3); 2: quadratic (p = 6)

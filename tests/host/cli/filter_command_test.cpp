@@ -94,3 +94,23 @@ TEST(FilterCommand, AScanWhoseEveryPointIsJudgedWritesNoListOfThem) {
   CHECK(exists(a.output));
   CHECK(!exists(base + ".out.unjudged.csv"));
 }
+
+TEST(FilterCommand, FewerPointsThanTheSmallestWindowAreRefusedWithTheirCount) {
+  // Four points: no window to judge any of them by. Nine (one 3 x 3 window) are filtered.
+  std::vector<Point3> points = {{0, 0, 1}, {1, 0, 1.001}, {0, 1, 0.999}, {1, 1, 1.002}};
+  write_cloud_csv(base + ".in.csv", points, nullptr);
+  FilterArgs a;
+  a.input = base + ".in.csv";
+  a.output = base + ".out.csv";
+  try {
+    run_filter(a);
+    FAIL("four points filtered");
+  } catch (const std::runtime_error& e) {
+    STRCMP_CONTAINS(": 4 points: the LTS filter needs at least 9 (one 3 x 3 window)", e.what());
+  }
+  CHECK(!exists(base + ".out.csv"));
+  for (int k = 0; k < 5; ++k) points.push_back({2.0, static_cast<double>(k % 3) + (k < 3 ? 0 : 0.5), 1.0});
+  write_cloud_csv(base + ".in.csv", points, nullptr);
+  LONGS_EQUAL(0, run_filter(a));
+  CHECK(exists(base + ".out.csv"));
+}
