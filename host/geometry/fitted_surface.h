@@ -52,7 +52,8 @@ struct FittedSurface {
 
 // What in a fit's numbers is not finite (an overflow, a NaN from a degenerate step), named for a
 // message ("the points' orthogonal distances", "face 2's control point 7"); "" when all are finite.
-// A fit holding one is never written or printed as a result.
+// write_surface_json writes no fit that holds one, and `fit` and the device's fit print their
+// summaries only after writing.
 std::string non_finite_result(const FittedSurface& fit);
 
 }  // namespace dg::host
