@@ -36,6 +36,8 @@ struct PlyElement {
 // `line` and `sigma` are ours: the PLY that `digitizer export` writes carries the scan line.
 constexpr int kSlots = 8;
 const char* const kUsed[kSlots] = {"x", "y", "z", "nx", "ny", "nz", "line", "sigma"};
+// kUsed[0] to kUsed[kCoordinateSlots - 1] are coordinates and normals, bounded by plausible_coordinate.
+constexpr int kCoordinateSlots = 6;
 const char* const kIgnored[] = {"red", "green", "blue", "alpha", "diffuse_red", "diffuse_green", "diffuse_blue",
                                 "intensity", "confidence", "quality", "scalar_intensity", "s", "t", "u", "v"};
 
@@ -297,7 +299,7 @@ bool read_fixed_vertices(const uint8_t* body, const PlyElement& vertex, const in
         if (slot_of[s] < 0) continue;
         const size_t k = static_cast<size_t>(slot_of[s]);
         values[s] = decode(vertex.properties[k].type, record + offset_of[k], big_endian);
-        ok = ok && std::isfinite(values[s]) && (s > 5 || plausible_coordinate(values[s]));
+        ok = ok && std::isfinite(values[s]) && (s >= kCoordinateSlots || plausible_coordinate(values[s]));
       }
       cloud.points[i] = {values[0], values[1], values[2]};
       if (cloud.normal) (*cloud.normal)[i] = {values[3], values[4], values[5]};
@@ -447,7 +449,7 @@ PointCloud parse_ply(const uint8_t* data, size_t size, const std::string& name, 
         if (slot_of[s] >= 0 && !std::isfinite(values[slot_of[s]])) {
           throw PointFileError(at() + ": '" + kUsed[s] + "' is not finite");
         }
-        if (s <= 5 && slot_of[s] >= 0 && !plausible_coordinate(values[slot_of[s]])) {
+        if (s < kCoordinateSlots && slot_of[s] >= 0 && !plausible_coordinate(values[slot_of[s]])) {
           throw PointFileError(at() + ": '" + kUsed[s] + "': " + kCoordinateRule);
         }
       }
