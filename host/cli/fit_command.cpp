@@ -25,6 +25,7 @@
 #include "host/fit/regions.h"
 #include "host/fit/propagated_uncertainty.h"
 #include "host/fit/replica_uncertainty.h"
+#include "host/fit/sigma_weights.h"
 #include "host/scan/median.h"
 
 namespace dg::host {
@@ -323,10 +324,9 @@ int run_fit(const FitArgs& a) {
   const Parameters params = parameterize(cloud, parse_parameterization(a.param));
   std::vector<double> weights;
   if (cloud.sigma && !a.ignore_sigma) {
-    for (double s : *cloud.sigma) {
-      if (!(s > 0)) throw FitError(a.input + ": sigma must be positive to weight points");
-      weights.push_back(1.0 / (s * s));
-    }
+    SigmaWeights from_sigma = sigma_weights(*cloud.sigma);
+    if (!from_sigma.problem.empty()) throw FitError(a.input + ": " + from_sigma.problem);
+    weights = std::move(from_sigma.weights);
   }
   const std::vector<double>* w = weights.empty() ? nullptr : &weights;
 

@@ -3,6 +3,7 @@
 
 #include "host/fit/fit_error.h"
 #include "host/fit/noise_estimate.h"
+#include "host/fit/sigma_weights.h"
 
 namespace dg::host {
 
@@ -10,14 +11,13 @@ ToleranceResult fit_one_surface(const PointCloud& cloud, double tolerance_mm, Pa
   *params = parameterize(cloud, Parameterization::kTableXy);
   std::vector<double> weights;
   if (cloud.sigma) {
-    for (double s : *cloud.sigma) {
-      if (!(s > 0)) {
-        ToleranceResult refused;
-        refused.reason = "a point's sigma is not positive: it cannot weight the fit";
-        return refused;
-      }
-      weights.push_back(1.0 / (s * s));
+    SigmaWeights from_sigma = sigma_weights(*cloud.sigma);
+    if (!from_sigma.problem.empty()) {
+      ToleranceResult refused;
+      refused.reason = from_sigma.problem;
+      return refused;
     }
+    weights = std::move(from_sigma.weights);
   }
   *creases = detect_creases(cloud, *params, estimate_noise(cloud, *params));
   ToleranceOptions options;

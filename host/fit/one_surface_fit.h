@@ -12,7 +12,7 @@ namespace dg::host {
 // As `digitizer fit --tolerance T --no-regions` fits: weights from the points' sigma, knots of
 // multiplicity 3 at the creases detect_creases finds (returned in *creases with the parameters), a
 // bicubic net refined until it keeps the tolerance. A fit that cannot start (a crease's knots with
-// too few lines about them), or a point whose sigma is not positive, comes back refused with the
+// too few lines about them), or sigmas that cannot weight a fit (sigma_weights.h), comes back refused with the
 // reason instead of throwing.
 ToleranceResult fit_one_surface(const PointCloud& cloud, double tolerance_mm, Parameters* params, Creases* creases);
 

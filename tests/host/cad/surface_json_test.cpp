@@ -10,6 +10,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <unistd.h>
+
 #include "tests/support/sample_surfaces.h"
 
 using namespace dg::host;
@@ -230,7 +232,7 @@ TEST(SurfaceJson, ANegativeFaceUncertaintyIsRefused) {
 // A fit whose numbers overflowed is refused, not written with null in a result's place: every
 // part of the report is checked, and the message names the first that is no finite number.
 TEST(SurfaceJson, AFitHoldingANumberThatIsNotFiniteIsNotWritten) {
-  const std::string path = "surface_json_not_finite_test.json";
+  const std::string path = std::string(P_tmpdir) + "/dg_surface_json_" + std::to_string(getpid()) + "_not_finite.json";
   std::remove(path.c_str());
   auto refusal = [&](const FittedSurface& f) -> std::string {
     try {
