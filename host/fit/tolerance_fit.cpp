@@ -147,10 +147,24 @@ ToleranceResult refine(const PointCloud& cloud, const Parameters& params, const 
     int iterations;
   };
   std::vector<Held> held;
+  std::vector<FoldRefit> first_refits;  // the first net's validation refits, when made with its fit
   for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
     BSplineSurface surface;
+    // After a sampled first pass the full set's first net is nearly always the one kept: its
+    // validation folds' refits come from the same pass over the points as the fit itself
+    // (fit_least_squares_with_folds), and validate_fit takes them instead of a second pass.
+    const bool exact_now = iteration == 1 && !sampled_knots_u.empty();
     try {
-      surface = fit_least_squares(points, params, weights, spec);
+      if (exact_now && options.validation_folds >= 1) {
+        std::vector<const SiteIndex*> kept_sites;
+        for (int f = 0; f < fold_support.folds(); ++f) kept_sites.push_back(&fold_support.kept_sites(f));
+        FoldedFit folded = fit_least_squares_with_folds(points, params, weights, spec,
+                                                        validation_folds(cloud, options.validation_folds), kept_sites);
+        surface = std::move(folded.fit.surface);
+        first_refits = std::move(folded.refits);
+      } else {
+        surface = fit_least_squares(points, params, weights, spec);
+      }
     } catch (const FitError& e) {
       refusal = std::string("not enough points to refine further: ") + e.what();
       break;
@@ -162,7 +176,6 @@ ToleranceResult refine(const PointCloud& cloud, const Parameters& params, const 
     // After a sampled first pass the full set's first net is nearly always its last (the sample
     // found the knots), and the kept surface's exact distances are wanted at the end: they are
     // computed now, with the bounds from the same evaluations, and the end makes no second pass.
-    const bool exact_now = iteration == 1 && !sampled_knots_u.empty();
     std::vector<double> bound, exact;
     if (exact_now) {
       exact = orthogonal_distances(surface, points, params, bound);
@@ -280,7 +293,9 @@ ToleranceResult refine(const PointCloud& cloud, const Parameters& params, const 
     refusal = "largest orthogonal distance " + mm_text(best.max_distance_mm) + " exceeds the tolerance";
   }
   if (best.kept) {
-    best.validation = validate_fit(cloud, params, weights, best.surface, validation_options, &fold_support);
+    const bool first_net = !first_refits.empty() && best.iterations == sampled_iterations + 1;
+    best.validation = validate_fit(cloud, params, weights, best.surface, validation_options, &fold_support,
+                                   first_net ? &first_refits : nullptr);
     if (!best.validation.passed) {
       // Back through the coarser nets that held the tolerance: the finest one that is also
       // confirmed between the samples is the answer, at most kFallbacks of them, and only one
