@@ -87,7 +87,7 @@ int run_curve(const CurveArgs& a) {
       std::printf("parameter correction: %d steps; RMS %.4f mm on chord-length parameters, %.4f mm orthogonal after\n",
                   report.corrections, report.chord_rms_mm, report.corrected_rms_mm);
       if (report.u_mm.empty()) {
-        std::printf("standard uncertainty: not determined (as many points as the curve has freedoms)\n");
+        std::printf("standard uncertainty: not determined: %s\n", report.u_not_determined.c_str());
       } else {
         std::printf("standard uncertainty across the curve u (k = 1): max %.4f mean %.4f mm; U = 2u: max %.4f mm\n",
                     report.u_max_mm, report.u_mean_mm, 2 * report.u_max_mm);

@@ -254,11 +254,16 @@ BSplineCurve tangent_distance_step(const BSplineCurve& c, const std::vector<Poin
 // x = M (b - E ends), M = (A^T A)^-1 A^T, hence Cov(x) = s^2 (M M^T + M E E^T M^T) and
 // Cov(x, ends) = -s^2 M E; u_k^2 = a_k Cov(x) a_k^T + s^2 e_k e_k^T + 2 a_k Cov(x, ends) e_k^T.
 // s^2 is the points' squared distances over their degrees of freedom, m - 2 - 2 (n - 2).
-std::vector<double> normal_uncertainty(const BSplineCurve& c, const std::vector<Point3>& p, const std::vector<double>& t) {
+std::vector<double> normal_uncertainty(const BSplineCurve& c, const std::vector<Point3>& p, const std::vector<double>& t,
+                                       std::string& why_not) {
   const int count = static_cast<int>(c.control.size()), inner = count - 2;
   const int unknowns = 2 * inner;
   const int freedom = static_cast<int>(p.size()) - 2 - unknowns;
-  if (inner <= 0 || freedom <= 0) return {};
+  if (inner <= 0 || freedom <= 0) {
+    why_not = "no more inner points (" + std::to_string(p.size() - 2) + ") than the inner control points' coordinates (" +
+              std::to_string(std::max(unknowns, 0)) + "): nothing is left to estimate the scatter from";
+    return {};
+  }
   const Eigen::Index m = static_cast<Eigen::Index>(p.size());
   Eigen::MatrixXd a = Eigen::MatrixXd::Zero(m, unknowns), e = Eigen::MatrixXd::Zero(m, 4);
   double sum_sq = 0;
@@ -268,7 +273,10 @@ std::vector<double> normal_uncertainty(const BSplineCurve& c, const std::vector<
     basis_row(c.knots, count, t[static_cast<size_t>(k)], &span, n, d1);
     const Point3 d = derivative(c, t[static_cast<size_t>(k)]);
     const double length = std::hypot(d.x, d.z);
-    if (!(length > 0)) return {};
+    if (!(length > 0)) {
+      why_not = "the curve's tangent vanishes at point " + std::to_string(k + 1) + ", where no normal is defined";
+      return {};
+    }
     const double nx = -d.z / length, nz = d.x / length;
     const Point3 r = p[static_cast<size_t>(k)] - c.evaluate(t[static_cast<size_t>(k)]);
     sum_sq += r.x * r.x + r.z * r.z;
@@ -285,7 +293,11 @@ std::vector<double> normal_uncertainty(const BSplineCurve& c, const std::vector<
     }
   }
   const Eigen::LDLT<Eigen::MatrixXd> ldlt = (a.transpose() * a).ldlt();
-  if (ldlt.info() != Eigen::Success || !(ldlt.rcond() > 1e-12)) return {};
+  if (ldlt.info() != Eigen::Success || !(ldlt.rcond() > 1e-12)) {
+    why_not = "the points' distances along the normals do not determine the control points (their normal equations are "
+              "singular: points bunched along the curve, or a curve that folds)";
+    return {};
+  }
   const double s2 = sum_sq / freedom;
   const Eigen::MatrixXd map = ldlt.solve(a.transpose());  // M
   const Eigen::MatrixXd map_ends = map * e;               // M E
@@ -348,7 +360,7 @@ BSplineCurve approximate_clamped(const std::vector<Point3>& p, int control_count
     report->corrections = corrections;
     report->chord_rms_mm = chord_rms;
     report->corrected_rms_mm = best_rms;
-    report->u_mm = normal_uncertainty(best, p, t);
+    report->u_mm = normal_uncertainty(best, p, t, report->u_not_determined);
     report->u_max_mm = report->u_mean_mm = 0;
     for (double u : report->u_mm) {
       report->u_max_mm = std::max(report->u_max_mm, u);

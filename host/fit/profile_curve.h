@@ -2,6 +2,7 @@
 // least-squares approximation, the control-polygon curve CAD programs draw, and the curve that
 // passes at a prescribed distance (the probe's uncertainty) from every measured point.
 #pragma once
+#include <string>
 #include <vector>
 
 #include "host/geometry/point3.h"
@@ -31,9 +32,10 @@ struct ApproximationReport {
   double chord_rms_mm = 0;      // RMS distance on chord-length parameters, before correction
   double corrected_rms_mm = 0;  // after: the RMS of the foot-point (orthogonal) distances
   // The curve's standard uncertainty (k = 1) across itself at each point's foot, from the points'
-  // scatter about it (more points than control points needed; empty otherwise).
+  // scatter about it (more points than control points needed; empty otherwise, with the reason).
   std::vector<double> u_mm;
   double u_max_mm = 0, u_mean_mm = 0;
+  std::string u_not_determined;
 };
 
 // The least-squares clamped cubic with `control_count` control points (uniform knots), its ends on

@@ -169,3 +169,28 @@ TEST(ProfileCurve, TheUncertaintyAcrossTheCurveAgreesWithTheSpreadOfNoisyRefits)
   std::printf("\n  approximate curve: predicted u against %d refits, worst relative difference %.1f %%", kReplicas, 100 * worst);
   CHECK(worst <= 0.25);
 }
+
+// Where the curve's uncertainty cannot be determined, the report says which of the reasons holds:
+// too few points for the scatter, or normals that do not determine the control points.
+TEST(ProfileCurve, AnUndeterminedUncertaintyGivesItsReason) {
+  std::vector<Point3> few;
+  for (int k = 0; k < 5; ++k) few.push_back({double(k), 0.0, std::sin(k)});
+  ApproximationReport report;
+  approximate_clamped(few, 5, &report);
+  CHECK(report.u_mm.empty());
+  STRCMP_CONTAINS("no more inner points (3) than the inner control points' coordinates (6)", report.u_not_determined.c_str());
+  // A sine sampled at one radian with an amplitude of 100 m: ten control points fold the curve.
+  std::vector<Point3> folded;
+  for (int k = 0; k < 30; ++k) folded.push_back({double(k), 0.0, 1e5 * std::sin(k)});
+  ApproximationReport wild;
+  approximate_clamped(folded, 10, &wild);
+  CHECK(wild.u_mm.empty());
+  STRCMP_CONTAINS("do not determine the control points", wild.u_not_determined.c_str());
+  // A gentle profile has its uncertainty and no reason.
+  std::vector<Point3> gentle;
+  for (int k = 0; k < 30; ++k) gentle.push_back({double(k), 0.0, 0.01 * k * k + 0.001 * std::sin(7.0 * k)});
+  ApproximationReport fine;
+  approximate_clamped(gentle, 6, &fine);
+  LONGS_EQUAL(30, fine.u_mm.size());
+  CHECK(fine.u_not_determined.empty());
+}
