@@ -387,6 +387,15 @@ int run_inspect(const InspectArgs& given) {
   std::printf("orthogonal deviation: mean %.4f median %.4f std %.4f rms %.4f max %.4f min %.4f mm\n", shown(s.mean),
               shown(s.median), s.stddev, s.rms, shown(s.max), shown(s.min));
   for (const Band& b : r.bands) std::printf("within %.4f mm: %zu points (%.1f %%)\n", b.limit_mm, b.count, 100.0 * b.share);
+  if (r.beyond_edge > 0) {
+    size_t first = 0;
+    while (!r.points[first].beyond_edge) ++first;
+    const PointDeviation& d = r.points[first];
+    std::printf("%zu of the points lie beyond the surface's edge: each one's deviation is its distance to the edge, not "
+                "along a normal (the first: point %zu at (%.3f, %.3f, %.4f), %.4f mm); inspect them against a surface "
+                "that covers them\n",
+                r.beyond_edge, first + 1, d.point.x, d.point.y, d.point.z, std::fabs(d.distance));
+  }
   if (decision) print_decision(*decision, r);
   if (!a.deviations_csv.empty()) std::printf("wrote %s\n", a.deviations_csv.c_str());
   if (!a.report_html.empty()) {

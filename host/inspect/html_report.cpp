@@ -224,7 +224,12 @@ std::string html_report(const ReportInputs& in) {
     }
     h += "<h2>Orthogonal deviation (mm)</h2>\n<table>\n" + row("points", std::to_string(s.count)) + row("mean", number(s.mean)) +
          row("median", number(s.median)) + row("standard deviation", number(s.stddev)) + row("RMS", number(s.rms)) +
-         row("max", number(s.max)) + row("min", number(s.min)) + "</table>\n";
+         row("max", number(s.max)) + row("min", number(s.min)) +
+         (in.inspection->beyond_edge > 0
+              ? row("beyond the surface's edge (deviation to the edge, not along a normal)",
+                    std::to_string(in.inspection->beyond_edge))
+              : std::string()) +
+         "</table>\n";
     if (!in.inspection->bands.empty()) {
       h += "<h2>Within tolerance bands</h2>\n<table><tr><th>|deviation| &le; mm</th><th>points</th><th>share</th></tr>\n";
       for (const Band& b : in.inspection->bands) {

@@ -15,7 +15,21 @@ struct PointDeviation {
   Point3 point;     // measured, mm
   Point3 foot;      // its closest surface point
   double distance;  // signed: positive on the side of S_u x S_v
+  // The closest point lies on the surface's edge and the point is off to the side of it (farther
+  // from the normal there than along it, kBeyondEdgeAngle): its deviation is the distance to the
+  // edge, not along a normal. B-spline surfaces and faces only; a nominal's points are never marked.
+  bool beyond_edge = false;
 };
+
+// A point whose closest point lies on the surface's edge counts as beyond it where the line to it
+// leaves the normal there by more than this: 45 degrees, its distance more across than along the
+// normal. A scan's own edge points on a slope are off the normal by the noise's share of the slope
+// only (and by at most the slope's angle), so a fit's own scan has none beyond its edge unless it
+// is steeper than 45 degrees there.
+constexpr double kBeyondEdgeAngleDeg = 45;
+// ... and only by more than this across the normal: a micrometre, below which the edge's own place
+// is not known better (a fit's edge points, noise-free, sit off its edge by the rounding).
+constexpr double kBeyondEdgeMinMm = 0.001;
 
 struct Band {
   double limit_mm = 0;  // |deviation| <= limit
@@ -27,6 +41,7 @@ struct Inspection {
   std::vector<PointDeviation> points;
   DistanceStats stats;
   std::vector<Band> bands;
+  size_t beyond_edge = 0;  // points marked beyond_edge
 };
 
 // Every point's closest point by SurfaceLocator; `bands_mm` in ascending order. Throws

@@ -31,6 +31,8 @@ std::string inspection_json_text(const Inspection& r, const std::string& points_
   nlohmann::json bands = nlohmann::json::array();
   for (const Band& b : r.bands) bands.push_back({{"within_mm", b.limit_mm}, {"count", b.count}, {"share", b.share}});
   j["bands"] = bands;
+  // Points whose closest point is on the surface's edge and off to its side (PointDeviation).
+  j["beyond_edge"] = r.beyond_edge;
   if (alignment) {
     const AlignmentSummary& a = *alignment;
     j["alignment"] = {{"rotation", a.rotation},

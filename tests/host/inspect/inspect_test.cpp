@@ -86,6 +86,33 @@ TEST(Inspect, PointsBeyondTheEdgeFindTheEdge) {
   const Inspection r = inspect({{50, 15, 6}, {-10, -10, 1}}, plane, {});
   DOUBLES_EQUAL(norm(Point3{50, 15, 6} - Point3{40, 15, 5}), std::fabs(r.points[0].distance), 1e-9);
   DOUBLES_EQUAL(std::sqrt(200.0), std::fabs(r.points[1].distance), 1e-9);
+  // Neither distance runs along a normal: both are marked and counted.
+  CHECK(r.points[0].beyond_edge);
+  CHECK(r.points[1].beyond_edge);
+  LONGS_EQUAL(2, r.beyond_edge);
+}
+
+// Only a point off to the side of the edge is beyond it: not one above the edge along its normal,
+// not one a fraction of a micrometre past it, and none inside.
+TEST(Inspect, APointIsBeyondTheEdgeOnlyWhereItsDistanceLeavesTheNormalThere) {
+  const BSplineSurface plane = dg::test::tilted_plane();  // z = 1 + 0.1 x over 0..40 x 0..30
+  const double n = std::sqrt(1 + 0.01);
+  const Point3 normal{-0.1 / n, 0, 1 / n};
+  const Point3 edge{40, 15, 5};
+  const Inspection r = inspect({edge + 2.0 * normal,                // above the edge, along its normal
+                                edge - 3.0 * normal,                // below it
+                                {40.0005, 15, 5.00005},             // half a micrometre past it
+                                {40.01, 15, 5.001},                 // ten micrometres past it
+                                {20, 10, 3 + 0.5}, {0.5, 29.5, 1}},  // inside
+                               plane, {});
+  CHECK_FALSE(r.points[0].beyond_edge);
+  CHECK_FALSE(r.points[1].beyond_edge);
+  DOUBLES_EQUAL(2.0, r.points[0].distance, 1e-9);
+  CHECK_FALSE(r.points[2].beyond_edge);
+  CHECK(r.points[3].beyond_edge);
+  CHECK_FALSE(r.points[4].beyond_edge);
+  CHECK_FALSE(r.points[5].beyond_edge);
+  LONGS_EQUAL(1, r.beyond_edge);
 }
 
 // No statistics from nothing, and none from a point whose distance overflows: both refused, the

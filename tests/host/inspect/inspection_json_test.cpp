@@ -89,3 +89,10 @@ TEST(InspectionJson, ADatumAlignmentListsItsDatums) {
                    .get<std::string>()
                    .c_str());
 }
+
+TEST(InspectionJson, CountsThePointsBeyondTheSurfacesEdge) {
+  const BSplineSurface plane = dg::test::tilted_plane();  // over 0..40 x 0..30 mm
+  const Inspection beyond = inspect({{5, 5, 1.5}, {60, 8, 0.75}, {-5, 12, 1.0}}, plane, {0.1});
+  LONGS_EQUAL(2, nlohmann::json::parse(inspection_json_text(beyond, "p.csv", "s.json"))["beyond_edge"].get<int>());
+  LONGS_EQUAL(0, nlohmann::json::parse(inspection_json_text(plane_inspection(), "p.csv", "s.json"))["beyond_edge"].get<int>());
+}
