@@ -37,7 +37,8 @@ int run_characterize(const CharacterizeArgs& a) {
     const Point3& p = cloud.points[i];
     const PointCharacter& q = c.points[i];
     csv << p.x << ',' << p.y << ',' << p.z << ',' << q.fx << ',' << q.fy << ',' << q.fxx << ',' << q.fxy << ',' << q.fyy << ','
-        << q.mean_curvature << ',' << q.gaussian_curvature << ',' << surface_type_name(q.type) << ',' << q.region << '\n';
+        << q.mean_curvature << ',' << q.gaussian_curvature << ',' << (q.determined ? surface_type_name(q.type) : "undetermined")
+        << ',' << q.region << '\n';
   }
   write_file_atomically(a.output, csv.str());
   if (!a.quiet) {
@@ -45,9 +46,20 @@ int run_characterize(const CharacterizeArgs& a) {
     for (int t = 0; t < 8; ++t) {
       if (c.type_counts[t] > 0) std::printf("  %-13s %zu points\n", surface_type_name(static_cast<SurfaceType>(t)), c.type_counts[t]);
     }
+    if (c.undetermined > 0) {
+      std::printf("  %zu points not characterized: their %d nearest neighbours do not determine a quadratic (too few "
+                  "distinct rows or columns among them)\n",
+                  c.undetermined, options.neighbours);
+    }
     std::printf("%u regions of one type (%u of at least 5 points); at most %d along x and %d along y\n", c.regions,
                 c.significant_regions, c.regions_across_x, c.regions_across_y);
-    std::printf("suggested cubic B-spline net: --ctrl %dx%d\n", c.suggested_control_x, c.suggested_control_y);
+    if (c.suggested_control_x > 0 && c.suggested_control_y > 0) {
+      std::printf("suggested cubic B-spline net: --ctrl %dx%d\n", c.suggested_control_x, c.suggested_control_y);
+    } else {
+      std::printf("no cubic B-spline net can be suggested: the points take %zu distinct positions along x and %zu along y, "
+                  "and a cubic needs 4 in each\n",
+                  c.distinct_x, c.distinct_y);
+    }
     for (double x : c.creases_x_mm) std::printf("crease or step across the scan at x = %.3f mm\n", x);
     for (double y : c.creases_y_mm) std::printf("crease or step across the scan at y = %.3f mm\n", y);
     std::printf("wrote %s\n", output_name(a.output).c_str());

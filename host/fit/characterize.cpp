@@ -34,6 +34,15 @@ SurfaceType classify(double h, double k, double zero) {
   return sh < 0 ? SurfaceType::kRidge : sh > 0 ? SurfaceType::kValley : SurfaceType::kFlat;
 }
 
+// Distinct x (or y) positions of the points, to 0.1 um.
+size_t distinct_positions(const std::vector<Point3>& p, bool along_x) {
+  std::vector<long long> at;
+  at.reserve(p.size());
+  for (const Point3& q : p) at.push_back(std::llround((along_x ? q.x : q.y) * 1e4));
+  std::sort(at.begin(), at.end());
+  return static_cast<size_t>(std::unique(at.begin(), at.end()) - at.begin());
+}
+
 uint32_t find(std::vector<uint32_t>& parent, uint32_t i) {
   while (parent[i] != i) i = parent[i] = parent[parent[i]];
   return i;
@@ -97,8 +106,11 @@ Characterization characterize(const PointCloud& input, const CharacterizeOptions
   for (size_t i = 0; i < p.size(); ++i) {
     radius_sum += std::hypot(p[near[i].back()].x - p[i].x, p[near[i].back()].y - p[i].y);
     LocalPolynomial f;
-    if (!fit_local_polynomial(p, near[i], p[i], 2, f)) continue;  // a degenerate neighbourhood: left flat
     PointCharacter& c = out.points[i];
+    if (!fit_local_polynomial(p, near[i], p[i], 2, f)) {
+      c.determined = false;  // a degenerate neighbourhood: no type
+      continue;
+    }
     // Back from the scaled local coordinates: d/dx = (1 / scale_x) d/d(dx).
     c.fx = f.c[1] / f.scale_x;
     c.fy = f.c[2] / f.scale_y;
@@ -113,6 +125,10 @@ Characterization characterize(const PointCloud& input, const CharacterizeOptions
   // r is the distance to the farthest neighbour, a window's corner: its half width is r / sqrt(2).
   out.zero_curvature = options.zero_curvature > 0 ? options.zero_curvature : std::max(6 * sigma / (r * r), 1e-6);
   for (PointCharacter& c : out.points) {
+    if (!c.determined) {
+      ++out.undetermined;
+      continue;
+    }
     c.type = classify(c.mean_curvature, c.gaussian_curvature, out.zero_curvature);
     ++out.type_counts[static_cast<int>(c.type)];
   }
@@ -122,7 +138,7 @@ Characterization characterize(const PointCloud& input, const CharacterizeOptions
   for (size_t i = 0; i < p.size(); ++i) {
     for (size_t n = 1; n < near[i].size() && n <= 8; ++n) {
       const size_t j = near[i][n];
-      if (out.points[i].type != out.points[j].type) continue;
+      if (out.points[i].type != out.points[j].type || !out.points[i].determined || !out.points[j].determined) continue;
       parent[find(parent, static_cast<uint32_t>(i))] = find(parent, static_cast<uint32_t>(j));
     }
   }
@@ -135,7 +151,8 @@ Characterization characterize(const PointCloud& input, const CharacterizeOptions
     out.points[i].region = it->second;
     ++sizes[it->second];
   }
-  out.regions = static_cast<uint32_t>(ids.size());
+  // An undetermined point is a region of its own, of no type: not counted.
+  out.regions = static_cast<uint32_t>(ids.size() - out.undetermined);
   std::vector<bool> significant(sizes.size());
   for (size_t s = 0; s < sizes.size(); ++s) {
     significant[s] = sizes[s] >= options.min_region;
@@ -146,8 +163,16 @@ Characterization characterize(const PointCloud& input, const CharacterizeOptions
   const double bin = r / std::sqrt(static_cast<double>(k)) * 1.5;
   out.regions_across_x = regions_along(p, out.points, significant, true, bin);
   out.regions_across_y = regions_along(p, out.points, significant, false, bin);
-  out.suggested_control_x = std::max(4, 3 * out.regions_across_x + 1);
-  out.suggested_control_y = std::max(4, 3 * out.regions_across_y + 1);
+  // A fit determines at most one control point for each distinct position along a direction
+  // (Schoenberg-Whitney): a 50 x 8 grid was offered 22 along its 8 lines.
+  out.distinct_x = distinct_positions(p, true);
+  out.distinct_y = distinct_positions(p, false);
+  auto suggested = [](int regions, size_t distinct) {
+    if (distinct < 4) return 0;
+    return static_cast<int>(std::min<size_t>(distinct, static_cast<size_t>(std::max(4, 3 * regions + 1))));
+  };
+  out.suggested_control_x = suggested(out.regions_across_x, out.distinct_x);
+  out.suggested_control_y = suggested(out.regions_across_y, out.distinct_y);
   const Creases creases = detect_creases(input, params, sigma);
   for (double u : creases.u) out.creases_x_mm.push_back(params.x_min + u * (params.x_max - params.x_min));
   for (double v : creases.v) out.creases_y_mm.push_back(params.y_min + v * (params.y_max - params.y_min));

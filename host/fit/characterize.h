@@ -26,6 +26,10 @@ struct PointCharacter {
   double fx = 0, fy = 0, fxx = 0, fxy = 0, fyy = 0;  // derivatives of z(x, y)
   double mean_curvature = 0, gaussian_curvature = 0;  // 1/mm, 1/mm^2
   SurfaceType type = SurfaceType::kFlat;
+  // False where the point's neighbours do not determine a quadratic (too few distinct rows or
+  // columns among them, as on a scan of two lines): its derivatives and curvatures are zeros that
+  // say nothing, it has no type (counted in `undetermined`, not in type_counts) and joins no region.
+  bool determined = true;
   uint32_t region = 0;
 };
 
@@ -33,10 +37,15 @@ struct Characterization {
   std::vector<PointCharacter> points;
   double zero_curvature = 0;                 // the threshold used, 1/mm
   size_t type_counts[8] = {};
+  size_t undetermined = 0;                   // points whose neighbours determine no quadratic
   uint32_t regions = 0;                      // connected regions of one type
   uint32_t significant_regions = 0;          // with at least min_region points
   int regions_across_x = 0, regions_across_y = 0;  // most significant regions met along one line of x, of y
-  int suggested_control_x = 4, suggested_control_y = 4;  // a cubic B-spline net that can follow them
+  // A cubic B-spline net that can follow them, at most one control point for each distinct x (y)
+  // the points take, which is all a fit can determine; 0 where they take fewer than four (no cubic
+  // net can be fitted), with the count in distinct_x (distinct_y).
+  int suggested_control_x = 4, suggested_control_y = 4;
+  size_t distinct_x = 0, distinct_y = 0;     // distinct positions along x and y (to 0.1 um)
   std::vector<double> creases_x_mm, creases_y_mm;  // creases and steps across the scan (crease_detect)
 };
 

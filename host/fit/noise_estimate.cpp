@@ -33,6 +33,14 @@ double from_lines(const PointCloud& cloud) {
   return difference_noise_sigma(cloud.points, lines);
 }
 
+// How many distinct values (to a part in 1e7 of the parameter domain) the strided points take.
+size_t distinct_values(const Parameters& params, size_t stride, bool along_u) {
+  std::vector<long long> values;
+  for (size_t i = 0; i < params.uv.size(); i += stride) values.push_back(std::llround((along_u ? params.uv[i].u : params.uv[i].v) * 1e7));
+  std::sort(values.begin(), values.end());
+  return static_cast<size_t>(std::unique(values.begin(), values.end()) - values.begin());
+}
+
 double from_cells(const PointCloud& cloud, const Parameters& params) {
   // Cells of about 24 points, each fitted with a quadratic z(x, y) (6 coefficients) so that the
   // part's curvature does not pass for noise; the residual deviation uses n - 6 degrees of freedom.
@@ -40,12 +48,21 @@ double from_cells(const PointCloud& cloud, const Parameters& params) {
   // as good as over more, and a million points would take a tenth of a second.
   const size_t stride = std::max<size_t>(1, cloud.points.size() / 100000);
   const double n = static_cast<double>(cloud.points.size() / stride);
-  const int side = std::max(1, static_cast<int>(std::sqrt(n / 24.0)));
-  std::vector<std::vector<size_t>> cells(static_cast<size_t>(side) * side);
+  // As many cells across each direction, unless the points take too few distinct values along one
+  // (a grid of few lines read without its line numbers): a quadratic needs three in each direction
+  // and a cell is given four, and the cells are made longer along the other direction instead. With
+  // square cells a 50 x 8 grid had two lines a cell, no quadratic was determined, and no noise was
+  // estimated at all (characterize then took noise for curvature).
+  int side_u = std::max(1, static_cast<int>(std::sqrt(n / 24.0))), side_v = side_u;
+  const int most_u = std::max<int>(1, static_cast<int>(distinct_values(params, stride, true) / 4));
+  const int most_v = std::max<int>(1, static_cast<int>(distinct_values(params, stride, false) / 4));
+  if (side_v > most_v) side_v = most_v, side_u = std::min(most_u, std::max(1, static_cast<int>(n / 24.0 / side_v)));
+  if (side_u > most_u) side_u = most_u, side_v = std::min(most_v, std::max(1, static_cast<int>(n / 24.0 / side_u)));
+  std::vector<std::vector<size_t>> cells(static_cast<size_t>(side_u) * side_v);
   for (size_t i = 0; i < cloud.points.size(); i += stride) {
-    const int cu = std::min(side - 1, static_cast<int>(params.uv[i].u * side));
-    const int cv = std::min(side - 1, static_cast<int>(params.uv[i].v * side));
-    cells[static_cast<size_t>(cu) * side + cv].push_back(i);
+    const int cu = std::min(side_u - 1, static_cast<int>(params.uv[i].u * side_u));
+    const int cv = std::min(side_v - 1, static_cast<int>(params.uv[i].v * side_v));
+    cells[static_cast<size_t>(cu) * side_v + cv].push_back(i);
   }
   std::vector<double> sigmas;
   for (const auto& m : cells) {

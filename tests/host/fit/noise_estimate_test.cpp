@@ -113,3 +113,18 @@ TEST(NoiseEstimate, OutliersOfAFewPercentDoNotInflateIt) {
   CHECK(error.worst_mean <= 0.10);
   CHECK(error.worst_single <= 0.20);
 }
+
+// Without scan lines the noise comes from quadratics over cells of the points; a grid of few lines
+// (read from a CSV without its line numbers) still gets cells with four rows each, not two, which
+// no quadratic can span: a 50 x 8 grid had no estimate at all.
+TEST(NoiseEstimate, AGridOfFewLinesWithoutLineNumbersIsEstimatedFromCellsAcrossFourOfThem) {
+  std::mt19937 rng(4);
+  std::normal_distribution<double> noise(0.0, 0.002);
+  PointCloud c;
+  for (int j = 0; j < 8; ++j) {
+    for (int i = 0; i < 50; ++i) c.points.push_back({double(i), double(j), 3 * std::sin(i / 15.0) + noise(rng)});
+  }
+  const double sigma = estimate_noise(c, parameterize(c, Parameterization::kTableXy));
+  std::printf("\n  50 x 8 grid without lines, 2 um of noise: estimated %.2f um", sigma * 1e3);
+  DOUBLES_EQUAL(0.002, sigma, 0.0004);
+}
