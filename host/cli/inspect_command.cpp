@@ -46,7 +46,7 @@ CLI::App* add_inspect_command(CLI::App& app, InspectArgs& a) {
       ->required()->check(CLI::ExistingFile);
   cmd->add_option("--band", a.bands_mm, "count the points within these deviations, mm")->capture_default_str()->check(CLI::PositiveNumber);
   cmd->add_flag("--json", a.json, "print the summary as JSON");
-  cmd->add_option("--deviations", a.deviations_csv, "write x,y,z,deviation per point: CSV, or .ply with the deviation as a scalar field (CloudCompare colours it)");
+  cmd->add_option("--deviations", a.deviations_csv, "write x,y,z,deviation,beyond_edge per point: CSV, or .ply with the deviation as a scalar field (CloudCompare colours it)");
   cmd->add_flag("--align", a.align, "rigid best-fit alignment of the points to the surface before measuring");
   cmd->add_option("--datum", a.datums,
                   "NAME=X0:X1,Y0:Y1 (mm, the scan's x and y): a datum region; one to three, primary first, align the part "

@@ -13,7 +13,7 @@ struct InspectArgs {
   std::string points, surface;
   std::vector<double> bands_mm = {0.005, 0.01, 0.02, 0.05, 0.1, 0.5};
   bool json = false;             // the summary as JSON on standard output
-  std::string deviations_csv;    // per point: x,y,z,deviation
+  std::string deviations_csv;    // per point: x,y,z,deviation,beyond_edge
   std::string report_html;       // the report, with its pictures beside it
   bool align = false;            // rigid best fit of the points to the surface first
   std::vector<std::string> datums;  // --datum NAME=X0:X1,Y0:Y1: a 3-2-1 datum alignment instead, in order

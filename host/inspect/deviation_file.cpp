@@ -8,10 +8,10 @@
 namespace dg::host {
 
 std::string format_deviations_csv(const std::vector<PointDeviation>& points) {
-  std::string text = "x,y,z,deviation\n";
+  std::string text = "x,y,z,deviation,beyond_edge\n";
   char line[160];
   for (const PointDeviation& d : points) {
-    std::snprintf(line, sizeof line, "%.6f,%.6f,%.6f,%.6f\n", d.point.x, d.point.y, d.point.z, d.distance);
+    std::snprintf(line, sizeof line, "%.6f,%.6f,%.6f,%.6f,%d\n", d.point.x, d.point.y, d.point.z, d.distance, d.beyond_edge ? 1 : 0);
     text += line;
   }
   return text;
@@ -20,14 +20,16 @@ std::string format_deviations_csv(const std::vector<PointDeviation>& points) {
 std::string format_deviations_ply(const std::vector<PointDeviation>& points) {
   std::string bytes = "ply\nformat binary_little_endian 1.0\ncomment bench digitizer inspection, millimetres\nelement vertex " +
                       std::to_string(points.size()) +
-                      "\nproperty double x\nproperty double y\nproperty double z\nproperty float scalar_deviation\nend_header\n";
+                      "\nproperty double x\nproperty double y\nproperty double z\nproperty float scalar_deviation\n"
+                      "property uchar scalar_beyond_edge\nend_header\n";
   for (const PointDeviation& d : points) {
     // x86 and ARM hosts are little endian, as the header says; memcpy keeps the bits exact.
-    char record[28];
+    char record[29];
     const double xyz[3] = {d.point.x, d.point.y, d.point.z};
     const float deviation = static_cast<float>(d.distance);
     std::memcpy(record, xyz, sizeof xyz);
     std::memcpy(record + 24, &deviation, sizeof deviation);
+    record[28] = d.beyond_edge ? 1 : 0;
     bytes.append(record, sizeof record);
   }
   return bytes;
