@@ -14,9 +14,6 @@ namespace dg::host {
 
 namespace {
 
-// Every point's closest point by `closest(p)`, checked finite, with the statistics and bands; on
-// every core when `concurrent` (each point's result has its own slot, so the results are those of
-// one thread).
 // Whether the closest point `c` on `surface` lies on its edge with `p` off to the side of it
 // (kBeyondEdgeAngleDeg, kBeyondEdgeMinMm).
 bool beyond_edge(const BSplineSurface& surface, const Point3& p, const dg::host::Closest& c) {
@@ -34,7 +31,9 @@ struct Measured {
   const BSplineSurface* surface = nullptr;
 };
 
-// `closest(p)` gives a Measured.
+// Every point's closest point by `closest(p)` (a Measured), checked finite, with the statistics
+// and bands; on every core when `concurrent` (each point's result has its own slot, so the results
+// are those of one thread).
 template <class Closest>
 Inspection measure(const std::vector<Point3>& points, Closest closest, const std::vector<double>& bands_mm, bool concurrent) {
   Inspection out;

@@ -16,7 +16,7 @@ struct PointDeviation {
   Point3 foot;      // its closest surface point
   double distance;  // signed: positive on the side of S_u x S_v
   // The closest point lies on the surface's edge and the point is off to the side of it (farther
-  // from the normal there than along it, kBeyondEdgeAngle): its deviation is the distance to the
+  // from the normal there than along it, kBeyondEdgeAngleDeg): its deviation is the distance to the
   // edge, not along a normal. B-spline surfaces and faces only; a nominal's points are never marked.
   bool beyond_edge = false;
 };
