@@ -15,6 +15,7 @@
 #include "host/scan/neighbours.h"
 #include "host/fit/crease_detect.h"
 #include "host/fit/fit_error.h"
+#include "host/fit/knot_support.h"
 #include "host/fit/noise_estimate.h"
 #include "host/fit/parameterize.h"
 
@@ -32,15 +33,6 @@ SurfaceType classify(double h, double k, double zero) {
   if (sk > 0) return sh < 0 ? SurfaceType::kPeak : SurfaceType::kPit;
   if (sk < 0) return sh < 0 ? SurfaceType::kSaddleRidge : sh > 0 ? SurfaceType::kSaddleValley : SurfaceType::kMinimal;
   return sh < 0 ? SurfaceType::kRidge : sh > 0 ? SurfaceType::kValley : SurfaceType::kFlat;
-}
-
-// Distinct x (or y) positions of the points, to 0.1 um.
-size_t distinct_positions(const std::vector<Point3>& p, bool along_x) {
-  std::vector<long long> at;
-  at.reserve(p.size());
-  for (const Point3& q : p) at.push_back(std::llround((along_x ? q.x : q.y) * 1e4));
-  std::sort(at.begin(), at.end());
-  return static_cast<size_t>(std::unique(at.begin(), at.end()) - at.begin());
 }
 
 uint32_t find(std::vector<uint32_t>& parent, uint32_t i) {
@@ -165,8 +157,9 @@ Characterization characterize(const PointCloud& input, const CharacterizeOptions
   out.regions_across_y = regions_along(p, out.points, significant, false, bin);
   // A fit determines at most one control point for each distinct position along a direction
   // (Schoenberg-Whitney): a 50 x 8 grid was offered 22 along its 8 lines.
-  out.distinct_x = distinct_positions(p, true);
-  out.distinct_y = distinct_positions(p, false);
+  const double merge = site_merge_distance(p.size());
+  out.distinct_x = distinct_sites(params.uv, true, merge).size();
+  out.distinct_y = distinct_sites(params.uv, false, merge).size();
   auto suggested = [](int regions, size_t distinct) {
     if (distinct < 4) return 0;
     return static_cast<int>(std::min<size_t>(distinct, static_cast<size_t>(std::max(4, 3 * regions + 1))));

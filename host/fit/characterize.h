@@ -45,7 +45,7 @@ struct Characterization {
   // the points take, which is all a fit can determine; 0 where they take fewer than four (no cubic
   // net can be fitted), with the count in distinct_x (distinct_y).
   int suggested_control_x = 4, suggested_control_y = 4;
-  size_t distinct_x = 0, distinct_y = 0;     // distinct positions along x and y (to 0.1 um)
+  size_t distinct_x = 0, distinct_y = 0;     // distinct sites along x and y, as the fit counts them (distinct_sites)
   std::vector<double> creases_x_mm, creases_y_mm;  // creases and steps across the scan (crease_detect)
 };
 

@@ -6,6 +6,7 @@
 #include <map>
 #include <unordered_map>
 
+#include "host/fit/knot_support.h"
 #include "host/scan/difference_noise.h"
 #include "host/scan/local_polynomial.h"
 #include "host/geometry/vec3.h"
@@ -33,14 +34,6 @@ double from_lines(const PointCloud& cloud) {
   return difference_noise_sigma(cloud.points, lines);
 }
 
-// How many distinct values (to a part in 1e7 of the parameter domain) the strided points take.
-size_t distinct_values(const Parameters& params, size_t stride, bool along_u) {
-  std::vector<long long> values;
-  for (size_t i = 0; i < params.uv.size(); i += stride) values.push_back(std::llround((along_u ? params.uv[i].u : params.uv[i].v) * 1e7));
-  std::sort(values.begin(), values.end());
-  return static_cast<size_t>(std::unique(values.begin(), values.end()) - values.begin());
-}
-
 double from_cells(const PointCloud& cloud, const Parameters& params) {
   // Cells of about 24 points, each fitted with a quadratic z(x, y) (6 coefficients) so that the
   // part's curvature does not pass for noise; the residual deviation uses n - 6 degrees of freedom.
@@ -54,8 +47,11 @@ double from_cells(const PointCloud& cloud, const Parameters& params) {
   // square cells a 50 x 8 grid had two lines a cell, no quadratic was determined, and no noise was
   // estimated at all (characterize then took noise for curvature).
   int side_u = std::max(1, static_cast<int>(std::sqrt(n / 24.0))), side_v = side_u;
-  const int most_u = std::max<int>(1, static_cast<int>(distinct_values(params, stride, true) / 4));
-  const int most_v = std::max<int>(1, static_cast<int>(distinct_values(params, stride, false) / 4));
+  std::vector<UV> sampled;
+  for (size_t i = 0; i < cloud.points.size(); i += stride) sampled.push_back(params.uv[i]);
+  const double merge = site_merge_distance(sampled.size());
+  const int most_u = std::max<int>(1, static_cast<int>(distinct_sites(sampled, true, merge).size() / 4));
+  const int most_v = std::max<int>(1, static_cast<int>(distinct_sites(sampled, false, merge).size() / 4));
   if (side_v > most_v) side_v = most_v, side_u = std::min(most_u, std::max(1, static_cast<int>(n / 24.0 / side_v)));
   if (side_u > most_u) side_u = most_u, side_v = std::min(most_v, std::max(1, static_cast<int>(n / 24.0 / side_u)));
   std::vector<std::vector<size_t>> cells(static_cast<size_t>(side_u) * side_v);
