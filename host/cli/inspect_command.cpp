@@ -231,6 +231,7 @@ void print_decision(const Decision& d, const Inspection& r) {
   std::printf("  %zu pass, %zu fail, %zu inconclusive (ISO 14253-1: pass inside the tolerance shrunk by U, fail outside it "
               "widened by U)\n",
               d.pass, d.fail, d.inconclusive);
+  if (d.beyond_edge > 0) std::printf("  %zu of the inconclusive lie beyond the surface's edge: nothing is proven there\n", d.beyond_edge);
   for (const ZoneDecision& z : d.zones) {
     const bool elsewhere = &z == &d.zones.back();
     std::printf("  zone %s%s: %+.4f..%+.4f mm, %zu pass, %zu fail, %zu inconclusive: %s\n", z.zone.name.c_str(),
@@ -239,9 +240,10 @@ void print_decision(const Decision& d, const Inspection& r) {
   }
   for (size_t i : d.worst) {
     const PointDeviation& p = r.points[i];
-    std::printf("  point %zu at (%.3f, %.3f, %.4f): deviation %+.4f mm, U %.4f: %s%s%s\n", i + 1, p.point.x, p.point.y, p.point.z,
+    std::printf("  point %zu at (%.3f, %.3f, %.4f): deviation %+.4f mm, U %.4f: %s%s%s%s\n", i + 1, p.point.x, p.point.y, p.point.z,
                 p.distance, d.expanded_mm[i], verdict_name(d.points[i]), d.zones.empty() ? "" : " in zone ",
-                d.zones.empty() ? "" : d.zones[d.zone_of_point[i]].zone.name.c_str());
+                d.zones.empty() ? "" : d.zones[d.zone_of_point[i]].zone.name.c_str(),
+                p.beyond_edge ? " (beyond the surface's edge; the distance is to the edge)" : "");
   }
 }
 }  // namespace
@@ -370,20 +372,21 @@ int run_inspect(const InspectArgs& given) {
   const DistanceStats& s = r.stats;
   if (!alignment.empty()) std::printf("%s\n", alignment.c_str());
   if (nominal) {
-    std::printf("%zu points against %s (%s)\n", s.count, a.surface.c_str(), surface.nominal_summary.c_str());
+    std::printf("%zu points against %s (%s)\n", r.points.size(), a.surface.c_str(), surface.nominal_summary.c_str());
     if (cad && cad->mesh_fallbacks() > 0) {
       std::printf("  %zu points measured on the mesh (within %.3f mm): no exact distance was found on their faces\n",
                   cad->mesh_fallbacks(), cad->deflection_mm());
     }
   } else if (surface.faces.empty()) {
-    std::printf("%zu points against %s (%s, %d x %d control points)\n", s.count, a.surface.c_str(), surface.model.c_str(),
+    std::printf("%zu points against %s (%s, %d x %d control points)\n", r.points.size(), a.surface.c_str(), surface.model.c_str(),
                 surface.surface.count_u, surface.surface.count_v);
   } else {
-    std::printf("%zu points against %s (%zu trimmed %s faces; each point measured to the face above it)\n", s.count,
+    std::printf("%zu points against %s (%zu trimmed %s faces; each point measured to the face above it)\n", r.points.size(),
                 a.surface.c_str(), surface.faces.size(), surface.model.c_str());
   }
   // A value that prints as zero is printed as 0.0000, not -0.0000.
   auto shown = [](double v) { return std::fabs(v) < 0.00005 ? 0.0 : v; };
+  if (r.beyond_edge > 0) std::printf("of the %zu points over the surface:\n", s.count);
   std::printf("orthogonal deviation: mean %.4f median %.4f std %.4f rms %.4f max %.4f min %.4f mm\n", shown(s.mean),
               shown(s.median), s.stddev, s.rms, shown(s.max), shown(s.min));
   for (const Band& b : r.bands) std::printf("within %.4f mm: %zu points (%.1f %%)\n", b.limit_mm, b.count, 100.0 * b.share);
@@ -391,9 +394,9 @@ int run_inspect(const InspectArgs& given) {
     size_t first = 0;
     while (!r.points[first].beyond_edge) ++first;
     const PointDeviation& d = r.points[first];
-    std::printf("%zu of the points lie beyond the surface's edge: each one's deviation is its distance to the edge, not "
-                "along a normal (the first: point %zu at (%.3f, %.3f, %.4f), %.4f mm); inspect them against a surface "
-                "that covers them\n",
+    std::printf("%zu of the points lie beyond the surface's edge and are left out of these figures: each one's distance "
+                "is to the edge, not along a normal (the first: point %zu at (%.3f, %.3f, %.4f), %.4f mm); inspect them "
+                "against a surface that covers them\n",
                 r.beyond_edge, first + 1, d.point.x, d.point.y, d.point.z, std::fabs(d.distance));
   }
   if (decision) print_decision(*decision, r);

@@ -63,8 +63,11 @@ Decision decide(const Inspection& inspection, const ToleranceLimits& general, co
       }
     }
     const ToleranceLimits& limits = zones.empty() ? general : out.zones[zone].zone.limits;
+    // A point beyond the surface's edge has no deviation along a normal: neither conformance nor
+    // non-conformance is proven there, whatever its distance to the edge.
     Verdict v = Verdict::kInconclusive;
-    if (d > limits.upper_mm + expanded || d < limits.lower_mm - expanded) v = Verdict::kFail;
+    if (inspection.points[i].beyond_edge) ++out.beyond_edge;
+    else if (d > limits.upper_mm + expanded || d < limits.lower_mm - expanded) v = Verdict::kFail;
     else if (d >= limits.lower_mm + expanded && d <= limits.upper_mm - expanded) v = Verdict::kPass;
     out.points.push_back(v);
     out.expanded_mm.push_back(expanded);
@@ -94,6 +97,10 @@ Decision decide(const Inspection& inspection, const ToleranceLimits& general, co
   std::sort(order.begin(), order.end(), [&](size_t a, size_t b) {
     const bool fa = out.points[a] == Verdict::kFail, fb = out.points[b] == Verdict::kFail;
     if (fa != fb) return fa;
+    // Points beyond the edge after those over the surface: their distance to the edge is no
+    // measure of how far the part is from conforming, and many would hide the ones that are.
+    const bool ea = inspection.points[a].beyond_edge, eb = inspection.points[b].beyond_edge;
+    if (ea != eb) return eb;
     return excess[a] > excess[b];
   });
   if (order.size() > 10) order.resize(10);

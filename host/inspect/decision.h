@@ -36,12 +36,14 @@ struct Decision {
   ToleranceLimits limits;             // the general tolerance: points in no zone
   Verdict verdict = Verdict::kPass;  // fail if any point fails, else inconclusive if any is, else pass
   size_t pass = 0, fail = 0, inconclusive = 0;
+  size_t beyond_edge = 0;             // of the inconclusive: points beyond the surface's edge
   std::vector<Verdict> points;        // per point, in the inspection's order
   std::vector<double> expanded_mm;    // U = 2u per point
   double max_expanded_mm = 0;
   std::string uncertainty_from;       // where u came from, for the reader
   // Up to ten points that decide the verdict: those that fail, by how far they pass a limit, then
-  // the inconclusive ones, the same way; indices into the inspection's points.
+  // the inconclusive ones, the same way, those beyond the surface's edge last; indices into the
+  // inspection's points.
   std::vector<size_t> worst;
   // With zones: one per zone, in the order given, then "elsewhere" (the general tolerance's points);
   // zone_of_point holds each point's index into it. Empty without zones.
@@ -51,7 +53,8 @@ struct Decision {
 
 // Each point's deviation d with its expanded uncertainty U = 2u: pass when
 // lower + U <= d <= upper - U (conformance proven), fail when d > upper + U or d < lower - U
-// (non-conformance proven), inconclusive between. `standard_u_mm` holds u per point. Throws
+// (non-conformance proven), inconclusive between, and inconclusive for a point beyond the
+// surface's edge (PointDeviation::beyond_edge). `standard_u_mm` holds u per point. Throws
 // std::invalid_argument for limits that are not finite or not lower < upper, a u that is not
 // finite and >= 0, or sizes that differ. A point in one or more `zones` is decided by the first
 // that holds it, with that zone's limits; the rest by `limits`. A zone with a bad box or limits, or

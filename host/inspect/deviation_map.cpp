@@ -74,7 +74,7 @@ Layout layout(const std::vector<MapPoint>& points, const MapPicture& pic) {
   const double span_x = std::max(x_max - x_min, 1e-9), span_y = std::max(y_max - y_min, 1e-9);
   const int room_w = pic.width - bar_area - l.plot_x - 10, room_h = pic.height - l.plot_y - axis_below;
   double largest = 0;
-  for (const MapPoint& p : points) largest = std::max(largest, std::fabs(p.value_mm));
+  for (const MapPoint& p : points) largest = p.muted ? largest : std::max(largest, std::fabs(p.value_mm));
   l.range = pic.scale.range_mm > 0 ? pic.scale.range_mm : (largest > 0 ? largest : 1e-3);
   // Bins about as wide as the points' spacing, at least 2 pixels; the plot is whole bins, and the
   // scale puts the last point inside the last bin, so no strip of empty frame is left at the edges.
@@ -99,7 +99,12 @@ Layout layout(const std::vector<MapPoint>& points, const MapPicture& pic) {
 struct Bin {
   double value = 0;
   bool used = false;
+  bool muted = false;  // holds muted points only
 };
+
+Rgb bin_colour(const Bin& b, const MapPicture& pic, double range_mm) {
+  return b.muted ? kMutedColour : scale_colour(pic.scale, range_mm, b.value);
+}
 
 // The largest-|value| point of each bin, on the layout's grid of `cell`-pixel bins.
 std::vector<Bin> bin(const std::vector<MapPoint>& points, const Layout& l) {
@@ -110,7 +115,10 @@ std::vector<Bin> bin(const std::vector<MapPoint>& points, const Layout& l) {
     // The table's y grows upwards; the picture's downwards.
     const int r = std::clamp(static_cast<int>((p.y_mm - l.y0) * l.mm_to_px) / l.cell, 0, rows - 1);
     Bin& b = bins[static_cast<size_t>(rows - 1 - r) * columns + c];
-    if (!b.used || std::fabs(p.value_mm) > std::fabs(b.value)) b.value = p.value_mm;
+    // A point on the scale wins over muted ones; among its kind the largest |value|.
+    if (b.used && p.muted && !b.muted) continue;
+    if (!b.used || (b.muted && !p.muted) || std::fabs(p.value_mm) > std::fabs(b.value)) b.value = p.value_mm;
+    b.muted = p.muted;
     b.used = true;
   }
   // Bins and point spacing rarely match to the pixel, which leaves empty stripes in a regular
@@ -234,7 +242,7 @@ std::string deviation_map_png(const std::vector<MapPoint>& points, const MapPict
       const Bin& b = bins[static_cast<size_t>(r) * columns + c];
       if (!b.used) continue;
       const int x = l.plot_x + c * l.cell, y = l.plot_y + r * l.cell;
-      image.fill(x, y, x + l.cell, y + l.cell, scale_colour(pic.scale, l.range, b.value));
+      image.fill(x, y, x + l.cell, y + l.cell, bin_colour(b, pic, l.range));
     }
   // The colour bar: +range at the top, -range (or 0 for a magnitude) at the bottom, or the limits
   // and the blocks beyond them; its labels.
@@ -268,7 +276,7 @@ std::string deviation_map_svg(const std::vector<MapPoint>& points, const MapPict
     for (int c = 0; c < columns; ++c) {
       const Bin& b = bins[static_cast<size_t>(r) * columns + c];
       if (!b.used) continue;
-      const Rgb col = scale_colour(pic.scale, l.range, b.value);
+      const Rgb col = bin_colour(b, pic, l.range);
       std::snprintf(buffer, sizeof buffer, "<rect x=\"%d\" y=\"%d\" width=\"%d\" height=\"%d\" fill=\"#%02x%02x%02x\"/>\n",
                     l.plot_x + c * l.cell, l.plot_y + r * l.cell, l.cell, l.cell, col.r, col.g, col.b);
       out += buffer;

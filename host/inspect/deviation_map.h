@@ -11,7 +11,11 @@ namespace dg::host {
 struct MapPoint {
   double x_mm = 0, y_mm = 0;  // where on the table
   double value_mm = 0;        // what the colour shows
+  // Drawn in kMutedColour, off the scale and not stretching it: a point whose value is no measure
+  // of what the map shows (one beyond the surface's edge, its distance to the edge).
+  bool muted = false;
 };
+constexpr Rgb kMutedColour{150, 150, 150};
 
 // How a value becomes a colour: one scale for a map, its colour bar and the 3D view.
 struct ColourScale {
@@ -44,7 +48,7 @@ constexpr Rgb kAboveUpperLimit{200, 20, 200}, kBelowLowerLimit{85, 20, 110};
 Rgb scale_colour(const ColourScale& scale, double range_mm, double value_mm);
 
 // The points are binned into cells a few pixels wide and each cell shows its largest |value|, so
-// one bad point stays visible among a million. Empty input gives an empty plot with its bar.
+// one bad point stays visible among a million; a cell of muted points only is grey. Empty input gives an empty plot with its bar.
 std::string deviation_map_png(const std::vector<MapPoint>& points, const MapPicture& picture);
 std::string deviation_map_svg(const std::vector<MapPoint>& points, const MapPicture& picture, const std::string& title);
 

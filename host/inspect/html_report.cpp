@@ -63,10 +63,13 @@ ColourScale deviation_scale(const ToleranceLimits* limits) {
 std::vector<ReportPicture> inspection_pictures(const Inspection& inspection, std::string* svg, const ToleranceLimits* limits) {
   std::vector<MapPoint> deviation, ex, ey, ez;
   for (const PointDeviation& d : inspection.points) {
-    deviation.push_back({d.point.x, d.point.y, d.distance});
-    ex.push_back({d.point.x, d.point.y, d.point.x - d.foot.x});
-    ey.push_back({d.point.x, d.point.y, d.point.y - d.foot.y});
-    ez.push_back({d.point.x, d.point.y, d.point.z - d.foot.z});
+    // A point beyond the surface's edge is grey: its distance is to the edge, and on the scale it
+    // would stretch the colours past the part's own deviations (or, under a tolerance, show as
+    // out of it where nothing is proven).
+    deviation.push_back({d.point.x, d.point.y, d.distance, d.beyond_edge});
+    ex.push_back({d.point.x, d.point.y, d.point.x - d.foot.x, d.beyond_edge});
+    ey.push_back({d.point.x, d.point.y, d.point.y - d.foot.y, d.beyond_edge});
+    ez.push_back({d.point.x, d.point.y, d.point.z - d.foot.z, d.beyond_edge});
   }
   MapPicture picture;
   picture.scale = deviation_scale(limits);
@@ -78,14 +81,16 @@ std::vector<ReportPicture> inspection_pictures(const Inspection& inspection, std
                    " mm: green near the nominal, graded to red at the upper limit and to blue at the lower; magenta "
                    "above the upper limit and violet below the lower: out of tolerance"
              : "red: material above the surface, blue: below";
+  const std::string beyond =
+      inspection.beyond_edge > 0 ? "; grey: points beyond the surface's edge, whose distance is to the edge" : "";
   std::vector<ReportPicture> out = {
-      {"Signed orthogonal deviation over the part (" + colours + ")",
+      {"Signed orthogonal deviation over the part (" + colours + beyond + ")",
        deviation_map_png(deviation, picture), deviation_map_svg(deviation, picture, "signed orthogonal deviation, mm")},
-      {"X error map: x of each point minus x of its closest surface point", deviation_map_png(ex, small),
+      {"X error map: x of each point minus x of its closest surface point" + beyond, deviation_map_png(ex, small),
        deviation_map_svg(ex, small, "X error, mm")},
-      {"Y error map: y of each point minus y of its closest surface point", deviation_map_png(ey, small),
+      {"Y error map: y of each point minus y of its closest surface point" + beyond, deviation_map_png(ey, small),
        deviation_map_svg(ey, small, "Y error, mm")},
-      {"Z error map: z of each point minus z of its closest surface point", deviation_map_png(ez, small),
+      {"Z error map: z of each point minus z of its closest surface point" + beyond, deviation_map_png(ez, small),
        deviation_map_svg(ez, small, "Z error, mm")}};
   if (svg) *svg = out[0].svg;
   return out;
@@ -176,6 +181,8 @@ std::string html_report(const ReportInputs& in) {
          row("expanded uncertainty U = 2u, largest (mm)", number(d.max_expanded_mm)) + row("u from", d.uncertainty_from) +
          row("points pass / fail / inconclusive",
              std::to_string(d.pass) + " / " + std::to_string(d.fail) + " / " + std::to_string(d.inconclusive)) +
+         (d.beyond_edge > 0 ? row("of them inconclusive because beyond the surface's edge", std::to_string(d.beyond_edge))
+                            : std::string()) +
          "</table>\n";
     if (!d.zones.empty()) {
       h += "<table><tr><th>zone</th><th>x (mm)</th><th>y (mm)</th><th>tolerance (mm)</th><th>pass / fail / inconclusive</th>"
@@ -217,16 +224,18 @@ std::string html_report(const ReportInputs& in) {
     if (!view.empty()) {
       h += "<h2>The measured points in 3D</h2>\n<figure>" + view +
            "<figcaption>Each point coloured by its signed deviation, on the deviation map's scale" +
+           std::string(in.inspection->beyond_edge > 0 ? " (grey beyond the surface's edge)" : "") +
            (surface ? ", over " + escape(in.view_surface_name) + " in translucent grey (" +
                           std::to_string(in.view_surface->triangles.size()) + " triangles)"
                     : std::string()) +
            ".</figcaption></figure>\n";
     }
-    h += "<h2>Orthogonal deviation (mm)</h2>\n<table>\n" + row("points", std::to_string(s.count)) + row("mean", number(s.mean)) +
+    const char* points_row = in.inspection->beyond_edge > 0 ? "points over the surface" : "points";
+    h += "<h2>Orthogonal deviation (mm)</h2>\n<table>\n" + row(points_row, std::to_string(s.count)) + row("mean", number(s.mean)) +
          row("median", number(s.median)) + row("standard deviation", number(s.stddev)) + row("RMS", number(s.rms)) +
          row("max", number(s.max)) + row("min", number(s.min)) +
          (in.inspection->beyond_edge > 0
-              ? row("beyond the surface's edge (deviation to the edge, not along a normal)",
+              ? row("beyond the surface's edge, left out of these figures (their distance is to the edge, not along a normal)",
                     std::to_string(in.inspection->beyond_edge))
               : std::string()) +
          "</table>\n";

@@ -39,13 +39,11 @@ Inspection measure(const std::vector<Point3>& points, Closest closest, const std
   Inspection out;
   if (points.empty()) throw std::invalid_argument("there are no points to inspect");
   out.points.resize(points.size());
-  std::vector<double> distances(points.size());
   auto measure_range = [&](size_t begin, size_t end, unsigned) {
     for (size_t i = begin; i < end; ++i) {
       const Measured m = closest(points[i]);
       const dg::host::Closest& c = m.closest;
       out.points[i] = {points[i], c.point, c.distance, m.surface != nullptr && beyond_edge(*m.surface, points[i], c)};
-      distances[i] = c.distance;
     }
   };
   if (concurrent) {
@@ -65,13 +63,25 @@ Inspection measure(const std::vector<Point3>& points, Closest closest, const std
                                   ": its distance to the surface is not a finite number; a coordinate that large is no measurement");
     }
   }
-  for (const PointDeviation& d : out.points) out.beyond_edge += d.beyond_edge;
-  out.stats = distance_stats(distances);
+  // A point beyond the edge measures the distance to the edge, not the part's form there: the
+  // statistics and bands are of the points over the surface only, and none are made from none.
+  std::vector<double> over;
+  over.reserve(points.size());
+  for (const PointDeviation& d : out.points) {
+    if (d.beyond_edge) ++out.beyond_edge;
+    else over.push_back(d.distance);
+  }
+  if (over.empty()) {
+    throw std::invalid_argument("every one of the " + std::to_string(points.size()) +
+                                " points lies beyond the surface's edge, so none can be measured along a normal: are "
+                                "they the points of this part, in its coordinates (else --align)?");
+  }
+  out.stats = distance_stats(over);
   for (double limit : bands_mm) {
     Band band;
     band.limit_mm = limit;
-    for (double d : distances) band.count += std::fabs(d) <= limit;
-    band.share = static_cast<double>(band.count) / static_cast<double>(points.size());
+    for (double d : over) band.count += std::fabs(d) <= limit;
+    band.share = static_cast<double>(band.count) / static_cast<double>(over.size());
     out.bands.push_back(band);
   }
   return out;

@@ -38,14 +38,17 @@ struct Band {
 };
 
 struct Inspection {
-  std::vector<PointDeviation> points;
+  std::vector<PointDeviation> points;  // every point, those beyond the edge too
+  // Of the points over the surface: a point beyond its edge has no deviation along a normal, so it
+  // is counted in beyond_edge and left out of these (stats.count is the points over the surface).
   DistanceStats stats;
-  std::vector<Band> bands;
-  size_t beyond_edge = 0;  // points marked beyond_edge
+  std::vector<Band> bands;  // shares of the points over the surface
+  size_t beyond_edge = 0;   // points marked beyond_edge
 };
 
 // Every point's closest point by SurfaceLocator; `bands_mm` in ascending order. Throws
-// std::invalid_argument for no points, or a point whose distance is not finite (naming it).
+// std::invalid_argument for no points, a point whose distance is not finite (naming it), or points
+// that all lie beyond the surface's edge.
 Inspection inspect(const std::vector<Point3>& points, const BSplineSurface& surface, const std::vector<double>& bands_mm);
 
 // The same against trimmed faces: each point is measured to the face whose loops hold its XY, or,

@@ -31,7 +31,9 @@ std::string inspection_json_text(const Inspection& r, const std::string& points_
   nlohmann::json bands = nlohmann::json::array();
   for (const Band& b : r.bands) bands.push_back({{"within_mm", b.limit_mm}, {"count", b.count}, {"share", b.share}});
   j["bands"] = bands;
-  // Points whose closest point is on the surface's edge and off to its side (PointDeviation).
+  // Points whose closest point is on the surface's edge and off to its side (PointDeviation): in
+  // "points", not in "deviation" or "bands", which are of the points over the surface.
+  j["points"] = r.points.size();
   j["beyond_edge"] = r.beyond_edge;
   if (alignment) {
     const AlignmentSummary& a = *alignment;
@@ -69,7 +71,8 @@ std::string inspection_json_text(const Inspection& r, const std::string& points_
                        {"z", p.point.z},
                        {"deviation", p.distance},
                        {"expanded_uncertainty", d.expanded_mm[i]},
-                       {"verdict", verdict_name(d.points[i])}});
+                       {"verdict", verdict_name(d.points[i])},
+                       {"beyond_edge", p.beyond_edge}});
       if (!d.zones.empty()) worst.back()["zone"] = d.zones[d.zone_of_point[i]].zone.name;
     }
     // Each zone with its box and limits and its own counts; the last, "elsewhere", has no box.
@@ -90,6 +93,7 @@ std::string inspection_json_text(const Inspection& r, const std::string& points_
                      {"pass", d.pass},
                      {"fail", d.fail},
                      {"inconclusive", d.inconclusive},
+                     {"inconclusive_beyond_edge", d.beyond_edge},
                      {"coverage_factor", 2},
                      {"max_expanded_uncertainty", d.max_expanded_mm},
                      {"uncertainty_from", d.uncertainty_from},

@@ -20,7 +20,7 @@ std::string view3d_html(const Inspection& inspection, const ColourScale& scale, 
   if (all.empty()) return "";
   double range = scale.range_mm;
   if (!(range > 0)) {
-    for (const PointDeviation& d : all) range = std::max(range, std::fabs(d.distance));
+    for (const PointDeviation& d : all) range = d.beyond_edge ? range : std::max(range, std::fabs(d.distance));
   }
   if (!(range > 0)) range = 1e-3;
   const size_t stride = std::max<size_t>(1, (all.size() + max_points - 1) / std::max<size_t>(1, max_points));
@@ -29,7 +29,8 @@ std::string view3d_html(const Inspection& inspection, const ColourScale& scale, 
   bool first = true;
   for (size_t k = 0; k < all.size(); k += stride) {
     const PointDeviation& d = all[k];
-    const Rgb c = scale_colour(scale, range, d.distance);
+    // Beyond the surface's edge a point's distance is to the edge: grey, as on the maps.
+    const Rgb c = d.beyond_edge ? kMutedColour : scale_colour(scale, range, d.distance);
     std::snprintf(buffer, sizeof buffer, "%s%.4f,%.4f,%.4f", first ? "" : ",", d.point.x, d.point.y, d.point.z);
     xyz += buffer;
     std::snprintf(buffer, sizeof buffer, "%s%.4f,%.4f,%.4f", first ? "" : ",", c.r / 255.0, c.g / 255.0, c.b / 255.0);

@@ -50,6 +50,33 @@ TEST(Decision, APartIsInconclusiveWhenNoPointFailsButOneIsNotProvenIn) {
   LONGS_EQUAL(0, exact.worst.size());
 }
 
+// A point beyond the surface's edge proves nothing: inconclusive whether its distance to the edge
+// is inside the tolerance or far outside it, and counted as such.
+TEST(Decision, APointBeyondTheSurfacesEdgeIsInconclusiveWhateverItsDistance) {
+  Inspection r = at_deviations({0.001, 0.002, 0.5, -0.001, 0.0495});
+  r.points[1].beyond_edge = true;
+  r.points[2].beyond_edge = true;
+  const Decision d = decide(r, ToleranceLimits{-0.05, 0.05}, std::vector<double>(5, 0.001), "test");
+  CHECK(d.points[0] == Verdict::kPass);
+  CHECK(d.points[1] == Verdict::kInconclusive);
+  CHECK(d.points[2] == Verdict::kInconclusive);
+  CHECK(d.points[3] == Verdict::kPass);
+  CHECK(d.points[4] == Verdict::kInconclusive);
+  LONGS_EQUAL(0, d.fail);
+  LONGS_EQUAL(3, d.inconclusive);
+  LONGS_EQUAL(2, d.beyond_edge);
+  CHECK(d.verdict == Verdict::kInconclusive);
+  // The point over the surface first among the inconclusive, though 0.5 mm is farther past the limit.
+  LONGS_EQUAL(3, d.worst.size());
+  LONGS_EQUAL(4, d.worst[0]);
+  LONGS_EQUAL(2, d.worst[1]);
+  LONGS_EQUAL(1, d.worst[2]);
+  const nlohmann::json j = nlohmann::json::parse(inspection_json_text(r, "p.csv", "s.json", nullptr, &d));
+  LONGS_EQUAL(2, j["decision"]["inconclusive_beyond_edge"].get<int>());
+  CHECK_FALSE(j["decision"]["worst"][0]["beyond_edge"].get<bool>());
+  CHECK(j["decision"]["worst"][1]["beyond_edge"].get<bool>());
+}
+
 TEST(Decision, RefusesLimitsTheWrongWayRoundAndUncertaintiesThatAreNotNumbers) {
   const Inspection r = at_deviations({0.0});
   CHECK_THROWS(std::invalid_argument, decide(r, ToleranceLimits{0.05, -0.05}, {0.001}, ""));

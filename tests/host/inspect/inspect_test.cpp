@@ -83,13 +83,39 @@ TEST(Inspect, SphereDistancesMatchTheTrueOnesFromAnyStart) {
 
 TEST(Inspect, PointsBeyondTheEdgeFindTheEdge) {
   const BSplineSurface plane = dg::test::tilted_plane();
-  const Inspection r = inspect({{50, 15, 6}, {-10, -10, 1}}, plane, {});
+  const Inspection r = inspect({{50, 15, 6}, {-10, -10, 1}, {20, 10, 3}}, plane, {});
   DOUBLES_EQUAL(norm(Point3{50, 15, 6} - Point3{40, 15, 5}), std::fabs(r.points[0].distance), 1e-9);
   DOUBLES_EQUAL(std::sqrt(200.0), std::fabs(r.points[1].distance), 1e-9);
   // Neither distance runs along a normal: both are marked and counted.
   CHECK(r.points[0].beyond_edge);
   CHECK(r.points[1].beyond_edge);
   LONGS_EQUAL(2, r.beyond_edge);
+}
+
+// The statistics and bands are of the points over the surface: a point 10 mm beyond the edge does
+// not become the part's largest deviation, and the bands' shares count only the points over it.
+TEST(Inspect, LeavesThePointsBeyondTheEdgeOutOfTheStatisticsAndBands) {
+  const BSplineSurface plane = dg::test::tilted_plane();  // z = 1 + 0.1 x over 0..40 x 0..30
+  const double n = std::sqrt(1 + 0.01);
+  const Inspection r = inspect({{50, 15, 6}, {20, 10, 3 + 0.02 * n}, {10, 20, 2 - 0.01 * n}, {30, 5, 4 + 0.2 * n}}, plane, {0.05});
+  LONGS_EQUAL(1, r.beyond_edge);
+  LONGS_EQUAL(4, r.points.size());
+  LONGS_EQUAL(3, r.stats.count);
+  DOUBLES_EQUAL(0.2, r.stats.max, 1e-9);
+  DOUBLES_EQUAL(-0.01, r.stats.min, 1e-9);
+  DOUBLES_EQUAL(0.07, r.stats.mean, 1e-9);
+  LONGS_EQUAL(2, r.bands[0].count);
+  DOUBLES_EQUAL(2.0 / 3.0, r.bands[0].share, 1e-12);
+}
+
+// With every point beyond the edge there is no deviation to report: refused, saying so.
+TEST(Inspect, RefusesPointsThatAllLieBeyondTheEdge) {
+  try {
+    inspect({{50, 15, 6}, {-10, -10, 1}}, dg::test::tilted_plane(), {});
+    FAIL("points all beyond the edge were inspected");
+  } catch (const std::invalid_argument& e) {
+    STRCMP_CONTAINS("every one of the 2 points lies beyond the surface's edge", e.what());
+  }
 }
 
 // Only a point off to the side of the edge is beyond it: not one above the edge along its normal,

@@ -93,6 +93,9 @@ TEST(InspectionJson, ADatumAlignmentListsItsDatums) {
 TEST(InspectionJson, CountsThePointsBeyondTheSurfacesEdge) {
   const BSplineSurface plane = dg::test::tilted_plane();  // over 0..40 x 0..30 mm
   const Inspection beyond = inspect({{5, 5, 1.5}, {60, 8, 0.75}, {-5, 12, 1.0}}, plane, {0.1});
-  LONGS_EQUAL(2, nlohmann::json::parse(inspection_json_text(beyond, "p.csv", "s.json"))["beyond_edge"].get<int>());
+  const nlohmann::json j = nlohmann::json::parse(inspection_json_text(beyond, "p.csv", "s.json"));
+  LONGS_EQUAL(2, j["beyond_edge"].get<int>());
+  LONGS_EQUAL(3, j["points"].get<int>());
+  LONGS_EQUAL(1, j["deviation"]["count"].get<int>());  // of the points over the surface
   LONGS_EQUAL(0, nlohmann::json::parse(inspection_json_text(plane_inspection(), "p.csv", "s.json"))["beyond_edge"].get<int>());
 }

@@ -15,7 +15,9 @@
 #include <vector>
 
 #include "host/inspect/deviation_map.h"
+#include "host/inspect/inspect.h"
 #include "host/inspect/view_mesh.h"
+#include "tests/support/sample_surfaces.h"
 
 using namespace dg::host;
 
@@ -167,6 +169,53 @@ TEST(Report, SvgAndHtmlCarryThePicturesAndTheNumbers) {
   STRCMP_CONTAINS("data:image/svg+xml;base64,", with_fields.c_str());
   STRCMP_CONTAINS("<tr><th>part</th><td>lid &lt;4711&gt;</td></tr>", with_fields.c_str());
   STRCMP_CONTAINS("<tr><th>serial number</th><td>SN-42</td></tr>", with_fields.c_str());
+}
+
+// Points beyond the surface's edge (their distance is to the edge, millimetres) are grey, on no
+// scale: the maps' colours stay stretched to the part's deviations, a hundredth of a millimetre
+// here, and under a tolerance they do not show as out of it. The captions say what grey is.
+TEST(Report, PointsBeyondTheEdgeAreGreyAndDoNotStretchTheColours) {
+  const double n = std::sqrt(1 + 0.01);  // tilted_plane: z = 1 + 0.1 x over 0..40 x 0..30
+  std::vector<Point3> points;
+  for (int j = 1; j < 30; j += 4) {
+    for (int i = 1; i < 40; i += 4) points.push_back({1.0 * i, 1.0 * j, 1 + 0.1 * i + ((i + j) % 3 - 1) * 0.01 * n});
+  }
+  points.push_back({52, 15, 6.2});
+  points.push_back({-12, 10, 1});
+  const Inspection r = inspect(points, dg::test::tilted_plane(), {});
+  LONGS_EQUAL(2, r.beyond_edge);
+  std::string svg;
+  std::vector<ReportPicture> pictures = inspection_pictures(r, &svg);
+  STRCMP_CONTAINS("+0.0100 mm", svg.c_str());
+  STRCMP_CONTAINS("grey: points beyond the surface's edge", pictures[0].caption.c_str());
+  STRCMP_CONTAINS("grey: points beyond the surface's edge", pictures[3].caption.c_str());
+  const Rgb grey = kMutedColour;
+  CHECK(has_pixel(decode(pictures[0].png), grey));
+  CHECK(has_pixel(decode(pictures[3].png), grey));
+  // Under a tolerance the grey stays; no point is drawn in an out-of-tolerance colour.
+  const ToleranceLimits limits{-0.02, 0.02};
+  pictures = inspection_pictures(r, nullptr, &limits);
+  const Decoded toleranced = decode(pictures[0].png);
+  CHECK(has_pixel(toleranced, grey));
+  const Rgb above = kAboveUpperLimit, below = kBelowLowerLimit;
+  // The colour bar shows both out-of-tolerance colours: count them in the plot only (left of it).
+  size_t out_of_tolerance = 0;
+  for (int y = 0; y < toleranced.height; ++y) {
+    for (int x = 0; x < toleranced.width - 220; ++x) {
+      const uint8_t* px = &toleranced.rgb[(static_cast<size_t>(y) * toleranced.width + x) * 3];
+      const Rgb c{px[0], px[1], px[2]};
+      out_of_tolerance += same(c, above) || same(c, below);
+    }
+  }
+  LONGS_EQUAL(0, out_of_tolerance);
+  // The 3D view: the two points grey, the others on the scale.
+  const std::string view = view3d_html(r, deviation_scale(nullptr), nullptr);
+  char grey_text[64];
+  std::snprintf(grey_text, sizeof grey_text, "%.4f,%.4f,%.4f", grey.r / 255.0, grey.g / 255.0, grey.b / 255.0);
+  STRCMP_CONTAINS(grey_text, view.c_str());
+  // Without points beyond the edge no cell is grey.
+  points.resize(points.size() - 2);
+  CHECK_FALSE(has_pixel(decode(inspection_pictures(inspect(points, dg::test::tilted_plane(), {}), nullptr)[0].png), grey));
 }
 
 // The uncertainty map: nothing without an uncertainty; with one, U = 2u placed where the surface
