@@ -270,7 +270,11 @@ Closest CadNominal::closest(const Point3& p) const {
   }
   if (!found || !std::isfinite(best.distance)) {
     ++impl_->fallbacks;
-    return on_mesh;
+    // The tessellation's faces need not share their seams' vertices: a seam can look like a
+    // border there, and a part's faces mark none.
+    Closest fallback = on_mesh;
+    fallback.on_border = false;
+    return fallback;
   }
   return best;
 }

@@ -67,7 +67,12 @@ MeshLocator::MeshLocator(Mesh mesh) : mesh_(std::move(mesh)) {
   face_normal_.resize(mesh_.triangles.size());
   vertex_normal_.assign(n, Point3{});
   edge_normal_.resize(mesh_.triangles.size());
-  std::map<std::pair<uint32_t, uint32_t>, Point3> edge_sum;  // undirected edge -> sum of its faces' normals
+  // Undirected edge -> the sum of its faces' normals, and how many faces with area it has.
+  struct EdgeFaces {
+    Point3 normal_sum;
+    int faces = 0;
+  };
+  std::map<std::pair<uint32_t, uint32_t>, EdgeFaces> edges;
   for (size_t t = 0; t < mesh_.triangles.size(); ++t) {
     const auto& tri = mesh_.triangles[t];
     for (uint32_t index : tri) {
@@ -92,14 +97,25 @@ MeshLocator::MeshLocator(Mesh mesh) : mesh_(std::move(mesh)) {
       const double angle = std::acos(std::clamp(dot(e1, e2), -1.0, 1.0));
       vertex_normal_[tri[static_cast<size_t>(k)]] += angle * face_normal_[t];
       const uint32_t u = tri[static_cast<size_t>(k)], w = tri[static_cast<size_t>((k + 1) % 3)];
-      edge_sum[{std::min(u, w), std::max(u, w)}] += face_normal_[t];
+      EdgeFaces& edge = edges[{std::min(u, w), std::max(u, w)}];
+      edge.normal_sum += face_normal_[t];
+      ++edge.faces;
     }
   }
+  edge_open_.assign(mesh_.triangles.size(), {false, false, false});
+  vertex_open_.assign(n, 0);
   for (size_t t = 0; t < mesh_.triangles.size(); ++t) {
     const auto& tri = mesh_.triangles[t];
     for (int k = 0; k < 3; ++k) {
       const uint32_t u = tri[static_cast<size_t>(k)], w = tri[static_cast<size_t>((k + 1) % 3)];
-      edge_normal_[t][static_cast<size_t>(k)] = edge_sum[{std::min(u, w), std::max(u, w)}];
+      const EdgeFaces& edge = edges[{std::min(u, w), std::max(u, w)}];
+      edge_normal_[t][static_cast<size_t>(k)] = edge.normal_sum;
+      // An edge of one triangle is the border of an open mesh (a single face of a part, a scan's
+      // mesh); a closed solid's every edge has two.
+      if (norm(face_normal_[t]) > 0 && edge.faces == 1) {
+        edge_open_[t][static_cast<size_t>(k)] = true;
+        vertex_open_[u] = vertex_open_[w] = 1;
+      }
     }
   }
   for (size_t t = 0; t < mesh_.triangles.size(); ++t) {
@@ -152,6 +168,13 @@ Point3 MeshLocator::feature_normal(size_t triangle, int feature) const {
   return vertex_normal_[mesh_.triangles[triangle][static_cast<size_t>(feature - 4)]];
 }
 
+bool MeshLocator::on_border(size_t triangle, int feature) const {
+  if (feature == 0) return false;
+  // Edges 1..3 are ab, bc, ca: edge k + 1 starts at corner k, as edge_open_ counts them.
+  if (feature <= 3) return edge_open_[triangle][static_cast<size_t>(feature - 1)];
+  return vertex_open_[mesh_.triangles[triangle][static_cast<size_t>(feature - 4)]] != 0;
+}
+
 Closest MeshLocator::closest(const Point3& p, size_t* triangle) const {
   double best2 = HUGE_VAL;
   Point3 best_point;
@@ -190,6 +213,7 @@ Closest MeshLocator::closest(const Point3& p, size_t* triangle) const {
   const Point3 normal = feature_normal(best_triangle, best_feature);
   out.distance = dot(p - best_point, normal) < 0 ? -distance : distance;
   out.normal = unit(normal);
+  out.on_border = on_border(best_triangle, best_feature);
   if (triangle) *triangle = best_triangle;
   return out;
 }

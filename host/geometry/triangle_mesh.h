@@ -51,6 +51,10 @@ class MeshLocator {
   std::vector<uint32_t> order_;
   std::vector<Point3> face_normal_, vertex_normal_;  // unit; vertices' angle-weighted
   std::vector<std::array<Point3, 3>> edge_normal_;  // per triangle edge: the sum of its faces' normals
+  // Per triangle edge, and per vertex: on the mesh's border (an edge of one triangle with area).
+  std::vector<std::array<bool, 3>> edge_open_;
+  std::vector<char> vertex_open_;
+  bool on_border(size_t triangle, int feature) const;
   size_t without_area_ = 0;
 };
 

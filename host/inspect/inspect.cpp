@@ -14,10 +14,11 @@ namespace dg::host {
 
 namespace {
 
-// Whether the closest point `c` on `surface` lies on its edge with `p` off to the side of it
-// (kBeyondEdgeAngleDeg, kBeyondEdgeMinMm).
-bool beyond_edge(const BSplineSurface& surface, const Point3& p, const dg::host::Closest& c) {
-  const bool on_edge = c.u <= surface.u_min() || c.u >= surface.u_max() || c.v <= surface.v_min() || c.v >= surface.v_max();
+// Whether the closest point `c` lies on the edge of `surface` (on an open mesh's border, without
+// one) with `p` off to the side of it (kBeyondEdgeAngleDeg, kBeyondEdgeMinMm).
+bool beyond_edge(const BSplineSurface* surface, const Point3& p, const dg::host::Closest& c) {
+  const bool on_edge = surface ? c.u <= surface->u_min() || c.u >= surface->u_max() || c.v <= surface->v_min() || c.v >= surface->v_max()
+                               : c.on_border;
   if (!on_edge || !(norm(c.normal) > 0)) return false;
   const Point3 r = p - c.point;
   const double along = std::fabs(dot(r, c.normal));
@@ -25,7 +26,8 @@ bool beyond_edge(const BSplineSurface& surface, const Point3& p, const dg::host:
   return across > kBeyondEdgeMinMm && across > along * std::tan(kBeyondEdgeAngleDeg * M_PI / 180.0);
 }
 
-// A point's closest point and the B-spline surface it lies on (null on a nominal).
+// A point's closest point and the B-spline surface it lies on (null on a nominal, whose Closest
+// says whether it is on a border).
 struct Measured {
   dg::host::Closest closest;
   const BSplineSurface* surface = nullptr;
@@ -43,7 +45,7 @@ Inspection measure(const std::vector<Point3>& points, Closest closest, const std
     for (size_t i = begin; i < end; ++i) {
       const Measured m = closest(points[i]);
       const dg::host::Closest& c = m.closest;
-      out.points[i] = {points[i], c.point, c.distance, m.surface != nullptr && beyond_edge(*m.surface, points[i], c)};
+      out.points[i] = {points[i], c.point, c.distance, beyond_edge(m.surface, points[i], c)};
     }
   };
   if (concurrent) {

@@ -17,7 +17,8 @@ struct PointDeviation {
   double distance;  // signed: positive on the side of S_u x S_v
   // The closest point lies on the surface's edge and the point is off to the side of it (farther
   // from the normal there than along it, kBeyondEdgeAngleDeg): its deviation is the distance to the
-  // edge, not along a normal. B-spline surfaces and faces only; a nominal's points are never marked.
+  // edge, not along a normal. B-spline surfaces, faces and open meshes (the border's edges and
+  // corners, Closest::on_border); a closed mesh has no edge, and a CAD part's faces mark none.
   bool beyond_edge = false;
 };
 

@@ -108,6 +108,26 @@ TEST(TriangleMesh, SignedDistancesToACubeAreTrueAtFacesEdgesAndCorners) {
   CHECK(outside_near_edge_or_corner > 300);
 }
 
+// A closed solid has no border: no foot on the cube, at a face, an edge or a corner, is on one.
+// An open mesh's border is its edges of one triangle and their corners: the square [0, 10]^2 as two
+// triangles has its diagonal inside, shared, and its four sides and corners on the border.
+TEST(TriangleMesh, AFootOnAnOpenMeshsBorderIsMarkedAndNoneOnAClosedOne) {
+  const MeshLocator solid(cube());
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> any(-4, 14);
+  for (int trial = 0; trial < 500; ++trial) CHECK_FALSE(solid.closest({any(rng), any(rng), any(rng)}).on_border);
+  Mesh square;
+  square.vertices = {{0, 0, 0}, {10, 0, 0}, {10, 10, 0}, {0, 10, 0}};
+  square.triangles = {{0, 1, 2}, {0, 2, 3}};
+  const MeshLocator open(square);
+  CHECK_FALSE(open.closest({3, 2, 1}).on_border);   // above the first triangle
+  CHECK_FALSE(open.closest({5, 5, -1}).on_border);  // below the shared diagonal
+  CHECK(open.closest({12, 5, 1}).on_border);        // beside the side x = 10
+  CHECK(open.closest({5, -3, 0}).on_border);        // beside y = 0
+  CHECK(open.closest({-2, 12, 0}).on_border);       // beyond the corner (0, 10)
+  CHECK(open.closest({10.5, 5, 2}).on_border);      // above and a little beside the side: its foot on it
+}
+
 TEST(TriangleMesh, RefusesAMeshWithoutTrianglesOrWithAnIndexOutOfRange) {
   Mesh empty;
   CHECK_THROWS(std::invalid_argument, locate(empty));

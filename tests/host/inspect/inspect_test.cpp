@@ -11,6 +11,7 @@
 
 #include "host/fit/bspline_fit.h"
 #include "host/geometry/surface_locator.h"
+#include "host/geometry/triangle_mesh.h"
 #include "host/geometry/vec3.h"
 #include "tests/support/sample_surfaces.h"
 
@@ -106,6 +107,27 @@ TEST(Inspect, LeavesThePointsBeyondTheEdgeOutOfTheStatisticsAndBands) {
   DOUBLES_EQUAL(0.07, r.stats.mean, 1e-9);
   LONGS_EQUAL(2, r.bands[0].count);
   DOUBLES_EQUAL(2.0 / 3.0, r.bands[0].share, 1e-12);
+}
+
+// Against an open mesh nominal (a single face of a part) a point off to the side of its border is
+// beyond its edge as on a fitted surface, and one above the border along the normal is not; a
+// closed mesh has no border, so nothing is marked on it.
+TEST(Inspect, PointsBeyondAnOpenMeshsBorderAreMarkedAndLeftOutOfTheStatistics) {
+  Mesh square;
+  square.vertices = {{0, 0, 1}, {40, 0, 1}, {40, 30, 1}, {0, 30, 1}};
+  square.triangles = {{0, 1, 2}, {0, 2, 3}};
+  const MeshLocator locator(square);
+  const Inspection r = inspect_nominal({{20, 10, 1.02}, {10, 20, 0.99}, {40, 15, 3}, {45, 15, 1}, {-3, -4, 1.5}},
+                                       [&](const Point3& p) { return locator.closest(p); }, {0.05});
+  CHECK_FALSE(r.points[0].beyond_edge);
+  CHECK_FALSE(r.points[1].beyond_edge);
+  CHECK_FALSE(r.points[2].beyond_edge);  // above the border, along the normal: 2 mm off the part
+  CHECK(r.points[3].beyond_edge);
+  CHECK(r.points[4].beyond_edge);
+  LONGS_EQUAL(2, r.beyond_edge);
+  LONGS_EQUAL(3, r.stats.count);
+  DOUBLES_EQUAL(2.0, r.stats.max, 1e-9);
+  LONGS_EQUAL(2, r.bands[0].count);
 }
 
 // With every point beyond the edge there is no deviation to report: refused, saying so.
