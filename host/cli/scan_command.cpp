@@ -97,18 +97,19 @@ digitizer_ScanRequest request_from(const ScanArgs& a) {
   if (step <= 0 || step_y <= 0) throw std::invalid_argument("--step must be > 0");
   // A step longer than its range gives one point per line (or one line) and looks like a scan
   // that ran: refused, naming both. A range of one position (--y 10:10) takes any step.
-  auto within = [](int64_t step_nm, const RangeNm& range, const char* step_name, const char* range_name, const std::string& text) {
+  auto within = [](int64_t step_nm, const RangeNm& range, const char* step_name, const char* range_name, const std::string& text,
+                   const char* one) {
     const int64_t span_nm = static_cast<int64_t>(range.max_nm) - range.min_nm;
     if (span_nm > 0 && step_nm > span_nm) {
       char why[200];
       std::snprintf(why, sizeof why, "%s %.4g mm is longer than the %s range %s (%.4g mm): the scan would measure one %s there",
                     step_name, static_cast<double>(step_nm) * 1e-6, range_name, text.c_str(), static_cast<double>(span_nm) * 1e-6,
-                    range_name[2] == 'x' ? "point per line" : "line");
+                    one);
       throw std::invalid_argument(why);
     }
   };
-  within(step, x, "--step", "--x", a.x);
-  within(step_y, y, a.step_y_mm > 0 ? "--step-y" : "--step", "--y", a.y);
+  within(step, x, "--step", "--x", a.x, "point per line");
+  within(step_y, y, a.step_y_mm > 0 ? "--step-y" : "--step", "--y", a.y, "line");
   request.step_x_nm = static_cast<uint32_t>(step);
   request.step_y_nm = static_cast<uint32_t>(step_y);
   request.pattern = a.pattern == "raster" ? digitizer_ScanPattern_PATTERN_RASTER
