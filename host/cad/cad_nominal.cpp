@@ -1,6 +1,7 @@
 // STEP and IGES parts through OpenCASCADE: read, meshed to find candidate faces, measured exactly.
 #include "host/cad/cad_nominal.h"
 
+#include <BRepAdaptor_Curve.hxx>
 #include <BRepAdaptor_Surface.hxx>
 #include <BRepBndLib.hxx>
 #include <BRepTopAdaptor_FClass2d.hxx>
@@ -26,8 +27,11 @@
 #include <Geom2d_Curve.hxx>
 #include <gp_Vec2d.hxx>
 #include <TopLoc_Location.hxx>
+#include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
+#include <TopTools_ListOfShape.hxx>
 #include <TopoDS.hxx>
+#include <TopoDS_Edge.hxx>
 #include <TopoDS_Face.hxx>
 #include <TopoDS_Shape.hxx>
 #include <TopoDS_Vertex.hxx>
@@ -63,6 +67,9 @@ struct CadNominal::Impl {
   // only near the face's edges.
   std::vector<TrimGrid> trim_grids;
   std::unique_ptr<MeshLocator> mesh;
+  // The part's border: edges of one face (not a seam, not degenerate), and their vertices. A single
+  // face, or an open shell, has one; a solid has none.
+  TopTools_IndexedMapOfShape border_edges, border_vertices;
   double deflection_mm = 0;
   mutable size_t fallbacks = 0;
 };
@@ -111,6 +118,42 @@ TrimGrid trim_grid_of(const TopoDS_Face& face, const BRepTopAdaptor_FClass2d& cl
     }
   }
   return TrimGrid(segments, sagitta, [&](double u, double v) { return classifier.Perform(gp_Pnt2d(u, v)) == TopAbs_IN; });
+}
+
+// How far an edge of one face may run from another face and still be taken as their seam: IGES
+// parts are often unsewn, each face with edges of its own, which meet the neighbour's within the
+// writer's tolerance; an open part's border runs along no other face.
+constexpr double kSeamGapMm = 0.05;
+
+// The part's border into `edges` and their vertices into `vertices`: edges of one face (a seam, an
+// edge its closed face meets twice, and a degenerate edge, a sphere's pole, aside) that no other
+// face runs along: at 8 points along the edge, no other face's triangle comes within kSeamGapMm
+// (plus the mesh's deflection and the edge's tolerance).
+void map_border(const TopoDS_Shape& shape, const TopTools_IndexedMapOfShape& face_map, const std::vector<size_t>& face_of_triangle,
+                const MeshLocator& mesh, double deflection_mm, TopTools_IndexedMapOfShape& edges,
+                TopTools_IndexedMapOfShape& vertices) {
+  TopTools_IndexedDataMapOfShapeListOfShape faces_of_edge;
+  TopExp::MapShapesAndAncestors(shape, TopAbs_EDGE, TopAbs_FACE, faces_of_edge);
+  std::vector<size_t> near;
+  for (int k = 1; k <= faces_of_edge.Extent(); ++k) {
+    const TopoDS_Edge& edge = TopoDS::Edge(faces_of_edge.FindKey(k));
+    if (BRep_Tool::Degenerated(edge)) continue;
+    TopTools_IndexedMapOfShape faces;
+    for (const TopoDS_Shape& face : faces_of_edge(k)) faces.Add(face);
+    if (faces.Extent() != 1 || BRep_Tool::IsClosed(edge, TopoDS::Face(faces(1)))) continue;
+    const size_t own = static_cast<size_t>(face_map.FindIndex(faces(1)) - 1);
+    const BRepAdaptor_Curve curve(edge);
+    const double radius_mm = kSeamGapMm + 2 * deflection_mm + BRep_Tool::Tolerance(edge);
+    bool along_another = true;
+    for (int i = 0; i < 8 && along_another; ++i) {
+      const gp_Pnt q = curve.Value(curve.FirstParameter() + (curve.LastParameter() - curve.FirstParameter()) * (i + 0.5) / 8);
+      mesh.triangles_within({q.X(), q.Y(), q.Z()}, radius_mm, near);
+      along_another = std::any_of(near.begin(), near.end(), [&](size_t t) { return face_of_triangle[t] != own; });
+    }
+    if (along_another) continue;
+    edges.Add(edge);
+    TopExp::MapShapes(edge, TopAbs_VERTEX, vertices);
+  }
 }
 
 TopoDS_Shape read_shape(const std::string& path) {
@@ -187,6 +230,7 @@ CadNominal CadNominal::read(const std::string& path) {
     }
     if (mesh.triangles.empty()) throw CadNominalError(path + ": the part's faces give no triangles");
     impl->mesh = std::make_unique<MeshLocator>(std::move(mesh));
+    map_border(shape, faces, impl->face_of_triangle, *impl->mesh, impl->deflection_mm, impl->border_edges, impl->border_vertices);
   } catch (const Standard_Failure& e) {
     throw CadNominalError(path + ": OpenCASCADE failed on it: " + std::string(e.GetMessageString() ? e.GetMessageString() : "?"));
   } catch (const std::invalid_argument& e) {
@@ -214,6 +258,7 @@ bool CadNominal::local_closest(const Point3& p, size_t t, const Closest& on_mesh
   if (!locate.IsDone()) return false;
   Standard_Real u = 0, v = 0;
   locate.Point().Parameter(u, v);
+  // A foot on the trim (ON, not IN) is left to the global search too: it names the edge the foot is on.
   if (!impl_->trim_grids[f].surely_inside(u, v) && impl_->inside[f]->Perform(gp_Pnt2d(u, v)) != TopAbs_IN) return false;
   const gp_Pnt foot = locate.Point().Value();
   const double distance = std::sqrt(locate.SquareDistance());
@@ -262,6 +307,9 @@ Closest CadNominal::closest(const Point3& p) const {
         oriented_normal(*impl_->normals[f], u, v, c.normal);
       }
       c.distance = dot(p - c.point, c.normal) < 0 ? -distance : distance;
+      const BRepExtrema_SupportType support = extrema.SupportTypeShape2(1);
+      c.on_border = (support == BRepExtrema_IsOnEdge && impl_->border_edges.Contains(extrema.SupportOnShape2(1))) ||
+                    (support == BRepExtrema_IsVertex && impl_->border_vertices.Contains(extrema.SupportOnShape2(1)));
       best = c;
       found = true;
     }
@@ -271,7 +319,7 @@ Closest CadNominal::closest(const Point3& p) const {
   if (!found || !std::isfinite(best.distance)) {
     ++impl_->fallbacks;
     // The tessellation's faces need not share their seams' vertices: a seam can look like a
-    // border there, and a part's faces mark none.
+    // border on the mesh, so the mesh's foot marks none.
     Closest fallback = on_mesh;
     fallback.on_border = false;
     return fallback;

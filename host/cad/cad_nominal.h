@@ -20,7 +20,8 @@ class CadNominalError : public std::runtime_error {
 // BRepMesh meshes its faces to a deflection of 1e-4 of the part's size (0.001 to 0.05 mm). A
 // point's nearest triangles name the faces that can hold its closest point; each is measured
 // exactly (BRepExtrema), and the nearest wins. The sign comes from the face's normal as the part
-// orients it (outward on a solid), or at an edge or a corner from the mesh's pseudo-normal.
+// orients it (outward on a solid), or at an edge or a corner from the mesh's pseudo-normal. A foot
+// on an edge of one face (a single face's or an open shell's border) is marked `on_border`.
 // The OpenCASCADE this build links, "7.6.3", for `digitizer doctor`.
 std::string opencascade_version();
 

@@ -90,6 +90,8 @@ Closest closest_point(const BSplineSurface& surface, const Point3& p, double u0,
   result.u = u;
   result.v = v;
   result.point = s;
+  // Clamped to the domain: the foot is on the surface's edge, and the distance may run to the side.
+  result.on_border = u <= u_lo || u >= u_hi || v <= v_lo || v >= v_hi;
   const Point3 r = p - s;
   const Point3 normal = cross(su, sv);
   const double length = norm(r), normal_length = norm(normal);

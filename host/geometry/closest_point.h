@@ -14,9 +14,9 @@ struct Closest {
   // |P - S(u0, v0)| with (u0, v0) clamped to the domain: the distance at the parameters it
   // started from, an upper bound of `distance`'s size.
   double start_distance = 0;
-  // The foot lies on an open mesh's border (MeshLocator: an edge of one triangle, or a vertex on
-  // one), where the distance may run to the side of the mesh instead of along its normal. A
-  // B-spline's domain edge is told by (u, v) instead.
+  // The foot lies on the surface's border, where the distance may run to the side of the surface
+  // instead of along its normal: on a B-spline's domain edge (closest_point), or on an open mesh's
+  // border (MeshLocator: an edge of one triangle, or a vertex on one).
   bool on_border = false;
 };
 

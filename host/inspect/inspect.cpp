@@ -14,38 +14,28 @@ namespace dg::host {
 
 namespace {
 
-// Whether the closest point `c` lies on the edge of `surface` (on an open mesh's border, without
-// one) with `p` off to the side of it (kBeyondEdgeAngleDeg, kBeyondEdgeMinMm).
-bool beyond_edge(const BSplineSurface* surface, const Point3& p, const dg::host::Closest& c) {
-  const bool on_edge = surface ? c.u <= surface->u_min() || c.u >= surface->u_max() || c.v <= surface->v_min() || c.v >= surface->v_max()
-                               : c.on_border;
-  if (!on_edge || !(norm(c.normal) > 0)) return false;
+// Whether the closest point `c` lies on the surface's border (a B-spline's domain edge, an open
+// mesh's border) with `p` off to the side of it (kBeyondEdgeAngleDeg, kBeyondEdgeMinMm).
+bool beyond_edge(const Point3& p, const dg::host::Closest& c) {
+  if (!c.on_border || !(norm(c.normal) > 0)) return false;
   const Point3 r = p - c.point;
   const double along = std::fabs(dot(r, c.normal));
   const double across = norm(r - dot(r, c.normal) * c.normal);
   return across > kBeyondEdgeMinMm && across > along * std::tan(kBeyondEdgeAngleDeg * M_PI / 180.0);
 }
 
-// A point's closest point and the B-spline surface it lies on (null on a nominal, whose Closest
-// says whether it is on a border).
-struct Measured {
-  dg::host::Closest closest;
-  const BSplineSurface* surface = nullptr;
-};
-
-// Every point's closest point by `closest(p)` (a Measured), checked finite, with the statistics
+// Every point's closest point by `closest(p)`, checked finite, with the statistics
 // and bands; on every core when `concurrent` (each point's result has its own slot, so the results
 // are those of one thread).
-template <class Closest>
-Inspection measure(const std::vector<Point3>& points, Closest closest, const std::vector<double>& bands_mm, bool concurrent) {
+template <class Locate>
+Inspection measure(const std::vector<Point3>& points, Locate closest, const std::vector<double>& bands_mm, bool concurrent) {
   Inspection out;
   if (points.empty()) throw std::invalid_argument("there are no points to inspect");
   out.points.resize(points.size());
   auto measure_range = [&](size_t begin, size_t end, unsigned) {
     for (size_t i = begin; i < end; ++i) {
-      const Measured m = closest(points[i]);
-      const dg::host::Closest& c = m.closest;
-      out.points[i] = {points[i], c.point, c.distance, beyond_edge(m.surface, points[i], c)};
+      const dg::host::Closest c = closest(points[i]);
+      out.points[i] = {points[i], c.point, c.distance, beyond_edge(points[i], c)};
     }
   };
   if (concurrent) {
@@ -94,7 +84,7 @@ Inspection measure(const std::vector<Point3>& points, Closest closest, const std
 Inspection inspect(const std::vector<Point3>& points, const BSplineSurface& surface, const std::vector<double>& bands_mm) {
   if (points.empty()) throw std::invalid_argument("there are no points to inspect");
   const SurfaceLocator locator(surface);
-  return measure(points, [&](const Point3& p) { return Measured{locator.closest(p), &surface}; }, bands_mm, true);
+  return measure(points, [&](const Point3& p) { return locator.closest(p); }, bands_mm, true);
 }
 
 Inspection inspect_faces(const std::vector<Point3>& points, const std::vector<TrimmedFace>& faces,
@@ -107,12 +97,12 @@ Inspection inspect_faces(const std::vector<Point3>& points, const std::vector<Tr
       points,
       [&](const Point3& p) {
         for (size_t k = 0; k < faces.size(); ++k) {
-          if (inside_face(faces[k], p.x, p.y)) return Measured{locators[k].closest(p), &faces[k].surface};
+          if (inside_face(faces[k], p.x, p.y)) return locators[k].closest(p);
         }
-        Measured best{locators[0].closest(p), &faces[0].surface};
+        dg::host::Closest best = locators[0].closest(p);
         for (size_t k = 1; k < faces.size(); ++k) {
           const dg::host::Closest c = locators[k].closest(p);
-          if (std::fabs(c.distance) < std::fabs(best.closest.distance)) best = {c, &faces[k].surface};
+          if (std::fabs(c.distance) < std::fabs(best.distance)) best = c;
         }
         return best;
       },
@@ -121,7 +111,7 @@ Inspection inspect_faces(const std::vector<Point3>& points, const std::vector<Tr
 
 Inspection inspect_nominal(const std::vector<Point3>& points, const std::function<Closest(const Point3&)>& closest,
                            const std::vector<double>& bands_mm, bool concurrent) {
-  return measure(points, [&](const Point3& p) { return Measured{closest(p), nullptr}; }, bands_mm, concurrent);
+  return measure(points, closest, bands_mm, concurrent);
 }
 
 }  // namespace dg::host

@@ -19,7 +19,10 @@
 
 #include "host/cad/cad_nominal.h"
 #include "host/cad/step_writer.h"
+#include "host/fit/regions.h"
 #include "host/geometry/surface_locator.h"
+#include "host/geometry/vec3.h"
+#include "tests/support/part_scan.h"
 #include "tests/support/sample_surfaces.h"
 
 using namespace dg::host;
@@ -57,7 +60,10 @@ double worst_error(const CadNominal& nominal, Truth truth, Point3 low, Point3 hi
   double worst = 0;
   for (int k = 0; k < 300; ++k) {
     const Point3 p{x(rng), y(rng), z(rng)};
-    worst = std::max(worst, std::fabs(nominal.closest(p).distance - truth(p)));
+    const Closest c = nominal.closest(p);
+    worst = std::max(worst, std::fabs(c.distance - truth(p)));
+    // A solid's every edge bounds two faces (a cylinder's seam bounds its one face twice): no border.
+    CHECK_FALSE(c.on_border);
   }
   return worst;
 }
@@ -136,5 +142,81 @@ TEST(CadNominal, ABsplineFaceMeasuresAsOurOwnSurfaceDoes) {
   std::printf("\n  B-spline face (STEP): worst |distance - ours| %.2g mm", worst);
   CHECK(worst < 1e-6);
   LONGS_EQUAL(0, nominal.mesh_fallbacks());
+  std::remove(path.c_str());
+}
+
+TEST(CadNominal, AFootOffToTheSideOfASingleFacesEdgeIsOnItsBorder) {
+  // A single face (our STEP of a B-spline surface, an open shell) has a border: a point off to the
+  // side of it finds its foot there, as our own closest point, clamped to the domain, does (the
+  // solids mark none: worst_error).
+  const BSplineSurface surface = dg::test::clamped_sample();
+  const std::string path = temporary("border.stp");
+  dg::host::write_step(path, surface, StepOptions{});
+  const CadNominal nominal = CadNominal::read(path);
+  const SurfaceLocator locator(surface);
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> x(-8, 49), y(-8, 38), z(0, 5);
+  int compared = 0, on_border = 0;
+  for (int k = 0; k < 300; ++k) {
+    const Point3 p{x(rng), y(rng), z(rng)};
+    const Closest ours = locator.closest(p);
+    // Where the point is nearly over the edge either answer is right: left out.
+    const Point3 r = p - ours.point;
+    if (ours.on_border && norm(r - dot(r, ours.normal) * ours.normal) < 0.05) continue;
+    ++compared;
+    on_border += ours.on_border;
+    CHECK_EQUAL(ours.on_border, nominal.closest(p).on_border);
+  }
+  std::printf("\n  B-spline face (STEP): %d of %d points off to the side of its edge", on_border, compared);
+  CHECK(compared > 250);
+  CHECK(on_border > 50 && on_border < compared - 50);
+  std::remove(path.c_str());
+}
+
+TEST(CadNominal, AnUnsewnBoxFromIgesHasNoBorder) {
+  // IGES as many CAD programs write it: each face a trimmed surface (entity 144) with edges of its
+  // own. Each edge runs along the neighbouring face's edge, so the box is closed and marks no point.
+  const std::string path = temporary("unsewn.igs");
+  IGESControl_Controller::Init();
+  IGESControl_Writer writer("MM", 0);
+  writer.AddShape(BRepPrimAPI_MakeBox(40, 30, 10).Shape());
+  writer.ComputeModel();
+  CHECK(writer.Write(path.c_str()));
+  const CadNominal nominal = CadNominal::read(path);
+  const double worst = worst_error(nominal, box_distance, {-5, -5, -5}, {45, 35, 15}, 3);
+  std::printf("\n  box (IGES, %zu trimmed surfaces): worst |distance - true| %.2g mm", nominal.face_count(), worst);
+  CHECK(worst < 1e-5);
+  std::remove(path.c_str());
+}
+
+TEST(CadNominal, OurTrimmedFacesMeetAtTheirSeamAndEndAtTheScansEdge) {
+  // The dome fitted as trimmed faces (cap and plate, each with edges of its own) and written as STEP:
+  // over the scanned area no foot is on a border, the seam between the faces included; off to the
+  // side of the scan's edge every point's is.
+  dg::test::PartScan dome;
+  RegionOptions options;
+  options.tolerance.tolerance_mm = 0.025;
+  const RegionFit fit = fit_regions(dg::test::scan_part(dome, 3), nullptr, options);
+  CHECK(fit.faces.size() >= 2);
+  const std::string path = temporary("dome_faces.stp");
+  write_step_faces(path, fit.faces, StepOptions{});
+  const CadNominal nominal = CadNominal::read(path);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> x(0.5, 39.5), y(0.5, 29.5), off(-0.2, 0.2), out(3, 8);
+  int inside_marked = 0;
+  for (int k = 0; k < 400; ++k) {
+    const double px = x(rng), py = y(rng);
+    inside_marked += nominal.closest({px, py, dg::sim::shape_height_mm(dome.kind, px, py) + off(rng)}).on_border;
+  }
+  int beyond_marked = 0;
+  for (int k = 0; k < 100; ++k) {
+    const double py = y(rng);
+    beyond_marked += nominal.closest({-out(rng), py, dg::sim::shape_height_mm(dome.kind, 0, py)}).on_border;
+    beyond_marked += nominal.closest({40 + out(rng), py, dg::sim::shape_height_mm(dome.kind, 40, py)}).on_border;
+  }
+  std::printf("\n  dome as %zu trimmed faces (STEP): %d of 400 points over the scan and %d of 200 beyond its edge on a border",
+              nominal.face_count(), inside_marked, beyond_marked);
+  LONGS_EQUAL(0, inside_marked);
+  LONGS_EQUAL(200, beyond_marked);
   std::remove(path.c_str());
 }

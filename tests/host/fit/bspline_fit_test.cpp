@@ -152,6 +152,24 @@ TEST(BSplineFit, OrthogonalDistanceToATiltedPlaneIsTheNormalDistance) {
   DOUBLES_EQUAL(1.0 / std::sqrt(1.25), above.distance, 1e-9);  // cos of the slope angle
   const Closest below = closest_point(s, {5.0, 5.0, 2.5 - 1.0}, 0.5, 0.5);
   DOUBLES_EQUAL(-1.0 / std::sqrt(1.25), below.distance, 1e-9);
+  CHECK_FALSE(above.on_border);
+  CHECK_FALSE(below.on_border);
+}
+
+TEST(BSplineFit, AFootClampedToTheDomainIsOnTheBorder) {
+  // On the plane's continuation past x = 10 the foot stops at the edge, 5 mm along the plane short
+  // of the point; in a corner at both edges.
+  const PointCloud c = grid(11, 11, 1.0, [](double x, double) { return 0.5 * x; });
+  const Parameters p = parameterize(c, Parameterization::kTableXy);
+  const BSplineSurface s = fit_least_squares(c.points, p, nullptr, cubic(4, 4));
+  const Closest beyond = closest_point(s, {15.0, 5.0, 7.5}, 0.5, 0.5);
+  CHECK(beyond.on_border);
+  DOUBLES_EQUAL(10.0, beyond.point.x, 1e-6);
+  DOUBLES_EQUAL(5.0 * std::sqrt(1.25), std::fabs(beyond.distance), 1e-6);
+  const Closest corner = closest_point(s, {-3.0, -4.0, 0.0}, 0.5, 0.5);
+  CHECK(corner.on_border);
+  DOUBLES_EQUAL(0.0, corner.point.x, 1e-6);
+  DOUBLES_EQUAL(0.0, corner.point.y, 1e-6);
 }
 
 // A net whose normal equations cannot fit in memory is refused with the figure, before anything
