@@ -89,6 +89,18 @@ std::string alignment_text(const AlignmentSummary& s) {
                 s.translation_mm.z, s.rms_before_mm, s.rms_after_mm, s.iterations, s.converged ? "" : " (not converged)",
                 s.left_out);
   std::string out = text;
+  if (s.beyond_edge > 0) {
+    std::snprintf(text, sizeof text, ", and %zu beyond the nominal's edge (their distance is to the edge, not along a normal)",
+                  s.beyond_edge);
+    out += text;
+  }
+  if (s.held > 0) {
+    std::snprintf(text, sizeof text,
+                  "; %d of its freedoms held still: the nominal's shape does not fix them (a plane lets a part slide, a "
+                  "sphere turn about its centre), so the deviations are right and those moves unmeasured",
+                  s.held);
+    out += text;
+  }
   for (const DatumSummary& d : s.datums) {
     std::snprintf(text, sizeof text, "\n  datum %s (x %.3f..%.3f, y %.3f..%.3f mm, %zu points) fixed %s; its RMS %.4f mm",
                   d.name.c_str(), d.x0_mm, d.x1_mm, d.y0_mm, d.y1_mm, d.points, d.fixes.c_str(), d.rms_after_mm);
@@ -313,7 +325,7 @@ int run_inspect(const InspectArgs& given) {
     const Alignment fit = by_datums ? align_to_datums(datums, closest) : align_to_nominal(cloud.points, closest);
     for (Point3& p : cloud.points) p = fit.transform.apply(p);
     aligned = AlignmentSummary{fit.transform.rotation, fit.transform.translation, fit.transform.angle_deg(),
-                               fit.rms_before_mm, fit.rms_after_mm, fit.iterations, fit.converged, fit.left_out, {}};
+                               fit.rms_before_mm, fit.rms_after_mm, fit.iterations, fit.converged, fit.left_out, fit.beyond_edge, fit.held, {}};
     for (size_t k = 0; k < datums.size(); ++k) {
       aligned->datums.push_back({datums[k].name, boxes[k].x0_mm, boxes[k].x1_mm, boxes[k].y0_mm, boxes[k].y1_mm,
                                  datums[k].points.size(), datums[k].fixes_text, datums[k].rms_after_mm});

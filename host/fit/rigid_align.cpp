@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 #include "host/geometry/vec3.h"
 
@@ -24,13 +25,26 @@ double RigidTransform::angle_deg() const {
 
 namespace {
 
-double rms_of(const std::vector<Point3>& points, const RigidTransform& t, const std::function<Closest(const Point3&)>& closest) {
+// The least a freedom's moving by 1 mm (a turn by 1 radian at the points' RMS radius) changes the
+// points' mean squared distance by, in mm^2 per mm^2: below it the nominal's shape does not fix
+// that freedom (a datum must; a best fit holds it still).
+constexpr double kMinSensitivity = 1e-4;
+
+// The RMS distance of the points over the nominal, moved by t; the ones beyond its edge are left
+// out, and counted into `beyond` when given.
+double rms_of(const std::vector<Point3>& points, const RigidTransform& t, const std::function<Closest(const Point3&)>& closest,
+              size_t* beyond = nullptr) {
   double sum = 0;
+  size_t over = 0;
   for (const Point3& p : points) {
-    const double d = closest(t.apply(p)).distance;
-    sum += d * d;
+    const Point3 moved = t.apply(p);
+    const Closest c = closest(moved);
+    if (beyond_edge(moved, c)) continue;
+    sum += c.distance * c.distance;
+    ++over;
   }
-  return std::sqrt(sum / static_cast<double>(std::max<size_t>(1, points.size())));
+  if (beyond) *beyond = points.size() - over;
+  return std::sqrt(sum / static_cast<double>(std::max<size_t>(1, over)));
 }
 
 // The trimmed cost of an alignment: the mean of the smallest 90 % of the squared distances. Trimmed
@@ -73,19 +87,30 @@ Alignment align_steps(const std::vector<Point3>& all, const std::function<Closes
   for (int iteration = 1; iteration <= 50; ++iteration) {
     Eigen::Matrix<double, 6, 6> normal = Eigen::Matrix<double, 6, 6>::Zero();
     Eigen::Matrix<double, 6, 1> rhs = Eigen::Matrix<double, 6, 1>::Zero();
-    // A trimmed fit: points farther than 3 robust sigmas (1.4826 x the median |distance|) from the
-    // nominal are left out of this step, so that outliers and unscanned features cannot pull it.
+    // A trimmed fit: points farther than 3 robust sigmas (1.4826 x the median |distance| of the
+    // points over the nominal) are left out of this step, so that outliers and unscanned features
+    // cannot pull it; so are the points beyond the nominal's edge (Turk and Levoy 1994), whose
+    // distance to the edge would pull the part towards it.
     std::vector<Point3> moved_points;
     std::vector<Closest> feet;
-    std::vector<double> distances;
+    std::vector<double> distances, over;
+    std::vector<char> beyond;
     for (const Point3& p : points) {
       moved_points.push_back(out.transform.apply(p));
       feet.push_back(closest(moved_points.back()));
       distances.push_back(std::fabs(feet.back().distance));
+      beyond.push_back(beyond_edge(moved_points.back(), feet.back()));
+      if (!beyond.back()) over.push_back(distances.back());
     }
-    const double cost = trimmed_cost(distances);
+    out.beyond_edge = points.size() - over.size();
+    if (over.empty()) {
+      throw std::invalid_argument("every one of the " + std::to_string(points.size()) +
+                                  " points aligned lies beyond the nominal's edge, so none can be fitted to it along a normal: "
+                                  "are they the points of this part, in its coordinates?");
+    }
+    const double cost = trimmed_cost(over);
     if (cost < best_cost) best_cost = cost, best = out.transform;
-    std::vector<double> sorted = distances;
+    std::vector<double> sorted = over;
     std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
     // Never below 1 nm: the closest points themselves settle to 1e-7 mm.
     const double cutoff = std::max(3 * 1.4826 * (sorted.empty() ? 0.0 : sorted[sorted.size() / 2]), 1e-6);
@@ -94,6 +119,7 @@ Alignment align_steps(const std::vector<Point3>& all, const std::function<Closes
     for (size_t k = 0; k < points.size(); ++k) {
       const Point3& moved = moved_points[k];
       const Closest& c = feet[k];
+      if (beyond[k]) continue;
       if (distances[k] > cutoff) {
         ++out.left_out;
         continue;
@@ -111,16 +137,29 @@ Alignment align_steps(const std::vector<Point3>& all, const std::function<Closes
       rhs -= row * residual;
       ++used;
     }
-    if (sensitivity) {
-      // Rotations in radians times the points' RMS radius: a distance, as translations are.
-      const Eigen::Matrix<double, 6, 1> scale = (Eigen::Matrix<double, 6, 1>() << 1 / std::max(radius, 1e-12),
-                                                 1 / std::max(radius, 1e-12), 1 / std::max(radius, 1e-12), 1, 1, 1).finished();
-      *sensitivity = scale.asDiagonal() * normal * scale.asDiagonal() / static_cast<double>(std::max<size_t>(1, used));
+    // Rotations in radians times the points' RMS radius: a distance, as translations are; per point.
+    const Eigen::Matrix<double, 6, 1> scale = (Eigen::Matrix<double, 6, 1>() << 1 / std::max(radius, 1e-12),
+                                               1 / std::max(radius, 1e-12), 1 / std::max(radius, 1e-12), 1, 1, 1).finished();
+    const double per_point = 1.0 / static_cast<double>(std::max<size_t>(1, used));
+    const Eigen::Matrix<double, 6, 6> scaled = scale.asDiagonal() * normal * scale.asDiagonal() * per_point;
+    if (sensitivity) *sensitivity = scaled;
+    // A plane lets the points slide along it, a cylinder turn about its axis and a sphere about its
+    // centre without changing a distance: the step is solved only along the directions the shape
+    // fixes (kMinSensitivity), and held still along the others, which noise and the fit's small
+    // departures from the shape would otherwise move at random (a sphere's patch turned 3 degrees).
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eigen(scaled);
+    const Eigen::Matrix<double, 6, 1> projected = eigen.eigenvectors().transpose() * (scale.asDiagonal() * rhs * per_point);
+    Eigen::Matrix<double, 6, 1> solved = Eigen::Matrix<double, 6, 1>::Zero();
+    int determined = 0;
+    for (int i = 0; i < 6; ++i) {
+      if (!(eigen.eigenvalues()(i) >= kMinSensitivity)) continue;
+      solved(i) = projected(i) / eigen.eigenvalues()(i);
+      ++determined;
     }
-    // A plane or a cylinder lets points slide along it without changing a distance: a tiny ridge
-    // keeps those directions at no move instead of an arbitrary one (and the held ones at none).
-    normal.diagonal().array() += 1e-9 * normal.trace() / 6 + 1e-300;
-    const Eigen::Matrix<double, 6, 1> step = normal.ldlt().solve(rhs);
+    int free_count = 0;
+    for (bool f : free) free_count += f;
+    out.held = std::max(0, free_count - determined);
+    const Eigen::Matrix<double, 6, 1> step = scale.asDiagonal() * (eigen.eigenvectors() * solved);
     if (!step.allFinite()) break;
     // The small rotation as an exact one (Rodrigues), about the centroid.
     const Eigen::Vector3d omega = step.head<3>();
@@ -143,9 +182,13 @@ Alignment align_steps(const std::vector<Point3>& all, const std::function<Closes
   }
   // The last transform against the best seen before it.
   std::vector<double> last;
-  for (const Point3& p : points) last.push_back(std::fabs(closest(out.transform.apply(p)).distance));
-  if (!out.converged && trimmed_cost(last) > best_cost) out.transform = best;
-  out.rms_after_mm = rms_of(points, out.transform, closest);
+  for (const Point3& p : points) {
+    const Point3 moved = out.transform.apply(p);
+    const Closest c = closest(moved);
+    if (!beyond_edge(moved, c)) last.push_back(std::fabs(c.distance));
+  }
+  if (!out.converged && (last.empty() || trimmed_cost(last) > best_cost) && best_cost < HUGE_VAL) out.transform = best;
+  out.rms_after_mm = rms_of(points, out.transform, closest, &out.beyond_edge);
   return out;
 }
 
@@ -186,7 +229,6 @@ Alignment align_to_datums(std::vector<DatumFit>& datums, const std::function<Clo
     for (size_t i = 0; i < fixed.size(); ++i)
       for (size_t j = 0; j < fixed.size(); ++j) block(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = sensitivity(fixed[i], fixed[j]);
     const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(block);
-    constexpr double kMinSensitivity = 1e-4;
     if (eigen.eigenvalues().minCoeff() < kMinSensitivity) {
       // Name the freedom the weakest direction leans on most.
       Eigen::Index weakest = 0;
@@ -205,7 +247,7 @@ Alignment align_to_datums(std::vector<DatumFit>& datums, const std::function<Clo
   // Each datum's RMS, and all of theirs together, before and once every datum has moved the part.
   for (DatumFit& d : datums) d.rms_after_mm = rms_of(d.points, out.transform, closest);
   out.rms_before_mm = rms_of(together, RigidTransform{}, closest);
-  out.rms_after_mm = rms_of(together, out.transform, closest);
+  out.rms_after_mm = rms_of(together, out.transform, closest, &out.beyond_edge);
   return out;
 }
 

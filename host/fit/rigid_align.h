@@ -20,14 +20,23 @@ struct RigidTransform {
 struct Alignment {
   RigidTransform transform;  // measured -> nominal
   int iterations = 0;
-  double rms_before_mm = 0, rms_after_mm = 0;  // over every point taking part
+  double rms_before_mm = 0, rms_after_mm = 0;  // over every point taking part, but those beyond the edge
   bool converged = false;
   size_t left_out = 0;  // points beyond 3 robust sigmas in the last step, left out of it
+  // Points beyond the nominal's edge (beyond_edge) in the last step: their distance is to the edge,
+  // not along a normal, so they are left out of the steps and the RMS (Turk and Levoy 1994 leave
+  // out the pairs on a mesh's boundary for the same reason).
+  size_t beyond_edge = 0;
+  // Freedoms the nominal's shape does not fix (a plane's two slides and turn, a sphere's three
+  // turns about its centre), held still in the last step rather than moved at random.
+  int held = 0;
 };
 
 // Point-to-plane ICP (Chen and Medioni's linearisation): each step finds every point's closest
 // nominal point and normal, solves the 6 x 6 least-squares problem for a small rotation and a
-// translation over the points within 3 robust sigmas (a trimmed fit that outliers cannot pull),
+// translation over the points within 3 robust sigmas (a trimmed fit that outliers cannot pull)
+// and over the nominal (a scan larger than a single face, or an open mesh, is aligned by its points
+// over it: those beyond the edge would pull the part towards the edge),
 // and applies it as an exact rotation. At most `max_points` points, evenly strided,
 // take part. Stops when a step moves no point by more than 1e-7 mm, or after 50 steps.
 // Any nominal whose closest points carry their normal: a surface, a mesh, a CAD part.

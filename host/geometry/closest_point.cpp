@@ -13,6 +13,14 @@ constexpr double kLastStepMm = 1e-3;
 
 }  // namespace
 
+bool beyond_edge(const Point3& p, const Closest& c) {
+  if (!c.on_border || !(norm(c.normal) > 0)) return false;
+  const Point3 r = p - c.point;
+  const double along = std::fabs(dot(r, c.normal));
+  const double across = norm(r - dot(r, c.normal) * c.normal);
+  return across > kBeyondEdgeMinMm && across > along * std::tan(kBeyondEdgeAngleDeg * M_PI / 180.0);
+}
+
 Closest closest_point(const BSplineSurface& surface, const Point3& p, double u0, double v0) {
   const double u_lo = surface.u_min(), u_hi = surface.u_max(), v_lo = surface.v_min(), v_hi = surface.v_max();
   double u = std::clamp(u0, u_lo, u_hi), v = std::clamp(v0, v_lo, v_hi);

@@ -14,16 +14,6 @@ namespace dg::host {
 
 namespace {
 
-// Whether the closest point `c` lies on the surface's border (a B-spline's domain edge, an open
-// mesh's border) with `p` off to the side of it (kBeyondEdgeAngleDeg, kBeyondEdgeMinMm).
-bool beyond_edge(const Point3& p, const dg::host::Closest& c) {
-  if (!c.on_border || !(norm(c.normal) > 0)) return false;
-  const Point3 r = p - c.point;
-  const double along = std::fabs(dot(r, c.normal));
-  const double across = norm(r - dot(r, c.normal) * c.normal);
-  return across > kBeyondEdgeMinMm && across > along * std::tan(kBeyondEdgeAngleDeg * M_PI / 180.0);
-}
-
 // Every point's closest point by `closest(p)`, checked finite, with the statistics
 // and bands; on every core when `concurrent` (each point's result has its own slot, so the results
 // are those of one thread).

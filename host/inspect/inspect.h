@@ -15,22 +15,12 @@ struct PointDeviation {
   Point3 point;     // measured, mm
   Point3 foot;      // its closest surface point
   double distance;  // signed: positive on the side of S_u x S_v
-  // The closest point lies on the surface's edge and the point is off to the side of it (farther
-  // from the normal there than along it, kBeyondEdgeAngleDeg): its deviation is the distance to the
-  // edge, not along a normal. B-spline surfaces, faces and open meshes (the border's edges and
-  // corners, Closest::on_border); a closed mesh has no edge, and a CAD part's faces mark none.
+  // The closest point lies on the surface's border and the point is off to the side of it
+  // (beyond_edge, host/geometry/closest_point.h): its deviation is the distance to the edge, not
+  // along a normal. B-spline surfaces and faces (their domain's edges), open meshes and CAD parts
+  // (edges of one face or triangle); a closed mesh or a solid has none.
   bool beyond_edge = false;
 };
-
-// A point whose closest point lies on the surface's edge counts as beyond it where the line to it
-// leaves the normal there by more than this: 45 degrees, its distance more across than along the
-// normal. A scan's own edge points on a slope are off the normal by the noise's share of the slope
-// only (and by at most the slope's angle), so a fit's own scan has none beyond its edge unless it
-// is steeper than 45 degrees there.
-constexpr double kBeyondEdgeAngleDeg = 45;
-// ... and only by more than this across the normal: a micrometre, below which the edge's own place
-// is not known better (a fit's edge points, noise-free, sit off its edge by the rounding).
-constexpr double kBeyondEdgeMinMm = 0.001;
 
 struct Band {
   double limit_mm = 0;  // |deviation| <= limit

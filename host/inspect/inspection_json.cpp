@@ -45,6 +45,8 @@ std::string inspection_json_text(const Inspection& r, const std::string& points_
                       {"iterations", a.iterations},
                       {"converged", a.converged},
                       {"points_left_out", a.left_out},
+                      {"points_beyond_edge", a.beyond_edge},
+                      {"freedoms_held", a.held},
                       {"method", a.datums.empty() ? "best fit" : "datums"}};
     if (!a.datums.empty()) {
       nlohmann::json datums = nlohmann::json::array();

@@ -30,6 +30,8 @@ struct AlignmentSummary {
   int iterations = 0;
   bool converged = false;
   size_t left_out = 0;  // points beyond 3 robust sigmas, left out of the last step
+  size_t beyond_edge = 0;  // points beyond the nominal's edge, left out of the fit and the RMS
+  int held = 0;            // freedoms the nominal's shape does not fix, held still
   std::vector<DatumSummary> datums;  // empty: a best fit of all the points; else the datums in order
 };
 

@@ -3,14 +3,11 @@
 // the calibrated travel is refused before the table moves, and a stored scan is re-corrected.
 #include <CppUTest/TestHarness.h>
 
-#include <fcntl.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <utility>
 
@@ -25,6 +22,7 @@
 #include "hw/sim/parts.h"
 #include "hw/sim/sim_options.h"
 #include "tests/support/ball_plate.h"
+#include "tests/support/standard_output.h"
 
 using namespace dg::host;
 
@@ -188,19 +186,10 @@ std::string device_command_output(std::vector<std::string> words, const std::str
   std::vector<const char*> argv{"digitizer"};
   for (const std::string& w : words) argv.push_back(w.c_str());
   app.parse(static_cast<int>(argv.size()), argv.data());
-  std::fflush(stdout);
-  const int saved = dup(1), file = open(capture.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  dup2(file, 1);
-  const int status = run_device_command(app, a);
-  std::fflush(stdout);
-  dup2(saved, 1);
-  close(saved), close(file);
+  int status = -1;
+  const std::string text = dg::test::printed_by([&] { return run_device_command(app, a); }, capture, status);
   LONGS_EQUAL(0, status);
-  std::ifstream in(capture);
-  std::stringstream text;
-  text << in.rdbuf();
-  std::remove(capture.c_str());
-  return text.str();
+  return text;
 }
 
 }  // namespace

@@ -30,7 +30,11 @@ TEST(InspectionJson, CarriesTheAlignmentsTransformAndResiduals) {
   a.rms_after_mm = 0.003;
   a.iterations = 7;
   a.converged = true;
+  a.beyond_edge = 12;
+  a.held = 3;
   const nlohmann::json j = nlohmann::json::parse(inspection_json_text(plane_inspection(), "p.csv", "s.json", &a));
+  LONGS_EQUAL(12, j["alignment"]["points_beyond_edge"].get<int>());
+  LONGS_EQUAL(3, j["alignment"]["freedoms_held"].get<int>());
   DOUBLES_EQUAL(-1.0, j["alignment"]["rotation"][0][1].get<double>(), 0);
   DOUBLES_EQUAL(-2.0, j["alignment"]["translation_mm"][1].get<double>(), 0);
   DOUBLES_EQUAL(0.003, j["alignment"]["rms_after_mm"].get<double>(), 0);
