@@ -30,21 +30,27 @@ namespace {
 // that freedom (a datum must; a best fit holds it still).
 constexpr double kMinSensitivity = 1e-4;
 
-// The RMS distance of the points over the nominal, moved by t; the ones beyond its edge are left
-// out, and counted into `beyond` when given.
-double rms_of(const std::vector<Point3>& points, const RigidTransform& t, const std::function<Closest(const Point3&)>& closest,
-              size_t* beyond = nullptr) {
-  double sum = 0;
-  size_t over = 0;
+// The |distances| of the points over the nominal, moved by t: those beyond its edge are left out.
+std::vector<double> distances_over(const std::vector<Point3>& points, const RigidTransform& t,
+                                   const std::function<Closest(const Point3&)>& closest) {
+  std::vector<double> over;
   for (const Point3& p : points) {
     const Point3 moved = t.apply(p);
     const Closest c = closest(moved);
-    if (beyond_edge(moved, c)) continue;
-    sum += c.distance * c.distance;
-    ++over;
+    if (!beyond_edge(moved, c)) over.push_back(std::fabs(c.distance));
   }
-  if (beyond) *beyond = points.size() - over;
-  return std::sqrt(sum / static_cast<double>(std::max<size_t>(1, over)));
+  return over;
+}
+
+// The RMS distance of the points over the nominal, moved by t; the ones beyond its edge are
+// counted into `beyond` when given.
+double rms_of(const std::vector<Point3>& points, const RigidTransform& t, const std::function<Closest(const Point3&)>& closest,
+              size_t* beyond = nullptr) {
+  const std::vector<double> over = distances_over(points, t, closest);
+  double sum = 0;
+  for (double d : over) sum += d * d;
+  if (beyond) *beyond = points.size() - over.size();
+  return std::sqrt(sum / static_cast<double>(std::max<size_t>(1, over.size())));
 }
 
 // The trimmed cost of an alignment: the mean of the smallest 90 % of the squared distances. Trimmed
@@ -84,6 +90,8 @@ Alignment align_steps(const std::vector<Point3>& all, const std::function<Closes
   Eigen::Vector3d translation(start.translation.x, start.translation.y, start.translation.z);
   RigidTransform best = start;
   double best_cost = HUGE_VAL;
+  int free_count = 0;
+  for (bool f : free) free_count += f;
   for (int iteration = 1; iteration <= 50; ++iteration) {
     Eigen::Matrix<double, 6, 6> normal = Eigen::Matrix<double, 6, 6>::Zero();
     Eigen::Matrix<double, 6, 1> rhs = Eigen::Matrix<double, 6, 1>::Zero();
@@ -113,7 +121,7 @@ Alignment align_steps(const std::vector<Point3>& all, const std::function<Closes
     std::vector<double> sorted = over;
     std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
     // Never below 1 nm: the closest points themselves settle to 1e-7 mm.
-    const double cutoff = std::max(3 * 1.4826 * (sorted.empty() ? 0.0 : sorted[sorted.size() / 2]), 1e-6);
+    const double cutoff = std::max(3 * 1.4826 * sorted[sorted.size() / 2], 1e-6);
     out.left_out = 0;
     size_t used = 0;
     for (size_t k = 0; k < points.size(); ++k) {
@@ -156,8 +164,6 @@ Alignment align_steps(const std::vector<Point3>& all, const std::function<Closes
       solved(i) = projected(i) / eigen.eigenvalues()(i);
       ++determined;
     }
-    int free_count = 0;
-    for (bool f : free) free_count += f;
     out.held = std::max(0, free_count - determined);
     const Eigen::Matrix<double, 6, 1> step = scale.asDiagonal() * (eigen.eigenvectors() * solved);
     if (!step.allFinite()) break;
@@ -180,14 +186,10 @@ Alignment align_steps(const std::vector<Point3>& all, const std::function<Closes
       break;
     }
   }
-  // The last transform against the best seen before it.
-  std::vector<double> last;
-  for (const Point3& p : points) {
-    const Point3 moved = out.transform.apply(p);
-    const Closest c = closest(moved);
-    if (!beyond_edge(moved, c)) last.push_back(std::fabs(c.distance));
-  }
-  if (!out.converged && (last.empty() || trimmed_cost(last) > best_cost) && best_cost < HUGE_VAL) out.transform = best;
+  // The last transform against the best seen before it (every step saw points over the nominal, so
+  // there is one).
+  const std::vector<double> last = distances_over(points, out.transform, closest);
+  if (!out.converged && (last.empty() || trimmed_cost(last) > best_cost)) out.transform = best;
   out.rms_after_mm = rms_of(points, out.transform, closest, &out.beyond_edge);
   return out;
 }
@@ -245,7 +247,16 @@ Alignment align_to_datums(std::vector<DatumFit>& datums, const std::function<Clo
     out.converged = out.converged && step.converged;
   }
   // Each datum's RMS, and all of theirs together, before and once every datum has moved the part.
-  for (DatumFit& d : datums) d.rms_after_mm = rms_of(d.points, out.transform, closest);
+  // A datum whose points the later ones carried all beyond the nominal's edge has no RMS to give.
+  for (DatumFit& d : datums) {
+    size_t beyond = 0;
+    d.rms_after_mm = rms_of(d.points, out.transform, closest, &beyond);
+    if (beyond == d.points.size()) {
+      throw std::invalid_argument("datum " + d.name + ": every one of its points lies beyond the nominal's edge once the part is "
+                                  "aligned, so none has a distance to it along a normal: is its box on the part the nominal "
+                                  "covers?");
+    }
+  }
   out.rms_before_mm = rms_of(together, RigidTransform{}, closest);
   out.rms_after_mm = rms_of(together, out.transform, closest, &out.beyond_edge);
   return out;

@@ -23,9 +23,9 @@ struct Alignment {
   double rms_before_mm = 0, rms_after_mm = 0;  // over every point taking part, but those beyond the edge
   bool converged = false;
   size_t left_out = 0;  // points beyond 3 robust sigmas in the last step, left out of it
-  // Points beyond the nominal's edge (beyond_edge) in the last step: their distance is to the edge,
-  // not along a normal, so they are left out of the steps and the RMS (Turk and Levoy 1994 leave
-  // out the pairs on a mesh's boundary for the same reason).
+  // Points beyond the nominal's edge (beyond_edge) under the transform kept: their distance is to
+  // the edge, not along a normal, so they are left out of the steps and the RMS (Turk and Levoy
+  // 1994 leave out the pairs on a mesh's boundary for the same reason).
   size_t beyond_edge = 0;
   // Freedoms the nominal's shape does not fix (a plane's two slides and turn, a sphere's three
   // turns about its centre), held still in the last step rather than moved at random.
@@ -66,7 +66,8 @@ struct DatumFit {
 // C the translation along y. A height-only scan fixes x and y only where the datum's surface
 // slopes: a datum whose points leave one of its freedoms undetermined (its mean squared
 // sensitivity to that freedom, rotations taken over the points' own radius, below 1e-4: less than
-// a 0.6 degree slope) throws std::invalid_argument naming the datum and the freedom.
+// a 0.6 degree slope) throws std::invalid_argument naming the datum and the freedom; so does a
+// datum whose points the later datums carry all beyond the nominal's edge (it has no RMS to give).
 Alignment align_to_datums(std::vector<DatumFit>& datums, const std::function<Closest(const Point3&)>& closest);
 
 }  // namespace dg::host

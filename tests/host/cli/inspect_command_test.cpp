@@ -16,13 +16,14 @@
 #include "host/geometry/vec3.h"
 #include "host/scan/point_export.h"
 #include "hw/sim/parts.h"
+#include "tests/support/part_mesh.h"
 #include "tests/support/standard_output.h"
 
 using namespace dg::host;
 
 namespace {
 
-// The canister's true shape over [x0, x1] x [y0, y1], every `step` mm.
+// The canister's true shape read over [x0, x1] x [y0, y1], every `step` mm.
 std::vector<Point3> canister(double x0, double x1, double y0, double y1, double step) {
   std::vector<Point3> points;
   for (double y = y0; y <= y1 + 1e-9; y += step)
@@ -49,17 +50,7 @@ TEST(InspectCommand, AScanLargerThanItsNominalIsAlignedByItsPointsOverIt) {
   // The dish of the canister meshed over 24 x 18 mm; the scan, 40 x 30 mm, shifted by (0.3, -0.2,
   // 0.05) mm. Its points beyond the mesh's border measured their distance to the border and pulled
   // the part: the alignment did not converge and left the points over the mesh 0.3 mm off.
-  const std::vector<Point3> nominal = canister(8, 32, 6, 24, 0.2);
-  const int nx = 121;
-  Mesh mesh;
-  mesh.vertices = nominal;
-  for (uint32_t j = 0; j + 1 < nominal.size() / nx; ++j)
-    for (uint32_t i = 0; i + 1 < nx; ++i) {
-      const uint32_t a = j * nx + i;
-      mesh.triangles.push_back({a, a + 1, a + nx + 1});
-      mesh.triangles.push_back({a, a + nx + 1, a + nx});
-    }
-  write_mesh(base + ".stl", mesh);
+  write_mesh(base + ".stl", dg::test::part_mesh(dg::sim::PartKind::kCanister, 8, 32, 6, 24));
   std::vector<Point3> scan = canister(0, 40, 0, 30, 1);
   for (Point3& p : scan) p = p + Point3{0.3, -0.2, 0.05};
   write_cloud_csv(base + ".csv", scan, nullptr);

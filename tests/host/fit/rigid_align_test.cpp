@@ -12,6 +12,7 @@
 #include "host/geometry/triangle_mesh.h"
 #include "host/geometry/vec3.h"
 #include "hw/sim/parts.h"
+#include "tests/support/part_mesh.h"
 #include "tests/support/sample_surfaces.h"
 
 using namespace dg::host;
@@ -31,24 +32,6 @@ std::vector<Point3> misplaced(const BSplineSurface& nominal) {
   for (int a = 1; a < 30; ++a)
     for (int b = 1; b < 30; ++b) measured.push_back(turn(nominal.evaluate(a / 30.0, b / 30.0)));
   return measured;
-}
-
-// A simulated part's true shape over [x0, x1] x [y0, y1], meshed every 0.2 mm.
-MeshLocator part_mesh(dg::sim::PartKind kind, double x0, double x1, double y0, double y1) {
-  Mesh mesh;
-  const int nx = static_cast<int>(std::lround((x1 - x0) / 0.2)), ny = static_cast<int>(std::lround((y1 - y0) / 0.2));
-  for (int j = 0; j <= ny; ++j)
-    for (int i = 0; i <= nx; ++i) {
-      const double x = x0 + 0.2 * i, y = y0 + 0.2 * j;
-      mesh.vertices.push_back({x, y, dg::sim::shape_height_mm(kind, x, y)});
-    }
-  auto at = [&](int i, int j) { return static_cast<uint32_t>(j * (nx + 1) + i); };
-  for (int j = 0; j < ny; ++j)
-    for (int i = 0; i < nx; ++i) {
-      mesh.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
-      mesh.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
-    }
-  return MeshLocator(std::move(mesh));
 }
 
 // The part's true shape read every 1 mm over [x0, x1] x [y0, y1], turned 0.5 degrees about a tilted
@@ -74,7 +57,7 @@ TEST(RigidAlign, APartLargerThanItsNominalIsAlignedByItsPointsOverIt) {
   // The canister read over 40 x 30 mm against its dish meshed over 24 x 18 mm: the points beyond the
   // mesh's border measure their distance to it, not along a normal, and would pull the part towards
   // it (a 12 mm "deviation"); left out, the misplacement is undone as if the scan fitted the mesh.
-  const MeshLocator nominal = part_mesh(dg::sim::PartKind::kCanister, 8, 32, 6, 24);
+  const MeshLocator nominal(dg::test::part_mesh(dg::sim::PartKind::kCanister, 8, 32, 6, 24));
   const std::vector<Point3> measured = misplaced_part(dg::sim::PartKind::kCanister, 0, 40, 0, 30);
   const Alignment r = align_to_nominal(measured, [&](const Point3& p) { return nominal.closest(p); });
   CHECK(r.converged);
@@ -93,7 +76,7 @@ TEST(RigidAlign, APartLargerThanItsNominalIsAlignedByItsPointsOverIt) {
 TEST(RigidAlign, HoldsStillTheFreedomsTheNominalsShapeDoesNotFix) {
   // A patch of the dome's sphere turns about the sphere's centre without changing a distance: those
   // three freedoms are held, not moved at random, and the points still come back onto the sphere.
-  const MeshLocator cap = part_mesh(dg::sim::PartKind::kDome, 12, 28, 8, 22);
+  const MeshLocator cap(dg::test::part_mesh(dg::sim::PartKind::kDome, 12, 28, 8, 22));
   const Alignment r = align_to_nominal(misplaced_part(dg::sim::PartKind::kDome, 13, 27, 9, 21),
                                        [&](const Point3& p) { return cap.closest(p); });
   CHECK(r.converged);
@@ -101,13 +84,12 @@ TEST(RigidAlign, HoldsStillTheFreedomsTheNominalsShapeDoesNotFix) {
   CHECK(r.rms_after_mm < 0.001);
   CHECK(r.transform.angle_deg() < 1.0);
   // A plane fixes only its height and its two tilts.
-  const MeshLocator flat = part_mesh(dg::sim::PartKind::kFlat, 0, 20, 0, 20);
+  const MeshLocator flat(dg::test::part_mesh(dg::sim::PartKind::kFlat, 0, 20, 0, 20));
   const Alignment f = align_to_nominal(misplaced_part(dg::sim::PartKind::kFlat, 2, 18, 2, 18),
                                        [&](const Point3& p) { return flat.closest(p); });
   LONGS_EQUAL(3, f.held);
   CHECK(f.rms_after_mm < 1e-6);
 }
-
 
 TEST(RigidAlign, UndoesAKnownMisplacement) {
   const BSplineSurface nominal = dg::test::clamped_sample();
@@ -173,19 +155,7 @@ double ridges(double x, double y) {
   return std::max(0.0, 2 - 0.4 * std::fabs(x - 30)) + std::max(0.0, 2 - 0.4 * std::fabs(y - 20));
 }
 
-Mesh ridge_plate() {
-  Mesh m;
-  const int nx = 80, ny = 60;
-  for (int j = 0; j <= ny; ++j)
-    for (int i = 0; i <= nx; ++i) m.vertices.push_back({0.5 * i, 0.5 * j, ridges(0.5 * i, 0.5 * j)});
-  auto at = [&](int i, int j) { return static_cast<uint32_t>(j * (nx + 1) + i); };
-  for (int j = 0; j < ny; ++j)
-    for (int i = 0; i < nx; ++i) {
-      m.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
-      m.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
-    }
-  return m;
-}
+Mesh ridge_plate() { return dg::test::height_mesh(ridges, 0, 40, 0, 30, 0.5); }
 
 // The part as measured: the plate's points (away from its border, so every point has its nominal
 // under it) turned 0.8 degrees about a tilted axis and shifted.
@@ -268,12 +238,34 @@ TEST(RigidAlign, ADatumThatCannotFixItsFreedomsIsRefusedByName) {
   CHECK_THROWS(std::invalid_argument, align_to_datums(none, [&](const Point3& p) { return nominal.closest(p); }));
 }
 
+// A datum A in a strip along the nominal's edge, on a part read 0.5 mm off in x: A fits over the
+// nominal, then B moves the part 0.5 mm and carries every point of A beyond the edge. A has no RMS
+// left to give (it came out 0 from no points): refused, naming it.
+TEST(RigidAlign, ADatumCarriedBeyondTheNominalsEdgeIsRefusedByName) {
+  const MeshLocator nominal(ridge_plate());
+  DatumFit a;
+  a.name = "A";
+  for (double y = 2; y <= 28; y += 0.5)
+    for (double x = 40.05; x <= 40.36; x += 0.1) a.points.push_back({x - 0.5, y, ridges(x, y)});
+  DatumFit b;
+  b.name = "B";
+  for (double y = 15; y <= 25; y += 0.5)
+    for (double x = 25; x <= 35; x += 0.5) b.points.push_back({x - 0.5, y, ridges(x, y)});
+  std::vector<DatumFit> datums = {a, b};
+  try {
+    align_to_datums(datums, [&](const Point3& p) { return nominal.closest(p); });
+    FAIL("a datum with no point over the nominal was given an RMS");
+  } catch (const std::invalid_argument& e) {
+    STRCMP_CONTAINS("datum A: every one of its points lies beyond the nominal's edge", e.what());
+  }
+}
+
 // The simulated dome already in place, read on a 1 mm grid with 2 um of noise in whole micrometres,
 // against its own shape meshed at 0.2 mm: the trimmed best fit hops between subsets of points at
 // the rim without settling, and once wandered 10 um off, raising the RMS by a fifth. It must never
 // leave a well-placed part worse than it found it (it keeps the best transform it saw).
 TEST(RigidAlign, NeverLeavesAWellPlacedPartWorse) {
-  const MeshLocator nominal = part_mesh(dg::sim::PartKind::kDome, 0, 40, 0, 30);
+  const MeshLocator nominal(dg::test::part_mesh(dg::sim::PartKind::kDome, 0, 40, 0, 30));
   std::vector<Point3> measured;
   uint32_t state = 12345;
   auto noise_mm = [&state] {
