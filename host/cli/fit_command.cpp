@@ -404,9 +404,10 @@ int run_fit(const FitArgs& a) {
                                                     validation_folds(cloud, validation.folds), kept_sites);
     kept = std::move(folded.fit);
     out.surface = kept->surface;
-    distances = orthogonal_distances(out.surface, cloud.points, params);
+    std::vector<double> start_distances;
+    distances = orthogonal_distances(out.surface, cloud.points, params, start_distances);
     // Without a tolerance the checks between the samples are measured and reported, not decided.
-    out.validation = validate_fit(cloud, params, w, out.surface, validation, &support, &folded.refits);
+    out.validation = validate_fit(cloud, params, w, out.surface, validation, &support, &folded.refits, &start_distances);
   }
   out.distance = distance_stats(distances);
   out.uncertainty = propagated_uncertainty(cloud, params, w, out.surface, distances, kept ? &*kept : nullptr);

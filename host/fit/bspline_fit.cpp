@@ -15,6 +15,7 @@
 #include "common/fit/bspline_basis.h"
 #include "host/fit/fit_error.h"
 #include "host/fit/knot_support.h"
+#include "host/geometry/patch_form.h"
 #include "host/geometry/vec3.h"
 #include "host/parallel/parallel_for.h"
 
@@ -686,9 +687,11 @@ SurfaceUncertainty region_fit_uncertainty(const std::vector<Point3>& points, con
 std::vector<double> parameter_distances(const BSplineSurface& surface, const std::vector<Point3>& points,
                                         const Parameters& params) {
   std::vector<double> d(points.size());
-  parallel_for(points.size(), [&](size_t begin, size_t end, unsigned) {
-    for (size_t k = begin; k < end; ++k) d[k] = norm(points[k] - surface.evaluate(params.uv[k].u, params.uv[k].v));
-  }, 4096);
+  with_fast_form(surface, points.size(), [&](const auto& form) {
+    parallel_for(points.size(), [&](size_t begin, size_t end, unsigned) {
+      for (size_t k = begin; k < end; ++k) d[k] = norm(points[k] - form.evaluate(params.uv[k].u, params.uv[k].v));
+    }, 4096);
+  });
   return d;
 }
 

@@ -13,6 +13,7 @@
 #include "host/fit/knot_support.h"
 #include "host/geometry/closest_point.h"
 #include "host/geometry/curvature_bound.h"
+#include "host/geometry/patch_form.h"
 #include "host/parallel/parallel_for.h"
 #include "host/scan/neighbours.h"
 #include "host/scan/sorted_lines.h"
@@ -79,11 +80,20 @@ struct RangeWorst {
 // the check of a million points cost seconds).
 class NeighbourCheck {
  public:
+  // `start_distances`: each sample's distance from the surface at its own parameters, when the
+  // caller has them (orthogonal_distances' start distances); else they are evaluated here.
   NeighbourCheck(const BSplineSurface& surface, const PointCloud& cloud, const Parameters& params, double slack,
-                 bool certify)
-      : surface_(surface), cloud_(cloud), params_(params), slack_(slack), certify_(certify), curvature_(surface),
-        off_(certify ? parameter_distances(surface, cloud.points, params) : std::vector<double>{}) {
+                 bool certify, const std::vector<double>* start_distances)
+      : form_(surface), cloud_(cloud), params_(params), slack_(slack), certify_(certify), curvature_(surface),
+        u_lo_(std::max(0.0, surface.u_min())), u_hi_(std::min(1.0, surface.u_max())), v_lo_(std::max(0.0, surface.v_min())),
+        v_hi_(std::min(1.0, surface.v_max())) {
     if (!certify) return;
+    if (start_distances && start_distances->size() == params.uv.size()) {
+      off_ = start_distances->data();
+    } else {
+      own_off_ = parameter_distances(surface, cloud.points, params);
+      off_ = own_off_.data();
+    }
     span_.resize(params.uv.size());
     parallel_for(span_.size(), [&](size_t begin, size_t end, unsigned) {
       for (size_t i = begin; i < end; ++i) span_[i] = {curvature_.span_u(params.uv[i].u), curvature_.span_v(params.uv[i].v)};
@@ -136,7 +146,10 @@ class NeighbourCheck {
 
  private:
   static UV lerp(const UV& a, const UV& b, double t) { return {a.u + (b.u - a.u) * t, a.v + (b.v - a.v) * t}; }
-  static bool inside(const UV& p) { return p.u >= 0 && p.u <= 1 && p.v >= 0 && p.v <= 1; }
+  // Within the unit square and the surface's domain: there a sample's distance at its parameters
+  // is the same whether they were clamped to the domain (closest_point's start) or not
+  // (parameter_distances).
+  bool inside(const UV& p) const { return p.u >= u_lo_ && p.u <= u_hi_ && p.v >= v_lo_ && p.v <= v_hi_; }
   // `reach`: how far the surface may be from the samples' box at the places between them, in
   // every coordinate. True when that cannot exceed the slack by the worst excess found so far
   // (strictly less, so an equal excess is still evaluated and the first of equals kept).
@@ -145,7 +158,7 @@ class NeighbourCheck {
     return bound <= 0 || bound < std::max(out.excess_mm, out.floor_mm);
   }
   void check(const UV& uv, const Point3* const* corners, int count, double bulge, RangeWorst& out) const {
-    const Point3 s = surface_.evaluate(std::clamp(uv.u, 0.0, 1.0), std::clamp(uv.v, 0.0, 1.0));
+    const Point3 s = form_.evaluate(std::clamp(uv.u, 0.0, 1.0), std::clamp(uv.v, 0.0, 1.0));
     const double excess = box_excess(s, corners, count, slack_ + bulge);
     ++out.checks;
     if (excess > out.excess_mm) {
@@ -153,13 +166,15 @@ class NeighbourCheck {
       out.where = s;
     }
   }
-  const BSplineSurface& surface_;
+  const PatchForm form_;  // the surface, for the places between the samples that are evaluated
   const PointCloud& cloud_;
   const Parameters& params_;
   double slack_;
   bool certify_;
   CurvatureBound curvature_;
-  std::vector<double> off_;  // each sample's distance from the surface at its own parameters
+  double u_lo_, u_hi_, v_lo_, v_hi_;
+  const double* off_ = nullptr;  // each sample's distance from the surface at its own parameters
+  std::vector<double> own_off_;  // those distances when evaluated here
   std::vector<std::pair<int, int>> span_;  // each sample's knot spans in u and v
 };
 
@@ -204,8 +219,9 @@ Neighbourhoods parameter_plane_neighbours(const Parameters& params) {
 }
 
 void check_neighbours(const BSplineSurface& surface, const PointCloud& cloud, const Parameters& params,
-                      const ValidationOptions& options, const FoldSupport* support, FitValidation& out) {
-  const NeighbourCheck check(surface, cloud, params, options.tolerance_mm, options.certify_by_curvature);
+                      const ValidationOptions& options, const FoldSupport* support,
+                      const std::vector<double>* start_distances, FitValidation& out) {
+  const NeighbourCheck check(surface, cloud, params, options.tolerance_mm, options.certify_by_curvature, start_distances);
   if (cloud.line) {
     const std::vector<std::vector<size_t>> lines = lines_of(cloud);
     // Each line's points by their parameter along the line, to pair a point with the nearest one
@@ -400,7 +416,7 @@ std::string FoldSupport::problem(const std::vector<double>& knots_u, int degree_
 
 FitValidation validate_fit(const PointCloud& cloud, const Parameters& params, const std::vector<double>* weights,
                            const BSplineSurface& surface, const ValidationOptions& options, const FoldSupport* support,
-                           const std::vector<FoldRefit>* made) {
+                           const std::vector<FoldRefit>* made, const std::vector<double>* start_distances) {
   FitValidation out;
   out.checked = true;
   out.folds = options.folds;
@@ -442,12 +458,14 @@ FitValidation validate_fit(const PointCloud& cloud, const Parameters& params, co
       return out;
     }
     std::vector<double> distance(held.size());
-    parallel_for(held.size(), [&](size_t begin, size_t end, unsigned) {
-      for (size_t n = begin; n < end; ++n) {
-        const size_t i = held[n];
-        distance[n] = std::fabs(closest_point(refit.surface, cloud.points[i], params.uv[i].u, params.uv[i].v).distance);
-      }
-    }, 1024);
+    with_fast_form(refit.surface, 2 * held.size(), [&](const auto& form) {
+      parallel_for(held.size(), [&](size_t begin, size_t end, unsigned) {
+        for (size_t n = begin; n < end; ++n) {
+          const size_t i = held[n];
+          distance[n] = std::fabs(closest_point(form, cloud.points[i], params.uv[i].u, params.uv[i].v).distance);
+        }
+      }, 1024);
+    });
     for (size_t n = 0; n < held.size(); ++n) {
       const double d = distance[n];
       sum_sq += d * d;
@@ -459,7 +477,7 @@ FitValidation validate_fit(const PointCloud& cloud, const Parameters& params, co
     }
   }
   if (out.held_out_points > 0) out.held_out_rms_mm = std::sqrt(sum_sq / static_cast<double>(out.held_out_points));
-  check_neighbours(surface, cloud, params, options, support, out);
+  check_neighbours(surface, cloud, params, options, support, start_distances, out);
   if (!(options.tolerance_mm > 0)) return out;
   if (out.held_out_max_mm > options.tolerance_mm) {
     out.problem = "a surface fitted without the point " + at(out.held_out_worst) + " misses it by " +

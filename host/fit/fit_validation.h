@@ -81,8 +81,12 @@ struct ValidationOptions {
 // `support`, when given, is the FoldSupport of the same cloud, parameters and folds: its indexes
 // spare every refit a pass over the points. `refits`, when given, are the folds' refits already
 // made (fit_least_squares_with_folds, with validation_folds and `support`'s indexes).
+// `start_distances`, when given, are each point's distance from `surface` at its own parameters
+// (orthogonal_distances' start distances, which the caller measured anyway): the checks between
+// the samples take them instead of evaluating the surface at every point again.
 FitValidation validate_fit(const PointCloud& cloud, const Parameters& params, const std::vector<double>* weights,
                            const BSplineSurface& surface, const ValidationOptions& options,
-                           const FoldSupport* support = nullptr, const std::vector<FoldRefit>* refits = nullptr);
+                           const FoldSupport* support = nullptr, const std::vector<FoldRefit>* refits = nullptr,
+                           const std::vector<double>* start_distances = nullptr);
 
 }  // namespace dg::host

@@ -4,10 +4,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <set>
 
 #include "common/fit/bspline_basis.h"
 #include "host/geometry/closest_point.h"
+#include "host/geometry/patch_form.h"
 #include "host/fit/fit_error.h"
 #include "host/fit/fit_validation.h"
 #include "host/fit/noise_estimate.h"
@@ -148,6 +150,7 @@ ToleranceResult refine(const PointCloud& cloud, const Parameters& params, const 
   };
   std::vector<Held> held;
   std::vector<FoldRefit> first_refits;  // the first net's validation refits, when made with its fit
+  std::vector<double> first_start_distances;  // and its distances at the points' own parameters
   for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
     BSplineSurface surface;
     // After a sampled first pass the full set's first net is nearly always the one kept: its
@@ -186,6 +189,8 @@ ToleranceResult refine(const PointCloud& cloud, const Parameters& params, const 
     std::vector<double> span_sq_u(static_cast<size_t>(surface.count_u), 0.0), span_sq_v(static_cast<size_t>(surface.count_v), 0.0);
     std::vector<size_t> span_n_u(static_cast<size_t>(surface.count_u), 0), span_n_v(static_cast<size_t>(surface.count_v), 0);
     double worst = 0, sum_sq = 0;
+    // Built only if some point must be projected.
+    std::optional<PatchForm> form;
     for (size_t k = 0; k < points.size(); ++k) {
       sum_sq += bound[k] * bound[k];
       double d = bound[k];
@@ -197,7 +202,8 @@ ToleranceResult refine(const PointCloud& cloud, const Parameters& params, const 
       ++span_n_v[static_cast<size_t>(sv)];
       if (bound[k] > options.tolerance_mm) {
         if (!flagged_u[static_cast<size_t>(su)] || !flagged_v[static_cast<size_t>(sv)]) {
-          d = std::fabs(exact_now ? exact[k] : closest_point(surface, points[k], params.uv[k].u, params.uv[k].v).distance);
+          if (!exact_now && !form) form.emplace(surface);
+          d = std::fabs(exact_now ? exact[k] : closest_point(*form, points[k], params.uv[k].u, params.uv[k].v).distance);
           if (d > options.tolerance_mm) {
             flagged_u[static_cast<size_t>(su)] = flagged_v[static_cast<size_t>(sv)] = 1;
           }
@@ -221,6 +227,7 @@ ToleranceResult refine(const PointCloud& cloud, const Parameters& params, const 
       best.rms_mm = rms;
       best.distances = std::move(exact);  // empty unless computed exactly above
     }
+    if (exact_now) first_start_distances = std::move(bound);
     if (within) {
       tolerance_held = true;
       best.kept = true;
@@ -295,7 +302,7 @@ ToleranceResult refine(const PointCloud& cloud, const Parameters& params, const 
   if (best.kept) {
     const bool first_net = !first_refits.empty() && best.iterations == sampled_iterations + 1;
     best.validation = validate_fit(cloud, params, weights, best.surface, validation_options, &fold_support,
-                                   first_net ? &first_refits : nullptr);
+                                   first_net ? &first_refits : nullptr, first_net ? &first_start_distances : nullptr);
     if (!best.validation.passed) {
       // Back through the coarser nets that held the tolerance: the finest one that is also
       // confirmed between the samples is the answer, at most kFallbacks of them, and only one

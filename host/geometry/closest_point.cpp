@@ -21,7 +21,12 @@ bool beyond_edge(const Point3& p, const Closest& c) {
   return across > kBeyondEdgeMinMm && across > along * std::tan(kBeyondEdgeAngleDeg * M_PI / 180.0);
 }
 
-Closest closest_point(const BSplineSurface& surface, const Point3& p, double u0, double v0) {
+namespace {
+
+// Either form of the surface: the B-spline itself, or its patches in power form (faster to
+// evaluate, the same values to rounding).
+template <typename Surface>
+Closest project(const Surface& surface, const Point3& p, double u0, double v0) {
   const double u_lo = surface.u_min(), u_hi = surface.u_max(), v_lo = surface.v_min(), v_hi = surface.v_max();
   double u = std::clamp(u0, u_lo, u_hi), v = std::clamp(v0, v_lo, v_hi);
   Point3 s, su, sv;
@@ -106,6 +111,16 @@ Closest closest_point(const BSplineSurface& surface, const Point3& p, double u0,
   result.distance = dot(r, normal) < 0 ? -length : length;
   if (normal_length > 0) result.normal = (1.0 / normal_length) * normal;
   return result;
+}
+
+}  // namespace
+
+Closest closest_point(const BSplineSurface& surface, const Point3& p, double u0, double v0) {
+  return project(surface, p, u0, v0);
+}
+
+Closest closest_point(const PatchForm& surface, const Point3& p, double u0, double v0) {
+  return project(surface, p, u0, v0);
 }
 
 }  // namespace dg::host

@@ -3,6 +3,7 @@
 #include <vector>
 
 #include "host/geometry/bspline_surface.h"
+#include "host/geometry/patch_form.h"
 
 namespace dg::host {
 
@@ -38,5 +39,7 @@ bool beyond_edge(const Point3& p, const Closest& c);
 // Gauss-Newton on |P - S(u, v)|^2 from (u0, v0), clamped to the domain; at a boundary the
 // iteration continues along the edge. Converges in a few steps from a point's own parameters.
 Closest closest_point(const BSplineSurface& surface, const Point3& p, double u0, double v0);
+// The same on the surface's power form, for many points on one surface (patch_form.h).
+Closest closest_point(const PatchForm& surface, const Point3& p, double u0, double v0);
 
 }  // namespace dg::host

@@ -23,7 +23,7 @@ std::vector<double> span_samples(const std::vector<double>& knots, double lo, do
 
 }  // namespace
 
-SurfaceLocator::SurfaceLocator(const BSplineSurface& surface, int per_span) : surface_(surface) {
+SurfaceLocator::SurfaceLocator(const BSplineSurface& surface, int per_span) : surface_(surface), form_(surface) {
   const std::vector<double> us = span_samples(surface.knots_u, surface.u_min(), surface.u_max(), per_span);
   const std::vector<double> vs = span_samples(surface.knots_v, surface.v_min(), surface.v_max(), per_span);
   spacing_u_ = (surface.u_max() - surface.u_min()) / static_cast<double>(us.size());
@@ -32,7 +32,7 @@ SurfaceLocator::SurfaceLocator(const BSplineSurface& surface, int per_span) : su
   double spacing_sum = 0;
   for (double u : us) {
     for (double v : vs) {
-      const Point3 p = surface.evaluate(u, v);
+      const Point3 p = form_.evaluate(u, v);
       samples_.push_back({p, u, v});
       lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
       hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
@@ -138,9 +138,9 @@ SurfaceLocator::Starts SurfaceLocator::starts(const Point3& p) const {
 
 Closest SurfaceLocator::closest(const Point3& p) const {
   const Starts s = starts(p);
-  Closest result = closest_point(surface_, p, samples_[s.nearest].u, samples_[s.nearest].v);
+  Closest result = closest_point(form_, p, samples_[s.nearest].u, samples_[s.nearest].v);
   if (s.second < samples_.size()) {
-    const Closest second = closest_point(surface_, p, samples_[s.second].u, samples_[s.second].v);
+    const Closest second = closest_point(form_, p, samples_[s.second].u, samples_[s.second].v);
     if (std::fabs(second.distance) < std::fabs(result.distance)) result = second;
   }
   return result;

@@ -36,6 +36,7 @@ class SurfaceLocator {
   void cell_of(const Point3& p, int& x, int& y, int& z) const;
 
   const BSplineSurface& surface_;
+  PatchForm form_;  // the surface in power form, for the many projections an inspection makes
   std::vector<Sample> samples_;
   Point3 origin_;
   double cell_mm_ = 1;
