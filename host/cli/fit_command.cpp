@@ -246,8 +246,13 @@ int finish_regions(const FitArgs& a, const PointCloud& cloud, FittedSurface out,
       std::printf("  %zu points lie on no region's surface within the tolerance (at the creases); each is judged on the "
                   "face above it\n", r.unassigned_points);
     }
-    std::printf("orthogonal distance to the face above each of %zu points: mean %.4f rms %.4f max %.4f min %.4f mm\n",
-                out.distance.count, out.distance.mean, out.distance.rms, out.distance.max, out.distance.min);
+    if (out.distance.count == 0) {
+      // Said, not printed as zeros: figures from no points would read as a perfect fit.
+      std::printf("orthogonal distances: none measured (no face was fitted)\n");
+    } else {
+      std::printf("orthogonal distance to the face above each of %zu points: mean %.4f rms %.4f max %.4f min %.4f mm\n",
+                  out.distance.count, out.distance.mean, out.distance.rms, out.distance.max, out.distance.min);
+    }
     if (out.noise_sigma_mm > 0) std::printf("estimated noise sigma %.4f mm\n", out.noise_sigma_mm);
     print_validation(out);
     double u_max = 0, u_sum = 0;
@@ -262,7 +267,7 @@ int finish_regions(const FitArgs& a, const PointCloud& cloud, FittedSurface out,
       std::printf("standard uncertainty of the faces u (k = 1): max %.4f, mean of the faces' means %.4f mm; expanded U = 2u: "
                   "max %.4f mm\n  from a point uncertainty of %.4f mm; the fit's precision, not its shape error\n",
                   u_max, u_sum / static_cast<double>(with_u), 2 * u_max, out.faces[0].uncertainty.sigma_mm);
-    } else {
+    } else if (!out.faces.empty()) {
       std::printf("standard uncertainty of the faces: not computed for %zu of %zu faces (no noise estimate, or a net "
                   "the points cannot refit)\n", out.faces.size() - with_u, out.faces.size());
     }

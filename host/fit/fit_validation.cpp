@@ -2,7 +2,6 @@
 #include "host/fit/fit_validation.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -308,11 +307,7 @@ std::vector<int> validation_folds(const PointCloud& cloud, int folds) {
 
 FoldSupport::FoldSupport(const PointCloud& cloud, const Parameters& params, int folds, bool fill_outside,
                          bool neighbours)
-    : fill_outside_(fill_outside) {
-  // With one worker allowed (DIGITIZER_THREADS=1) the search waits for plane_neighbours() and runs
-  // there, on the caller's thread.
-  const std::launch when = worker_count() > 1 ? std::launch::async : std::launch::deferred;
-  if (!cloud.line && neighbours) plane_search_ = std::async(when, [&params] { return parameter_plane_neighbours(params); });
+    : fill_outside_(fill_outside), plane_params_(!cloud.line && neighbours ? &params : nullptr) {
   const std::vector<int> fold = validation_folds(cloud, folds);
   const size_t fold_count = static_cast<size_t>(std::max(folds, 0));
   // Each direction's parameters are sorted once, each with its fold: a fold's remaining points'
@@ -363,16 +358,8 @@ FoldSupport::FoldSupport(const PointCloud& cloud, const Parameters& params, int 
   for (std::optional<SiteIndex>& index : built) kept_sites_.push_back(std::move(*index));
 }
 
-FoldSupport::~FoldSupport() {
-  // A search still running reads the parameters: it ends before they may go. A deferred one (one
-  // worker thread) that nothing asked for has not started, and waiting would run it.
-  if (plane_search_.valid() && plane_search_.wait_for(std::chrono::seconds(0)) != std::future_status::deferred) {
-    plane_search_.wait();
-  }
-}
-
 const Neighbourhoods* FoldSupport::plane_neighbours() const {
-  if (plane_search_.valid()) plane_neighbours_.emplace(plane_search_.get());
+  if (!plane_neighbours_ && plane_params_) plane_neighbours_.emplace(parameter_plane_neighbours(*plane_params_));
   return plane_neighbours_ ? &*plane_neighbours_ : nullptr;
 }
 

@@ -1,6 +1,5 @@
 // Checking a fitted surface between its samples, where the fit itself never looked.
 #pragma once
-#include <future>
 #include <optional>
 #include <string>
 #include <vector>
@@ -39,13 +38,13 @@ class FoldSupport {
   // validate_fit's refits.
   const SiteIndex& kept_sites(int f) const { return kept_sites_[static_cast<size_t>(f)]; }
   // For a cloud without scan lines, each point's four nearest neighbours in the parameter plane
-  // (and itself), for the checks between neighbouring samples; null for one with lines. They
-  // depend on the parameters alone, so the search starts on a thread of its own as the
-  // FoldSupport is made and runs beside the fit's single-threaded stretches (for a million points
-  // it took 0.18 s of validate_fit's 0.44), unless one worker thread is allowed (worker_count()).
-  // Waits for the search; not for two threads at once.
+  // (and itself), for the checks between neighbouring samples; null for one with lines, or for a
+  // support made without `neighbours`. Found on every core when first asked, and kept for the
+  // validations of other nets on the same points. (A search started as the support was made, on
+  // a thread of its own beside the fit, slowed the fit's passes on both cores by more than it
+  // saved: `fit` on a million points 0.78-0.84 s with it, 0.73-0.77 s without.) Not for two
+  // threads at once.
   const Neighbourhoods* plane_neighbours() const;
-  ~FoldSupport();
 
  private:
   // Fold f's problem, or "" (problem() asks every fold).
@@ -53,7 +52,7 @@ class FoldSupport {
                            int degree_v) const;
   std::vector<SiteIndex> kept_sites_;  // per fold, the points that remain
   bool fill_outside_ = false;
-  mutable std::future<Neighbourhoods> plane_search_;
+  const Parameters* plane_params_ = nullptr;  // the parameters whose neighbours are wanted, if any
   mutable std::optional<Neighbourhoods> plane_neighbours_;
 };
 

@@ -12,6 +12,7 @@
 #include "host/fit/fit_error.h"
 #include "host/geometry/vec3.h"
 #include "host/fit/orthogonal_distances.h"
+#include "tests/support/scattered_cloud.h"
 
 using namespace dg::host;
 
@@ -208,14 +209,7 @@ struct ThreadCount {
 
 TEST(BSplineFit, OneThreadAndFourGiveTheSameNetToTheBit) {
   // 300,000 points: the assembly sums them in four slices, which one thread or four may take.
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<double> along(0.0, 60.0);
-  std::normal_distribution<double> noise(0.0, 0.002);
-  PointCloud c;
-  for (int k = 0; k < 300000; ++k) {
-    const double x = along(rng), y = along(rng);
-    c.points.push_back({x, y, wave(x, y) + noise(rng)});
-  }
+  const PointCloud c = dg::test::scattered_cloud(300000, 60, 60, 5, 0.002, wave);
   const Parameters p = parameterize(c, Parameterization::kTableXy);
   BSplineSurface one, four;
   std::vector<double> d_one, d_four;

@@ -1,11 +1,13 @@
 // Regions between creases: the dome comes back as trimmed faces within the tolerance of the true part
-// everywhere inside the scan, and a smooth part stays one surface.
+// everywhere inside the scan, and a smooth part stays one surface, scanned or scattered.
 #include <CppUTest/TestHarness.h>
 
+#include <cmath>
 #include <cstdio>
 
 #include "host/fit/regions.h"
 #include "tests/support/part_scan.h"
+#include "tests/support/scattered_cloud.h"
 
 using namespace dg::host;
 
@@ -79,3 +81,17 @@ TEST(Regions, ASmoothPartIsOneRegion) {
   }
 }
 
+
+// Scattered points (no scan lines) of a smooth part: every window is smooth, yet the links from
+// each window's centre to its four nearest leave islands of a dozen points or more among 100,000
+// random places (two of them here, each once a "region" of its own).
+TEST(Regions, AScatteredCloudOfASmoothPartIsOneRegion) {
+  const PointCloud c = dg::test::scattered_cloud(100000, 100, 100, 1, 0.002, [](double x, double y) {
+    return 3.0 + 0.002 * ((x - 50) * (x - 50) + (y - 50) * (y - 50)) + 0.3 * std::sin(x / 9.0) * std::sin(y / 11.0);
+  });
+  RegionOptions o;
+  o.tolerance.tolerance_mm = 0.02;
+  const RegionFit r = fit_regions(c, nullptr, o);
+  LONGS_EQUAL(1, r.regions);
+  LONGS_EQUAL(0, r.crease_points);
+}
