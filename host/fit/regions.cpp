@@ -12,6 +12,7 @@
 #include "host/fit/noise_estimate.h"
 #include "host/fit/parameterize.h"
 #include "host/geometry/closest_point.h"
+#include "host/parallel/parallel_for.h"
 #include "host/scan/local_polynomial.h"
 #include "host/scan/median.h"
 #include "host/scan/neighbours.h"
@@ -322,13 +323,21 @@ RegionFit fit_regions(const PointCloud& cloud, const std::vector<double>* weight
   };
   std::vector<char> smooth(n, 0), smooth_window(n, 0);
   const double smooth_rms = std::max(3.0 * sigma, 0.25 * tol);
-  for (size_t i = 0; i < n; ++i) {
+  // Whether a quadratic holds these points to the noise (RMS over the points less its 6 terms).
+  auto smooth_over = [&](const std::vector<size_t>& window, const Point3& centre) {
     LocalPolynomial lp;
-    if (near[i].size() < 10 || !fit_local_polynomial(pts, near[i], pts[i], 2, lp)) continue;
+    if (!fit_local_polynomial(pts, window, centre, 2, lp)) return false;
     double sum = 0;
-    for (size_t k : near[i]) sum += (pts[k].z - lp.at(pts[k].x, pts[k].y)) * (pts[k].z - lp.at(pts[k].x, pts[k].y));
-    if (std::sqrt(sum / static_cast<double>(near[i].size() - 6)) > smooth_rms) continue;
-    smooth_window[i] = 1;
+    for (size_t k : window) sum += (pts[k].z - lp.at(pts[k].x, pts[k].y)) * (pts[k].z - lp.at(pts[k].x, pts[k].y));
+    return std::sqrt(sum / static_cast<double>(window.size() - 6)) <= smooth_rms;
+  };
+  // Each window on its own, on every core (a million scattered points: 0.56 s on one); the joins
+  // after, in point order.
+  parallel_for(n, [&](size_t begin, size_t end, unsigned) {
+    for (size_t i = begin; i < end; ++i) smooth_window[i] = near[i].size() >= 10 && smooth_over(near[i], pts[i]);
+  }, 1024);
+  for (size_t i = 0; i < n; ++i) {
+    if (!smooth_window[i]) continue;
     // Only the window's centre and its four nearest join: a point at its rim may lie where two
     // pieces meet and belong to both (where a crease runs out at the scan's edge, say).
     for (size_t m = 0; m < near[i].size() && m < kJoined; ++m) {
@@ -347,11 +356,7 @@ RegionFit fit_regions(const PointCloud& cloud, const std::vector<double>* weight
     for (size_t k : near[j]) {
       if (std::find(near[i].begin(), near[i].end(), k) == near[i].end()) both.push_back(k);
     }
-    LocalPolynomial lp;
-    if (!fit_local_polynomial(pts, both, pts[i], 2, lp)) return false;
-    double sum = 0;
-    for (size_t k : both) sum += (pts[k].z - lp.at(pts[k].x, pts[k].y)) * (pts[k].z - lp.at(pts[k].x, pts[k].y));
-    return std::sqrt(sum / static_cast<double>(both.size() - 6)) <= smooth_rms;
+    return smooth_over(both, pts[i]);
   };
   for (size_t i = 0; i < n; ++i) {
     if (!smooth_window[i]) continue;
