@@ -41,9 +41,10 @@ class FoldSupport {
   // (and itself), for the checks between neighbouring samples; null for one with lines, or for a
   // support made without `neighbours`. Found on every core when first asked, and kept for the
   // validations of other nets on the same points. (A search started as the support was made, on
-  // a thread of its own beside the fit, slowed the fit's passes on both cores by more than it
-  // saved: `fit` on a million points 0.78-0.84 s with it, 0.73-0.77 s without.) Not for two
-  // threads at once.
+  // a thread of its own beside the fit, slowed the fit's passes on both cores: the steps of
+  // `fit --ctrl` on a million points, timed on their own, took 0.78-0.84 s with it and 0.73-0.77 s
+  // without; the whole command's CPU time went from 1.32 to 1.22 s at the same wall time.) Not for
+  // two threads at once.
   const Neighbourhoods* plane_neighbours() const;
 
  private:
