@@ -234,6 +234,16 @@ bool whole_judges(const PointTest& t, double sigma, double k, const std::vector<
   return true;
 }
 
+int windows_on_its_surface_condemn(const PointTest& t, double sigma, double k) {
+  int condemning = 0;
+  for (int w = 0; w < kWindows; ++w) {
+    const LooFit& m = t.model[w];
+    if (!m.ok || m.near_kept < 3 || m.scale > 2.0 * sigma || m.gain > kWindowGainMax) continue;
+    condemning += std::fabs(t.residual(w)) > prediction_bound(k, sigma, m.gain, m.scale);
+  }
+  return condemning;
+}
+
 bool vouches(const PointTest& t, int w, double sigma, double k, bool final_judgement) {
   const LooFit& m = t.model[w];
   // A window whose prediction has a gain beyond kWindowGainMax extrapolates too far to vouch: a
@@ -243,7 +253,8 @@ bool vouches(const PointTest& t, int w, double sigma, double k, bool final_judge
   const double bound = w < kWindows ? prediction_bound(k, sigma, m.gain, m.scale)
                                      : 0.8 * k * sigma * std::sqrt(1 + m.gain);
   if (final_judgement && w == 0 && std::isfinite(m.near_worst) && m.near_worst > kWholeFarMiss * bound) return false;
-  return std::fabs(t.residual(w)) <= bound;
+  if (std::fabs(t.residual(w)) > bound) return false;
+  return !m.curved || windows_on_its_surface_condemn(t, sigma, k) < kCurvedLineOverruled;
 }
 
 bool a_line_vouches(const PointTest& t, double sigma, double k) {

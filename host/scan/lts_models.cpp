@@ -77,6 +77,7 @@ LooFit line_model(const std::vector<Point3>& points, const LineSide& reach, size
   // Skipped suspects push the points away and the gain up; beyond kLineGainMax the prediction is
   // too loose to vouch for anything.
   out.gain = q.gain;
+  out.curved = true;
   // [(X^T X)^-1]_22 for the quadratic term's standard error.
   const auto& m = q.m;
   const double curvature_se = sigma * std::sqrt((m[0][0] * m[1][1] - m[0][1] * m[1][0]) / q.det);
@@ -92,6 +93,7 @@ LooFit line_model(const std::vector<Point3>& points, const LineSide& reach, size
     out.prediction = a;
     out.scale = std::sqrt(line_ss / (n - 2));
     out.gain = m[1][1] / line_det;
+    out.curved = false;
   }
   out.ok = out.gain <= kLineGainMax;
   return out;

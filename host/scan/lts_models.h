@@ -68,6 +68,9 @@ struct LooFit {
   // 40 bytes instead of 48 (seventeen a point).
   int8_t near_kept = 0;
   bool ok = false;
+  // A line's quadratic, not the straight line that stands in for it: its prediction carries the
+  // curvature it extrapolates, and with it the shape error the quadratic leaves (lts::vouches).
+  bool curved = false;
 };
 
 // A robust local model fitted without point i: least trimmed squares by concentration steps from

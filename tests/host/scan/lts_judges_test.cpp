@@ -56,3 +56,60 @@ TEST(LtsJudges, AWholeWindowThatJudgesAloneWithoutSuspectsStillJudgesAloneWithAn
   // The draw must reach the case it checks often enough to mean something.
   CHECK(judged_without > 1000);
 }
+
+namespace {
+
+// A point 20 sigma above what its whole window and two half-planes predict, each describing its
+// points to the noise and keeping three of the point's four nearest neighbours; and a line from one
+// side that predicts it within 2 sigma, with a quadratic's gain of 4.6 (five points at 1..5 steps).
+PointTest windows_against_a_line(bool line_curved) {
+  const double sigma = 1.0;
+  PointTest t;
+  t.z = 20 * sigma;
+  for (int w : {0, 1, 3}) {
+    LooFit& m = t.model[w];
+    m.ok = true;
+    m.prediction = 0;
+    m.scale = 0.8 * sigma;
+    m.gain = 0.6;
+    m.near_kept = 3;
+    m.near_worst = sigma;
+  }
+  // The whole window misses one of the four by far (the one it trimmed), so it does not judge alone.
+  t.whole_misses.near_residual[0] = 100 * sigma;
+  LooFit& line = t.model[kWindows + 2];
+  line.ok = true;
+  line.prediction = 18 * sigma;
+  line.scale = 1.2 * sigma;
+  line.gain = 4.6;
+  line.near_kept = 4;
+  line.curved = line_curved;
+  return t;
+}
+
+}  // namespace
+
+TEST(LtsJudges, ACurvedLineDoesNotVouchForAPointThreeWindowsOnItsSurfaceCondemn) {
+  // On the reference sphere a line's quadratic, extrapolated two steps' worth of curvature to the
+  // point, vouched for outliers of 20 and 22 sigma that the windows plainly saw.
+  const PointTest t = windows_against_a_line(true);
+  LONGS_EQUAL(3, windows_on_its_surface_condemn(t, 1.0, 5.0));
+  CHECK_FALSE(vouches(t, kWindows + 2, 1.0, 5.0));
+  CHECK_FALSE(a_line_vouches(t, 1.0, 5.0));
+  CHECK(verdict(t, 1.0, 5.0, nullptr, {}) >= 0);
+}
+
+TEST(LtsJudges, AStraightLineStillVouchesAgainstTheWindows) {
+  // Along a plate's sliver at the dome's rim the windows are all of the cap, and the straight line
+  // along the sliver is the one model of the point's own surface.
+  const PointTest t = windows_against_a_line(false);
+  CHECK(vouches(t, kWindows + 2, 1.0, 5.0));
+  LONGS_EQUAL(-1, verdict(t, 1.0, 5.0, nullptr, {}));
+}
+
+TEST(LtsJudges, TwoCondemningWindowsDoNotOverruleACurvedLine) {
+  PointTest t = windows_against_a_line(true);
+  t.model[3].near_kept = 2;  // this half-plane keeps only two of the nearest: maybe another surface
+  LONGS_EQUAL(2, windows_on_its_surface_condemn(t, 1.0, 5.0));
+  CHECK(vouches(t, kWindows + 2, 1.0, 5.0));
+}
