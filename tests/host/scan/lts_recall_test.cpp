@@ -244,6 +244,15 @@ TEST(LtsRecall, AnOutlierOnASpheresCapIsNotClearedByALinesCurvature) {
   check_caught_or_listed(dg::sim::PartKind::kSphere, {{0.5, 4, 678}, {5.0, 1, 1047}});
 }
 
+TEST(LtsRecall, AnOutlierThatMatchesTheLevelBesideItIsNotClearedByThatLevel) {
+  // At the step gauge's edge (seed 7 at 10 um, (39, 13)) an outlier 1.82 mm low read within 7 um of
+  // what the model of the lower level beside it predicted there. The point's window, cut in two, put
+  // the point on that level's side, whose model kept one of the point's four nearest neighbours and
+  // missed the others by 179 sigma; it cleared the point, which passed unlisted. It is now caught or
+  // listed.
+  check_caught_or_listed(dg::sim::PartKind::kStepGauge, {{10.0, 7, 534}});
+}
+
 TEST(LtsRecall, AWholeWindowThatSkipsThePointsRowDoesNotVouchForIt) {
   // On the step gauge a cubic fitted to 70 % of a 5 x 5 window took the rows on either side of a
   // step one row wide and skipped the point's own row: it put outliers 0.5 and 0.98 mm down that
@@ -592,6 +601,21 @@ TEST(LtsRecall, RealPointsOnASteepFlankThatTheWholeWindowPredictsAreListedNotCon
     CHECK(condemned.count(i) == 0);
   }
   CHECK(r.outliers.size() <= 3);
+}
+
+TEST(LtsRecall, ARealPointTheWholeWindowPutsWithinItsShapeErrorIsListedNotCondemned) {
+  // The reference sphere at 0.5 um, seed 4: at (21, 6), where it slopes about 1, the whole window's
+  // cubic follows the surface to 3.8 sigma and put the real point 6.4 sigma off, just beyond the
+  // bound of the noise alone; a half-plane condemned it 14 sigma off. With the window's shape error
+  // beyond a describing window's in the bound, it is listed as not judged.
+  const dg::test::Planted p = dg::test::plant_outliers(dg::sim::PartKind::kSphere, 0.5, 4);
+  const size_t i = 6 * 41 + 21;  // line 6 runs forward
+  DOUBLES_EQUAL(21, p.points[i].x, 1e-9);
+  DOUBLES_EQUAL(6, p.points[i].y, 1e-9);
+  CHECK(p.outliers.count(i) == 0);
+  const LtsResult r = lts_filter(p.points, LtsOptions{});
+  CHECK(std::find(r.unjudged.begin(), r.unjudged.end(), i) != r.unjudged.end());
+  for (const LtsOutlier& o : r.outliers) CHECK(o.index != i);
 }
 
 TEST(LtsRecall, ARealPointAtABallsFootThatTheWholeWindowPredictsIsCleared) {
