@@ -68,9 +68,9 @@ struct Region {
 
 // The median distance from a point to its nearest neighbour in XY: the scan's step.
 double scan_step(const std::vector<Point3>& points, const Neighbourhoods& near) {
+  if (near.k < 2) return 0;
   std::vector<double> d;
   for (size_t i = 0; i < points.size(); ++i) {
-    if (near.k < 2) continue;
     const Point3& q = points[near.list(i)[1]];
     d.push_back(std::hypot(q.x - points[i].x, q.y - points[i].y));
   }

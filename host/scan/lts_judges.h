@@ -144,9 +144,9 @@ constexpr double kWholeFarMiss = 10;
 // A straight line is not overruled: along a plate's sliver at the dome's rim it is the one model of
 // the point's own surface, the windows there all being of the cap (with straight lines overruled
 // too, the dome's false alarms over seeds 1 to 6 went from 4, 0, 0, 0, 1 to 17, 13, 11, 9, 6 and
-// the step gauge's from 0 to 7 or 8 at each noise level). Two windows instead of three: one false alarm
-// more on the dome at 2 um and on the step gauge at each noise level, four fewer on the ball plate
-// at 10 um, no outlier more found.
+// the step gauge's from 0 to 7 or 8 at each noise level). Two windows instead of three: one false
+// alarm more on the dome at 2 um and on the step gauge at each noise level, four fewer on the ball
+// plate at 10 um, no outlier more found.
 constexpr int kCurvedLineOverruled = 3;
 // How many windows that keep at least three of point i's four nearest neighbours, describe their
 // points (trimmed scale within 2 sigma) and predict without extrapolating far (kWindowGainMax) put
