@@ -638,9 +638,10 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
           // A passed point whose windows none describes was passed for want of a judge, not
           // cleared: on the sphere's flank one 180 sigma high had a whole window at 4.9 sigma and
           // every half-plane above 2.5 (over six seeds and five noise levels, 24 such outliers on
-          // the sphere and 9 on the ball plate).
+          // the sphere and 9 on the ball plate). A condemned one is asked on a slope, where a
+          // marked nearest neighbour on a line may give way to the next point on that side.
           if (whole.ok && whole.scale <= kUnresolvedScale * sigma && (of_condemned || some_window_describes(tests[i], sigma)) &&
-              !(of_condemned && on_unresolved_slope(points, sides[i], i, in_groups, whole.near_worst, sigma))) {
+              !(of_condemned && on_unresolved_slope(points, sides[i], i, in_groups, whole.near_worst, sigma, &marked))) {
             continue;
           }
           // A passed point is asked too whether the model that resolves its surface predicts it:

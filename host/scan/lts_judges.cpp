@@ -186,6 +186,9 @@ CreaseModel crease_model(const std::vector<Point3>& points, IndexSpan hood, size
     best.prediction = envelope(a.prediction, b.prediction);
     best.scale = scale;
     best.gain = a_active ? a.gain : b.gain;
+    best.a = a.polynomial;
+    best.b = b.polynomial;
+    best.ridge = ridge;
   }
   return best;
 }

@@ -1,6 +1,7 @@
 // The LTS filter's outlier judges: a point's windows, half-planes and lines, a window cut along a
 // crease, the envelope of two surfaces, and the verdict they give together.
 #pragma once
+#include <algorithm>
 #include <cstddef>
 #include <functional>
 #include <vector>
@@ -92,6 +93,13 @@ struct CreaseModel {
   double scale = 0;       // trimmed residual scale of the window's points to the envelope
   double gain = 0;        // the active side's [(X^T X)^-1]_00 at point i
   double near_worst = HUGE_VAL;  // the largest |residual| among point i's four nearest neighbours
+  LocalPolynomial a, b;          // the two surfaces
+  bool ridge = true;             // the envelope is their larger (a ridge) or their smaller (a valley)
+  // The envelope at (x, y), to ask how it predicts points other than i.
+  double at(double x, double y) const {
+    const double za = a.at(x, y), zb = b.at(x, y);
+    return ridge ? std::max(za, zb) : std::min(za, zb);
+  }
 };
 CreaseModel crease_model(const std::vector<Point3>& points, IndexSpan hood, size_t i,
                          const std::vector<double>& reference, const std::vector<char>& excluded,

@@ -54,9 +54,12 @@ constexpr double kLineRiseMax = 0.5;
 // ball's flank beside its foot, where the grid does not resolve it whatever its window says (at 10
 // um of noise a window of the plate with the ball's first ring of points missed them by less than
 // five sigmas and predicted the plate, 1.2 mm below them). Asked only where the point's whole window
-// misses even its nearest neighbours by more than that scale (`window_near_worst_mm`).
+// misses even its nearest neighbours by more than that scale (`window_near_worst_mm`). With
+// `marked` given, a line whose nearest neighbour on one side is marked may pass with the next
+// point on that side instead (an outlier beside a slope point).
 bool on_unresolved_slope(const std::vector<Point3>& points, const LineSides& sides, size_t i,
-                         const std::vector<char>& in_groups, double window_near_worst_mm, double sigma);
+                         const std::vector<char>& in_groups, double window_near_worst_mm, double sigma,
+                         const std::vector<char>* marked = nullptr);
 
 // Below this slope (mm per mm) every line through a point runs along its surface.
 constexpr double kFlatSlope = 0.1;
@@ -67,7 +70,11 @@ constexpr double kFlatSlope = 0.1;
 // axis half-plane's plane or a diagonal half-plane's quadratic that also predicts the point's grid
 // neighbours on its side, a line through the point or a line
 // from one side along the surface (without the points `in_groups` marks); and i is no point of a
-// slope steeper than the grid resolves (kSlopeScale, on_unresolved_slope). `clears`, when given, says
+// slope steeper than the grid resolves (kSlopeScale, on_unresolved_slope). A condemned point on
+// such a slope is judged only by models of its own surface: a half-plane that misses it by more
+// than the slope scale vouches only where another half-plane's level lies beyond that scale on its
+// other side (a step's two levels), and an envelope only where it predicts all eight of the
+// point's grid neighbours. `clears`, when given, says
 // whether the window's cubic or crease envelope that describes it also predicts i within its bound;
 // `predicts`, when given, whether one of the models that describe it, whichever, predicts i within
 // its own bound (with the gain of its extrapolation to i) or `limit_mm`, the larger: the search

@@ -67,6 +67,14 @@ void check_caught_or_listed(dg::sim::PartKind part, std::initializer_list<Plante
   }
 }
 
+// Point (x, y) of a planted scan, 41 x 31 at 1 mm: even lines run forward, odd ones back.
+size_t grid_index(const dg::test::Planted& p, int x, int y) {
+  const size_t i = static_cast<size_t>(y * 41 + (y % 2 == 0 ? x : 40 - x));
+  DOUBLES_EQUAL(x, p.points[i].x, 1e-9);
+  DOUBLES_EQUAL(y, p.points[i].y, 1e-9);
+  return i;
+}
+
 }  // namespace
 
 TEST_GROUP(LtsRecall){};
@@ -629,4 +637,36 @@ TEST(LtsRecall, ARealPointAtABallsFootThatTheWholeWindowPredictsIsCleared) {
   CHECK(p.outliers.count(i) == 0);
   const LtsResult r = lts_filter(p.points, LtsOptions{});
   for (const LtsOutlier& o : r.outliers) CHECK(o.index != i);
+}
+
+TEST(LtsRecall, APlateBesideABallsFootDoesNotCondemnTheSlopeAboveIt) {
+  // The ball plate at 10 um, seed 5: four real points on a ball's flank beside its foot, where the
+  // ball rises 0.6 to 1.2 mm a grid step, lie between their neighbours on every line. A half-plane
+  // of the plate, describing its own points to the noise, put (19, 12), (17, 10) and (10, 14) 0.5
+  // to 1.3 mm off; the envelope of plate and quadratic cap, which trimmed the foot's few points,
+  // put (20, 17) 15 sigma off. Each condemned its point. They are models of another surface than
+  // the slope's: the points are kept (listed as not judged where no model of theirs judges them).
+  const dg::test::Planted p = dg::test::plant_outliers(dg::sim::PartKind::kBallPlate, 10.0, 5);
+  const LtsResult r = lts_filter(p.points, LtsOptions{});
+  for (const auto& xy : {std::pair<int, int>{19, 12}, {17, 10}, {10, 14}, {20, 17}}) {
+    const size_t i = grid_index(p, xy.first, xy.second);
+    CHECK(p.outliers.count(i) == 0);
+    for (const LtsOutlier& o : r.outliers) CHECK(o.index != i);
+  }
+}
+
+TEST(LtsRecall, AnOutlierOnAStepsEdgeBetweenItsTwoLevelsIsStillCaught) {
+  // The step gauge, seed 3: (7, 5) on the upper level's edge reads 0.25 mm low, between the level
+  // beside it and the one below, and so lies between its neighbours on every line, as a slope point
+  // does. Both levels are described to the noise, one above the point and one below: it is no slope
+  // point, and the upper level's half-plane still condemns it.
+  for (double sigma_um : {0.5, 1.0, 2.0}) {
+    const dg::test::Planted p = dg::test::plant_outliers(dg::sim::PartKind::kStepGauge, sigma_um, 3);
+    const size_t i = grid_index(p, 7, 5);
+    CHECK(p.outliers.count(i) == 1);
+    const LtsResult r = lts_filter(p.points, LtsOptions{});
+    bool caught = false;
+    for (const LtsOutlier& o : r.outliers) caught = caught || o.index == i;
+    CHECK(caught);
+  }
 }
