@@ -74,11 +74,12 @@ constexpr double kFlatSlope = 0.1;
 // such a slope is judged only by models of its own surface: a half-plane that misses it by more
 // than the slope scale vouches only where another half-plane's level lies beyond that scale on its
 // other side (a step's two levels), and an envelope only where it predicts all eight of the
-// point's grid neighbours. `clears`, when given, says
-// whether the window's cubic or crease envelope that describes it also predicts i within its bound;
-// `predicts`, when given, whether one of the models that describe it, whichever, predicts i within
-// its own bound (with the gain of its extrapolation to i) or `limit_mm`, the larger: the search
-// then goes on past a model that describes the window and misses i.
+// point's grid neighbours. `clears`, when given, says whether one of the window's cubics, crease
+// envelopes or half-planes that vouch also predicts i within its bound (the search going on past
+// those that miss it); `predicts`, when given, whether one of the models that describe it,
+// whichever, predicts i within its own bound (with the gain of its extrapolation to i) or
+// `limit_mm`, the larger: the search then goes on past a model that describes the window and
+// misses i.
 // Why not a quadratic on an axis half-plane or a line across the slope: on a 5 x 5 window an axis
 // half-plane spans three rows, and its quadratic puts any three heights on a curve; at a sphere's foot
 // it passed through the plate and the ring of steep points above it, and condemned the ring. For the

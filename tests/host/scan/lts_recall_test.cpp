@@ -277,13 +277,16 @@ TEST(LtsRecall, FewRealPointsAtTheBallPlatesFeetAreCondemned) {
   // ring by 0.2 to 0.5 mm, still vouched for the foot and condemned 9 to 16 (at 2 and 5 um); where
   // the surface falls steeply across a point on every line and its window misses even its
   // nearest neighbours, it is not judged, and a point the crease's envelope predicts is cleared.
-  for (double sigma_um : {2.0, 5.0}) {
+  // On such a slope only models of the point's own surface judge it (a half-plane of the plate or
+  // an envelope that misses the slope's grid neighbours does not): at most 2, 3 and 6 condemned on
+  // these nine scans before, 1, 2 and 4 after (at 2, 5 and 10 um).
+  for (double sigma_um : {2.0, 5.0, 10.0}) {
     for (unsigned seed = 1; seed <= 3; ++seed) {
       dg::test::PartScan s;
       s.kind = dg::sim::PartKind::kBallPlate;
       s.sigma_um = sigma_um;
       const LtsResult r = lts_filter(dg::test::scan_part(s, seed).points, LtsOptions{});
-      CHECK(r.outliers.size() <= 6);
+      CHECK(r.outliers.size() <= (sigma_um < 10 ? 2u : 4u));
     }
   }
 }
@@ -668,5 +671,20 @@ TEST(LtsRecall, AnOutlierOnAStepsEdgeBetweenItsTwoLevelsIsStillCaught) {
     bool caught = false;
     for (const LtsOutlier& o : r.outliers) caught = caught || o.index == i;
     CHECK(caught);
+  }
+}
+
+TEST(LtsRecall, APlatePointAtABallsFootIsClearedByTheHalfPlaneOfThePlate) {
+  // The ball plate at 10 um, seed 4: the four plate points at a ball's foot on its diagonals, where
+  // the ball meets the plate. The wide window's envelope of plate and quadratic cap vouched for
+  // each first and put it 0.17 to 0.35 mm high (the quadratic is no sphere near the foot), so the
+  // points stayed condemned; a diagonal half-plane of the plate, which describes its points and
+  // predicts the point's grid neighbours on its side, predicts each within its bound, and clears it.
+  const dg::test::Planted p = dg::test::plant_outliers(dg::sim::PartKind::kBallPlate, 10.0, 4);
+  const LtsResult r = lts_filter(p.points, LtsOptions{});
+  for (const auto& xy : {std::pair<int, int>{11, 11}, {19, 11}, {19, 19}, {11, 19}}) {
+    const size_t i = grid_index(p, xy.first, xy.second);
+    CHECK(p.outliers.count(i) == 0);
+    CHECK(caught_or_listed(r).count(i) == 0);
   }
 }
