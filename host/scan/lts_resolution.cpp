@@ -2,6 +2,7 @@
 #include "host/scan/lts_resolution.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "host/scan/lts_judges.h"
@@ -108,6 +109,10 @@ double slope_scale_mm(const std::vector<Point3>& points, const LineSides& sides,
   return std::min(kSlopeScale * sigma, kSlopeStepFraction * grid_step_mm(points, sides, i));
 }
 
+// A half-plane's polynomial order: a line across one bounded along an axis (0 to 3), a quadratic
+// across one bounded along a diagonal (4 to 7).
+int half_order(int w) { return w < 4 ? 1 : 2; }
+
 }  // namespace
 
 bool on_unresolved_slope(const std::vector<Point3>& points, const LineSides& sides, size_t i,
@@ -196,14 +201,21 @@ bool surface_resolved(const std::vector<Point3>& points, IndexSpan hood, IndexSp
       if (predicted(crease.prediction, crease.gain, crease.scale, false, true)) return true;
     }
   }
-  std::vector<size_t> half;
-  auto half_plane = [&](int w) {
-    half.clear();
-    for (size_t j : hood) {
-      if (j != i && !in_groups[j] && in_half_plane(points[i], points[j], w)) half.push_back(j);
+  // The eight half-planes' points and models, fitted once each when first asked for: a slope point
+  // asks for all eight before the loop below.
+  std::array<std::vector<size_t>, 8> halves;
+  std::array<LooModel, 8> half_models;
+  std::array<bool, 8> half_fitted{};
+  auto half_plane = [&](int w) -> const LooModel& {
+    const size_t h = static_cast<size_t>(w);
+    if (!half_fitted[h]) {
+      for (size_t j : hood) {
+        if (j != i && !in_groups[j] && in_half_plane(points[i], points[j], w)) halves[h].push_back(j);
+      }
+      half_models[h] = loo_model(points, halves[h], i, reference, half_order(w));
+      half_fitted[h] = true;
     }
-    // Half-planes 0 to 3 are bounded along an axis, 4 to 7 along a diagonal.
-    return loo_model(points, half, i, reference, w < 4 ? 1 : 2);
+    return half_models[h];
   };
   // A step gauge's lower level is no describing half-plane by the tests below (its half-planes
   // hold the edge's row of the upper one), so any that fits its points to the noise counts here:
@@ -211,15 +223,15 @@ bool surface_resolved(const std::vector<Point3>& points, IndexSpan hood, IndexSp
   // of caught (four over six seeds and five noise levels).
   if (on_slope) {
     for (int w = 0; w < 8; ++w) {
-      const LooModel m = half_plane(w);
+      const LooModel& m = half_plane(w);
       if (!m.ok || m.scale > 2.0 * sigma) continue;
       level_above = level_above || m.prediction - points[i].z > slope_scale;
       level_below = level_below || points[i].z - m.prediction > slope_scale;
     }
   }
   for (int w = 0; w < 8; ++w) {
-    const int order = w < 4 ? 1 : 2;
-    const LooModel m = half_plane(w);
+    const LooModel& m = half_plane(w);
+    const std::vector<size_t>& half = halves[static_cast<size_t>(w)];
     const double half_bound = prediction_bound(k, sigma, 0, m.scale);
     // And it predicts the point's grid neighbours on its side, not only the four nearest: on the
     // plate beside a ball's foot a diagonal half-plane's four nearest were plate points, the
@@ -232,7 +244,7 @@ bool surface_resolved(const std::vector<Point3>& points, IndexSpan hood, IndexSp
                std::fabs(points[j].z - m.polynomial.at(points[j].x, points[j].y)) <= half_bound;
       });
     };
-    if (describes(m, 2.0) && predicts_ring() && spans_beyond_order(points, half, m, order, half_bound)) {
+    if (describes(m, 2.0) && predicts_ring() && spans_beyond_order(points, half, m, half_order(w), half_bound)) {
       if (predicted(m.prediction, m.gain, m.scale, true, true)) return true;
     }
   }
@@ -263,7 +275,11 @@ bool surface_resolved(const std::vector<Point3>& points, IndexSpan hood, IndexSp
   // whole window misses even its nearest neighbours by more than the slope scale, with the surface
   // falling steeply across it on every line: a point of a slope the grid does not resolve, which a
   // line from one side (the plate beside a ball's foot) would judge by the other surface.
-  if (whole.ok && on_unresolved_slope(points, sides, i, in_groups, whole.near_worst, sigma, &condemned)) return vouched;
+  // A condemned point's answer is `on_slope`, found above with the same arguments.
+  if (predicts == nullptr ? on_slope
+                          : whole.ok && on_unresolved_slope(points, sides, i, in_groups, whole.near_worst, sigma, &condemned)) {
+    return vouched;
+  }
   for (int d = 0; d < kLines; ++d) {
     const LineSide& side = sides[static_cast<size_t>(d)];
     if (side.empty()) continue;

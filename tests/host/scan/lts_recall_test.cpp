@@ -75,6 +75,20 @@ size_t grid_index(const dg::test::Planted& p, int x, int y) {
   return i;
 }
 
+// Each real point (x, y) of the planted scan of `part` at `sigma_um` and `seed` is not condemned;
+// with `nor_listed`, nor listed as not judged.
+void check_not_condemned(dg::sim::PartKind part, double sigma_um, unsigned seed,
+                         std::initializer_list<std::pair<int, int>> points, bool nor_listed = false) {
+  const dg::test::Planted p = dg::test::plant_outliers(part, sigma_um, seed);
+  const LtsResult r = lts_filter(p.points, LtsOptions{});
+  for (const std::pair<int, int>& xy : points) {
+    const size_t i = grid_index(p, xy.first, xy.second);
+    CHECK(p.outliers.count(i) == 0);
+    for (const LtsOutlier& o : r.outliers) CHECK(o.index != i);
+    if (nor_listed) CHECK(caught_or_listed(r).count(i) == 0);
+  }
+}
+
 }  // namespace
 
 TEST_GROUP(LtsRecall){};
@@ -137,12 +151,7 @@ TEST(LtsRecall, APlatePointBesideTheRimIsNotJudgedByTheCapContinuedBelowThePlate
   // At 0.5 um, seed 10: (40, 10) is clean, on the base plate's strip between the rim and the scan's
   // edge. Its whole window's cubic, the cap continued below the plate with the plate's points
   // trimmed, put it far off; a window that misses three unsuspected points is no one surface.
-  const dg::test::Planted p = dg::test::plant_outliers(dg::sim::PartKind::kDome, 0.5, 10);
-  const LtsResult r = lts_filter(p.points, LtsOptions{});
-  const size_t clean = 450;
-  CHECK(p.outliers.count(clean) == 0);
-  CHECK(std::fabs(p.points[clean].x - 40) < 1e-9 && std::fabs(p.points[clean].y - 10) < 1e-9);
-  for (const LtsOutlier& o : r.outliers) CHECK(o.index != clean);
+  check_not_condemned(dg::sim::PartKind::kDome, 0.5, 10, {{40, 10}});
 }
 
 TEST(LtsRecall, AStepGaugesStepsAndOutliersDoNotPassForItsNoise) {
@@ -633,13 +642,7 @@ TEST(LtsRecall, ARealPointAtABallsFootThatTheWholeWindowPredictsIsCleared) {
   // The ball plate at 10 um, seed 1: the crease's envelope of plate and ball put the real point
   // (20, 14) on a ball's foot 1.18 mm off, where the whole window's cubic, describing its points,
   // predicted it within the bound of a left-out point's prediction (its gain counted).
-  const dg::test::Planted p = dg::test::plant_outliers(dg::sim::PartKind::kBallPlate, 10.0, 1);
-  const size_t i = 14 * 41 + 20;
-  DOUBLES_EQUAL(20.0, p.points[i].x, 1e-9);
-  DOUBLES_EQUAL(14.0, p.points[i].y, 1e-9);
-  CHECK(p.outliers.count(i) == 0);
-  const LtsResult r = lts_filter(p.points, LtsOptions{});
-  for (const LtsOutlier& o : r.outliers) CHECK(o.index != i);
+  check_not_condemned(dg::sim::PartKind::kBallPlate, 10.0, 1, {{20, 14}});
 }
 
 TEST(LtsRecall, APlateBesideABallsFootDoesNotCondemnTheSlopeAboveIt) {
@@ -649,13 +652,7 @@ TEST(LtsRecall, APlateBesideABallsFootDoesNotCondemnTheSlopeAboveIt) {
   // to 1.3 mm off; the envelope of plate and quadratic cap, which trimmed the foot's few points,
   // put (20, 17) 15 sigma off. Each condemned its point. They are models of another surface than
   // the slope's: the points are kept (listed as not judged where no model of theirs judges them).
-  const dg::test::Planted p = dg::test::plant_outliers(dg::sim::PartKind::kBallPlate, 10.0, 5);
-  const LtsResult r = lts_filter(p.points, LtsOptions{});
-  for (const auto& xy : {std::pair<int, int>{19, 12}, {17, 10}, {10, 14}, {20, 17}}) {
-    const size_t i = grid_index(p, xy.first, xy.second);
-    CHECK(p.outliers.count(i) == 0);
-    for (const LtsOutlier& o : r.outliers) CHECK(o.index != i);
-  }
+  check_not_condemned(dg::sim::PartKind::kBallPlate, 10.0, 5, {{19, 12}, {17, 10}, {10, 14}, {20, 17}});
 }
 
 TEST(LtsRecall, AnOutlierOnAStepsEdgeBetweenItsTwoLevelsIsStillCaught) {
@@ -680,11 +677,5 @@ TEST(LtsRecall, APlatePointAtABallsFootIsClearedByTheHalfPlaneOfThePlate) {
   // each first and put it 0.17 to 0.35 mm high (the quadratic is no sphere near the foot), so the
   // points stayed condemned; a diagonal half-plane of the plate, which describes its points and
   // predicts the point's grid neighbours on its side, predicts each within its bound, and clears it.
-  const dg::test::Planted p = dg::test::plant_outliers(dg::sim::PartKind::kBallPlate, 10.0, 4);
-  const LtsResult r = lts_filter(p.points, LtsOptions{});
-  for (const auto& xy : {std::pair<int, int>{11, 11}, {19, 11}, {19, 19}, {11, 19}}) {
-    const size_t i = grid_index(p, xy.first, xy.second);
-    CHECK(p.outliers.count(i) == 0);
-    CHECK(caught_or_listed(r).count(i) == 0);
-  }
+  check_not_condemned(dg::sim::PartKind::kBallPlate, 10.0, 4, {{11, 11}, {19, 11}, {19, 19}, {11, 19}}, true);
 }
