@@ -154,6 +154,23 @@ TEST(LtsRecall, APlatePointBesideTheRimIsNotJudgedByTheCapContinuedBelowThePlate
   check_not_condemned(dg::sim::PartKind::kDome, 0.5, 10, {{40, 10}});
 }
 
+TEST(LtsRecall, AnOutlierAmongOthersOnASmoothPartIsNotClearedByACutsSide) {
+  // The canister at 1 um, seed 13: (2, 29), 36 sigma low, beside the scan's last line, with three
+  // outliers around it, (1, 29), (3, 29) and (2, 28). They spoilt its half-planes, so it passed for
+  // a point near a crease, and a side of its window's best cut, fitted beside them, predicted it to
+  // 2.7 sigma and cleared it. Its window without them is one smooth surface and puts it 35 sigma off.
+  const dg::test::Planted p = dg::test::plant_outliers(dg::sim::PartKind::kCanister, 1.0, 13);
+  const size_t i = grid_index(p, 2, 29);
+  CHECK(p.outliers.count(i) == 1);
+  for (const auto& xy : {std::pair<int, int>{1, 29}, {3, 29}, {2, 28}}) {
+    CHECK(p.outliers.count(grid_index(p, xy.first, xy.second)) == 1);
+  }
+  const LtsResult r = lts_filter(p.points, LtsOptions{});
+  bool caught = false;
+  for (const LtsOutlier& o : r.outliers) caught = caught || o.index == i;
+  CHECK(caught);
+}
+
 TEST(LtsRecall, AStepGaugesStepsAndOutliersDoNotPassForItsNoise) {
   // Rows along x cross a 2 mm step every 6 mm, so most of their fifth differences span one, and
   // the planted outliers spoil a quarter of the rest: started from their median, the noise came
