@@ -3,6 +3,7 @@
 
 #include <CppUTest/TestHarness.h>
 
+#include <cstdint>
 #include <cstring>
 
 TEST_GROUP(Messages){};
@@ -60,6 +61,27 @@ TEST(Messages, LongStringsAreTruncatedNotOverflowed) {
   char field[8];
   dg::set_string(field, "a string longer than the field");
   STRCMP_EQUAL("a strin", field);
+}
+
+TEST(Messages, RejectsAnEnumValueTheProtocolDoesNotName) {
+  // A fault code of 30207 on the wire (what the session fuzzer sent): read as the enum it would be
+  // undefined behaviour, so the envelope is refused as badly encoded. Written into the field by
+  // its bytes, as the wire would carry it.
+  digitizer_Envelope out = digitizer_Envelope_init_zero;
+  out.which_body = digitizer_Envelope_fault_tag;
+  const int32_t foreign = 30207;
+  static_assert(sizeof out.body.fault.code == sizeof foreign, "a 32-bit enum");
+  std::memcpy(&out.body.fault.code, &foreign, sizeof foreign);
+  uint8_t buffer[digitizer_Envelope_size];
+  size_t size = 0;
+  CHECK(dg::encode_envelope(out, buffer, sizeof buffer, &size) == dg::Status::kOk);
+  digitizer_Envelope in;
+  CHECK(dg::decode_envelope(buffer, size, &in) == dg::Status::kBadEncoding);
+  // The largest code the protocol names still passes.
+  out.body.fault.code = digitizer_FaultCode_FAULT_NOT_HOMED;
+  CHECK(dg::encode_envelope(out, buffer, sizeof buffer, &size) == dg::Status::kOk);
+  CHECK(dg::decode_envelope(buffer, size, &in) == dg::Status::kOk);
+  CHECK(in.body.fault.code == digitizer_FaultCode_FAULT_NOT_HOMED);
 }
 
 TEST(Messages, RejectsGarbage) {
