@@ -148,7 +148,7 @@ bool surface_resolved(const std::vector<Point3>& points, IndexSpan hood, IndexSp
   // `may_clear`: a window's cubic or envelope or a half-plane, whose prediction within its bound
   // clears a condemned i; the search goes on past one that does not (a line vouches, and clears
   // nothing). At a ball's foot the wide window's envelope of plate and quadratic cap vouched first
-  // and put a plate point at the crease 0.3 mm high, where a half-plane of the plate predicted it
+  // and put a plate point at the crease 0.17 to 0.35 mm high, where a half-plane of the plate predicted it
   // (over six seeds and five noise levels, false alarms on the ball plate 62 -> 52; on seeds 7 to 14
   // 89 -> 76, with one fewer on the dome and one on the step gauge; no outlier cleared).
   auto predicted = [&](double prediction, double gain, double scale, bool one_side, bool may_clear) {

@@ -84,6 +84,59 @@ TEST(Messages, RejectsAnEnumValueTheProtocolDoesNotName) {
   CHECK(in.body.fault.code == digitizer_FaultCode_FAULT_NOT_HOMED);
 }
 
+namespace {
+
+bool decodes(const digitizer_Envelope& out) {
+  uint8_t buffer[digitizer_Envelope_size];
+  size_t size = 0;
+  if (dg::encode_envelope(out, buffer, sizeof buffer, &size) != dg::Status::kOk) return false;
+  digitizer_Envelope in;
+  return dg::decode_envelope(buffer, size, &in) == dg::Status::kOk;
+}
+
+// One enum field of an envelope: its enum's largest value decodes, the value past it is refused.
+// The field is left at the largest value, so the next field of the same message is tested alone.
+template <typename E>
+void check_bounded(const digitizer_Envelope& envelope, E* field, E highest) {
+  const int32_t beyond = static_cast<int32_t>(highest) + 1;
+  static_assert(sizeof(E) == sizeof beyond, "a 32-bit enum");
+  std::memcpy(field, &beyond, sizeof beyond);
+  CHECK_TEXT(!decodes(envelope), "a value past the enum decodes");
+  *field = highest;
+  CHECK_TEXT(decodes(envelope), "the largest named value is refused");
+}
+
+}  // namespace
+
+TEST(Messages, EveryEnumFieldOfTheProtocolIsBounded) {
+  // The twelve enum fields of digitizer.proto, each in its message (the decoder's check is
+  // derived from nanopb's field lists; this is the list the protocol's author would write).
+  digitizer_Envelope e = digitizer_Envelope_init_zero;
+  e.which_body = digitizer_Envelope_scan_request_tag;
+  check_bounded(e, &e.body.scan_request.pattern, _digitizer_ScanPattern_MAX);
+  check_bounded(e, &e.body.scan_request.probe, _digitizer_ProbeType_MAX);
+  check_bounded(e, &e.body.scan_request.mode, _digitizer_ScanMode_MAX);
+  e = digitizer_Envelope_init_zero;
+  e.which_body = digitizer_Envelope_scan_done_tag;
+  check_bounded(e, &e.body.scan_done.reason, _digitizer_ScanEnd_MAX);
+  e = digitizer_Envelope_init_zero;
+  e.which_body = digitizer_Envelope_status_tag;
+  check_bounded(e, &e.body.status.state, _digitizer_DeviceState_MAX);
+  check_bounded(e, &e.body.status.alarm, _digitizer_FaultCode_MAX);
+  check_bounded(e, &e.body.status.reset_cause, _digitizer_ResetCause_MAX);
+  e = digitizer_Envelope_init_zero;
+  e.which_body = digitizer_Envelope_fault_tag;
+  check_bounded(e, &e.body.fault.code, _digitizer_FaultCode_MAX);
+  e = digitizer_Envelope_init_zero;
+  e.which_body = digitizer_Envelope_command_tag;
+  check_bounded(e, &e.body.command.kind, _digitizer_CommandKind_MAX);
+  check_bounded(e, &e.body.command.fit_model, _digitizer_DeviceFitModel_MAX);
+  e = digitizer_Envelope_init_zero;
+  e.which_body = digitizer_Envelope_fit_result_tag;
+  check_bounded(e, &e.body.fit_result.model, _digitizer_DeviceFitModel_MAX);
+  check_bounded(e, &e.body.fit_result.status, _digitizer_FitStatus_MAX);
+}
+
 TEST(Messages, RejectsGarbage) {
   const uint8_t garbage[] = {0x2A, 0xFF, 0xFF, 0xFF, 0xFF, 0x0F, 0x01};
   digitizer_Envelope in;
