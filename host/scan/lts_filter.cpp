@@ -681,6 +681,8 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
     judge_resolution(true);
     for (size_t i = 0; i < points.size(); ++i) {
       if (cleared[i] || unjudged[i]) condemned[i] = 0;
+      // The judges passed it, but nearly every model of its neighbours stands against it.
+      if (!condemned[i] && !unjudged[i] && doubted(tests[i], sigma, options.outlier_sigmas)) unjudged[i] = 1;
       if (unjudged[i]) result.unjudged.push_back(i);
     }
   }

@@ -12,6 +12,9 @@ namespace {
 // The whole window's bound on a point: k times the noise and the window's trimmed scale together.
 double whole_bound(const LooFit& whole, double sigma, double k) { return k * std::hypot(sigma, whole.scale); }
 
+// A line's bound on a point: the noise its extrapolation amplifies, at 0.8 k (see vouches()).
+double line_bound(const LooFit& line, double sigma, double k) { return 0.8 * k * sigma * std::sqrt(1 + line.gain); }
+
 // Fits point i's windows `first` to `last` (0: the whole neighbourhood, 1 to 8: the half-planes)
 // into t, from its neighbours not excluded.
 void fit_windows(const std::vector<Point3>& points, IndexSpan hood, size_t i,
@@ -253,11 +256,30 @@ bool vouches(const PointTest& t, int w, double sigma, double k, bool final_judge
   // cubic over a window at the scan's edge with its suspects left out reached a gain of 30 and a
   // bound of 28 sigma, wide enough to pass an outlier of 18.
   if (!m.ok || m.near_kept < 2 || m.scale > 2.0 * sigma || (w < kWindows && m.gain > kWindowGainMax)) return false;
-  const double bound = w < kWindows ? prediction_bound(k, sigma, m.gain, m.scale)
-                                     : 0.8 * k * sigma * std::sqrt(1 + m.gain);
+  const double bound = w < kWindows ? prediction_bound(k, sigma, m.gain, m.scale) : line_bound(m, sigma, k);
   if (final_judgement && w == 0 && std::isfinite(m.near_worst) && m.near_worst > kWholeFarMiss * bound) return false;
   if (std::fabs(t.residual(w)) > bound) return false;
   return !m.curved || windows_on_its_surface_condemn(t, sigma, k) < kCurvedLineOverruled;
+}
+
+bool doubted(const PointTest& t, double sigma, double k) {
+  int windows_against = 0, lines_against = 0, lines_for = 0;
+  for (int w = 0; w < kWindows + kLines; ++w) {
+    const LooFit& m = t.model[w];
+    if (!m.ok || m.near_kept < 2) continue;
+    const double off = std::fabs(t.residual(w));
+    if (w < kWindows) {
+      if (m.scale > 2.0 * sigma || m.gain > kWindowGainMax) continue;
+      const double bound = prediction_bound(k, sigma, m.gain, m.scale);
+      if (off <= bound) return false;  // a window that describes its points vouches
+      windows_against += off > kDoubtWiden * bound;
+    } else if (!m.curved) {
+      const double bound = line_bound(m, sigma, k);
+      lines_for += off <= bound;
+      lines_against += off > kDoubtWiden * bound;
+    }
+  }
+  return windows_against >= kDoubtModels && lines_against >= kDoubtModels && lines_for <= 1;
 }
 
 bool a_line_vouches(const PointTest& t, double sigma, double k) {

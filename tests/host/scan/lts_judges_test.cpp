@@ -113,3 +113,62 @@ TEST(LtsJudges, TwoCondemningWindowsDoNotOverruleACurvedLine) {
   LONGS_EQUAL(2, windows_on_its_surface_condemn(t, 1.0, 5.0));
   CHECK(vouches(t, kWindows + 2, 1.0, 5.0));
 }
+
+namespace {
+
+// A point 100 sigma above what three windows predict (each describing its points to the noise and
+// keeping three of its four nearest neighbours) and three straight lines through or beside it,
+// and one more straight line that predicts it: the step gauge's outliers a level's height off,
+// with the line along the level above them vouching.
+PointTest one_line_against_the_rest() {
+  const double sigma = 1.0;
+  PointTest t;
+  t.z = 100 * sigma;
+  for (int w : {0, 3, 4}) {
+    LooFit& m = t.model[w];
+    m.ok = true;
+    m.scale = 0.5 * sigma;
+    m.gain = 0.5;
+    m.near_kept = 3;
+  }
+  for (int d = 0; d < 4; ++d) {
+    LooFit& line = t.model[kWindows + d];
+    line.ok = true;
+    line.gain = 1.1;
+    line.near_kept = 4;
+    line.prediction = d == 3 ? 99 * sigma : 0;
+  }
+  return t;
+}
+
+}  // namespace
+
+TEST(LtsJudges, APointOneLineVouchesForAgainstThreeWindowsAndThreeLinesIsDoubted) {
+  CHECK(doubted(one_line_against_the_rest(), 1.0, 5.0));
+}
+
+TEST(LtsJudges, APointAWindowDescribingItsPointsVouchesForIsNotDoubted) {
+  PointTest t = one_line_against_the_rest();
+  t.model[5] = t.model[3];
+  t.model[5].prediction = 99;  // a half-plane of the point's own level
+  CHECK_FALSE(doubted(t, 1.0, 5.0));
+  // A window that does not describe its points (a crease inside it) is no evidence either way.
+  t.model[5].scale = 3.0;
+  CHECK(doubted(t, 1.0, 5.0));
+}
+
+TEST(LtsJudges, APointTwoStraightLinesVouchForIsNotDoubted) {
+  // At a step block's corner the lines along the point's own level vouch for it.
+  PointTest t = one_line_against_the_rest();
+  t.model[kWindows + 2].prediction = 99;
+  CHECK_FALSE(doubted(t, 1.0, 5.0));
+}
+
+TEST(LtsJudges, TwoModelsOfAKindAgainstAPointDoNotMakeADoubt) {
+  PointTest t = one_line_against_the_rest();
+  t.model[4].ok = false;
+  CHECK_FALSE(doubted(t, 1.0, 5.0));
+  t = one_line_against_the_rest();
+  t.model[kWindows + 1].curved = true;  // a curved line extrapolates curvature: not counted
+  CHECK_FALSE(doubted(t, 1.0, 5.0));
+}

@@ -287,6 +287,14 @@ TEST(LtsRecall, AnOutlierThatMatchesTheLevelBesideItIsNotClearedByThatLevel) {
   check_caught_or_listed(dg::sim::PartKind::kStepGauge, {{10.0, 7, 534}});
 }
 
+TEST(LtsRecall, AnOutlierOneLineClearsAgainstEveryOtherModelIsListed) {
+  // On the step gauge at 5 um (seed 7, (9, 14)) and 10 um (seed 13, (7, 15)) an outlier 104 and
+  // 150 sigma off, near a level's height above its own, passed unlisted: a judge cleared it where
+  // five windows describing their points and five or six straight lines put it 5 to 52 times their
+  // bounds off, with one line along the level above vouching. Each is now caught or listed.
+  check_caught_or_listed(dg::sim::PartKind::kStepGauge, {{5.0, 7, 583}, {10.0, 13, 648}});
+}
+
 TEST(LtsRecall, AWholeWindowThatSkipsThePointsRowDoesNotVouchForIt) {
   // On the step gauge a cubic fitted to 70 % of a 5 x 5 window took the rows on either side of a
   // step one row wide and skipped the point's own row: it put outliers 0.5 and 0.98 mm down that
