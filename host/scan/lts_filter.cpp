@@ -683,6 +683,11 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
       if (cleared[i] || unjudged[i]) condemned[i] = 0;
       // The judges passed it, but nearly every model of its neighbours stands against it.
       if (!condemned[i] && !unjudged[i] && doubted(tests[i], sigma, options.outlier_sigmas)) unjudged[i] = 1;
+      // Condemned, but by no model by much where the window's own shape error is as large.
+      if (condemned[i] && condemned_narrowly(tests[i], sigma, options.outlier_sigmas)) {
+        condemned[i] = 0;
+        unjudged[i] = 1;
+      }
       if (unjudged[i]) result.unjudged.push_back(i);
     }
   }

@@ -282,6 +282,25 @@ bool doubted(const PointTest& t, double sigma, double k) {
   return windows_against >= kDoubtModels && lines_against >= kDoubtModels && lines_for <= 1;
 }
 
+bool condemned_narrowly(const PointTest& t, double sigma, double k) {
+  if (!t.model[0].ok || t.model[0].gain > kInteriorGain) return false;
+  bool beyond = false;
+  for (int w = 0; w < kWindows + kLines; ++w) {
+    const LooFit& m = t.model[w];
+    if (!m.ok) continue;
+    const double off = std::fabs(t.residual(w));
+    if (w < kWindows) {
+      if (m.near_kept < 2 || m.scale > 2.0 * sigma || m.gain > kWindowGainMax) continue;
+      const double bound = prediction_bound(k, sigma, m.gain, m.scale);
+      if (off > kNarrowWiden * bound) return false;
+      beyond = beyond || off > bound;
+    } else if (!m.curved && off > kNarrowWiden * line_bound(m, sigma, k)) {
+      return false;
+    }
+  }
+  return beyond;
+}
+
 bool a_line_vouches(const PointTest& t, double sigma, double k) {
   for (int w = kWindows; w < kWindows + kLines; ++w) {
     if (vouches(t, w, sigma, k)) return true;

@@ -172,3 +172,62 @@ TEST(LtsJudges, TwoModelsOfAKindAgainstAPointDoNotMakeADoubt) {
   t.model[kWindows + 1].curved = true;  // a curved line extrapolates curvature: not counted
   CHECK_FALSE(doubted(t, 1.0, 5.0));
 }
+
+namespace {
+
+// A real point on the reference sphere's flank at 1 um (seed 13, (19, 6)): its whole window, a
+// cubic interpolating with a gain of 0.34 and describing its points to 1.73 sigma (shape error a
+// 1 mm grid leaves), and two half-planes put it 1.04 to 1.43 times beyond their bounds.
+PointTest narrowly_off() {
+  PointTest t;
+  t.z = 0;
+  const double predictions[3] = {10.9, -18.2, -13.7}, scales[3] = {1.73, 0.86, 0.86}, gains[3] = {0.34, 4.8, 3.0};
+  const int windows[3] = {0, 3, 5};
+  for (int n = 0; n < 3; ++n) {
+    LooFit& m = t.model[windows[n]];
+    m.ok = true;
+    m.prediction = predictions[n];
+    m.scale = scales[n];
+    m.gain = gains[n];
+    m.near_kept = 3;
+  }
+  return t;
+}
+
+}  // namespace
+
+TEST(LtsJudges, AnInteriorPointNoModelPutsFarBeyondItsBoundIsCondemnedOnlyNarrowly) {
+  CHECK(condemned_narrowly(narrowly_off(), 1.0, 5.0));
+}
+
+TEST(LtsJudges, APointOneWindowPutsFarOffIsNotCondemnedNarrowly) {
+  PointTest t = narrowly_off();
+  t.model[3].prediction = -40;  // 2.6 times the half-plane's bound
+  CHECK_FALSE(condemned_narrowly(t, 1.0, 5.0));
+}
+
+TEST(LtsJudges, APointAStraightLinePutsFarOffIsNotCondemnedNarrowly) {
+  PointTest t = narrowly_off();
+  LooFit& line = t.model[kWindows + 1];
+  line.ok = true;
+  line.gain = 1.1;
+  line.near_kept = 4;
+  line.prediction = 20;  // 2.4 times the line's bound
+  CHECK_FALSE(condemned_narrowly(t, 1.0, 5.0));
+  line.curved = true;  // a curved line extrapolates its curvature: no evidence either way
+  CHECK(condemned_narrowly(t, 1.0, 5.0));
+}
+
+TEST(LtsJudges, APointAtTheScansEdgeIsNotCondemnedNarrowly) {
+  // There the whole window extrapolates (gain 5 at the canister's last line), its bound grows with
+  // the gain, and an outlier of 20 sigma lay 1.34 times beyond it.
+  PointTest t = narrowly_off();
+  t.model[0].gain = 5.0;
+  CHECK_FALSE(condemned_narrowly(t, 1.0, 5.0));
+}
+
+TEST(LtsJudges, APointEveryWindowPredictsIsNotCondemnedNarrowly) {
+  PointTest t = narrowly_off();
+  for (int w : {0, 3, 5}) t.model[w].prediction = 1;
+  CHECK_FALSE(condemned_narrowly(t, 1.0, 5.0));
+}
