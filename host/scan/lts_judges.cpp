@@ -15,6 +15,13 @@ double whole_bound(const LooFit& whole, double sigma, double k) { return k * std
 // A line's bound on a point: the noise its extrapolation amplifies, at 0.8 k (see vouches()).
 double line_bound(const LooFit& line, double sigma, double k) { return 0.8 * k * sigma * std::sqrt(1 + line.gain); }
 
+// A window describes its own points: it keeps `nearest_kept` of the point's four nearest
+// neighbours, its trimmed scale is one noise gives (within 2 sigma), and its prediction does not
+// extrapolate far (gain within kWindowGainMax).
+bool describes_its_points(const LooFit& window, double sigma, int nearest_kept) {
+  return window.ok && window.near_kept >= nearest_kept && window.scale <= 2.0 * sigma && window.gain <= kWindowGainMax;
+}
+
 // Fits point i's windows `first` to `last` (0: the whole neighbourhood, 1 to 8: the half-planes)
 // into t, from its neighbours not excluded.
 void fit_windows(const std::vector<Point3>& points, IndexSpan hood, size_t i,
@@ -244,7 +251,7 @@ int windows_on_its_surface_condemn(const PointTest& t, double sigma, double k) {
   int condemning = 0;
   for (int w = 0; w < kWindows; ++w) {
     const LooFit& m = t.model[w];
-    if (!m.ok || m.near_kept < 3 || m.scale > 2.0 * sigma || m.gain > kWindowGainMax) continue;
+    if (!describes_its_points(m, sigma, 3)) continue;
     condemning += std::fabs(t.residual(w)) > prediction_bound(k, sigma, m.gain, m.scale);
   }
   return condemning;
@@ -255,7 +262,8 @@ bool vouches(const PointTest& t, int w, double sigma, double k, bool final_judge
   // A window whose prediction has a gain beyond kWindowGainMax extrapolates too far to vouch: a
   // cubic over a window at the scan's edge with its suspects left out reached a gain of 30 and a
   // bound of 28 sigma, wide enough to pass an outlier of 18.
-  if (!m.ok || m.near_kept < 2 || m.scale > 2.0 * sigma || (w < kWindows && m.gain > kWindowGainMax)) return false;
+  const bool describes = w < kWindows ? describes_its_points(m, sigma, 2) : m.ok && m.near_kept >= 2 && m.scale <= 2.0 * sigma;
+  if (!describes) return false;
   const double bound = w < kWindows ? prediction_bound(k, sigma, m.gain, m.scale) : line_bound(m, sigma, k);
   if (final_judgement && w == 0 && std::isfinite(m.near_worst) && m.near_worst > kWholeFarMiss * bound) return false;
   if (std::fabs(t.residual(w)) > bound) return false;
@@ -266,14 +274,13 @@ bool doubted(const PointTest& t, double sigma, double k) {
   int windows_against = 0, lines_against = 0, lines_for = 0;
   for (int w = 0; w < kWindows + kLines; ++w) {
     const LooFit& m = t.model[w];
-    if (!m.ok || m.near_kept < 2) continue;
     const double off = std::fabs(t.residual(w));
     if (w < kWindows) {
-      if (m.scale > 2.0 * sigma || m.gain > kWindowGainMax) continue;
+      if (!describes_its_points(m, sigma, 2)) continue;
       const double bound = prediction_bound(k, sigma, m.gain, m.scale);
       if (off <= bound) return false;  // a window that describes its points vouches
       windows_against += off > kDoubtWiden * bound;
-    } else if (!m.curved) {
+    } else if (m.ok && m.near_kept >= 2 && !m.curved) {
       const double bound = line_bound(m, sigma, k);
       lines_for += off <= bound;
       lines_against += off > kDoubtWiden * bound;
@@ -287,14 +294,13 @@ bool condemned_narrowly(const PointTest& t, double sigma, double k) {
   bool beyond = false;
   for (int w = 0; w < kWindows + kLines; ++w) {
     const LooFit& m = t.model[w];
-    if (!m.ok) continue;
     const double off = std::fabs(t.residual(w));
     if (w < kWindows) {
-      if (m.near_kept < 2 || m.scale > 2.0 * sigma || m.gain > kWindowGainMax) continue;
+      if (!describes_its_points(m, sigma, 2)) continue;
       const double bound = prediction_bound(k, sigma, m.gain, m.scale);
       if (off > kNarrowWiden * bound) return false;
       beyond = beyond || off > bound;
-    } else if (!m.curved && off > kNarrowWiden * line_bound(m, sigma, k)) {
+    } else if (m.ok && !m.curved && off > kNarrowWiden * line_bound(m, sigma, k)) {
       return false;
     }
   }
