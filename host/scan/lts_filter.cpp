@@ -568,8 +568,9 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
   // puts it far off condemns it, whatever the windows said: two outliers side by side on the dome's
   // steep flank, 52 and 58 sigma high, were vouched for by windows that held both, while the row
   // through them, without them, was the cap's smooth curve on both sides.
+  // The points a line through them condemned, whatever the windows said.
+  std::vector<char> by_line(points.size(), 0);
   if (result.gridded) {
-    std::vector<char> by_line(points.size(), 0);
     parallel_for(points.size(), [&](size_t begin, size_t end, unsigned) {
       for (size_t i = begin; i < end; ++i) {
         if (condemned[i]) continue;
@@ -683,6 +684,11 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
       if (cleared[i] || unjudged[i]) condemned[i] = 0;
       // The judges passed it, but nearly every model of its neighbours stands against it.
       if (!condemned[i] && !unjudged[i] && doubted(tests[i], sigma, options.outlier_sigmas)) unjudged[i] = 1;
+      // Condemned, but models of its own surface vouch for it: two windows and two straight lines.
+      if (condemned[i] && !by_line[i] && outvoted(tests[i], sigma, options.outlier_sigmas)) {
+        condemned[i] = 0;
+        unjudged[i] = 1;
+      }
       // Condemned, but by no model by much where the window's own shape error is as large.
       if (condemned[i] && condemned_narrowly(tests[i], sigma, options.outlier_sigmas)) {
         condemned[i] = 0;

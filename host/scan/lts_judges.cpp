@@ -307,6 +307,19 @@ bool condemned_narrowly(const PointTest& t, double sigma, double k) {
   return beyond;
 }
 
+bool outvoted(const PointTest& t, double sigma, double k) {
+  int windows_for = 0, lines_for = 0;
+  for (int w = 0; w < kWindows + kLines; ++w) {
+    if (!vouches(t, w, sigma, k, /*final_judgement=*/true)) continue;
+    if (w < kWindows) {
+      ++windows_for;
+    } else {
+      lines_for += !t.model[w].curved;
+    }
+  }
+  return windows_for >= kOutvotingModels && lines_for >= kOutvotingModels;
+}
+
 bool a_line_vouches(const PointTest& t, double sigma, double k) {
   for (int w = kWindows; w < kWindows + kLines; ++w) {
     if (vouches(t, w, sigma, k)) return true;

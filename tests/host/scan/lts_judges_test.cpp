@@ -231,3 +231,54 @@ TEST(LtsJudges, APointEveryWindowPredictsIsNotCondemnedNarrowly) {
   for (int w : {0, 3, 5}) t.model[w].prediction = 1;
   CHECK_FALSE(condemned_narrowly(t, 1.0, 5.0));
 }
+
+namespace {
+
+// A plate point at a ball's foot that a crease's envelope condemned 40 sigma low: two half-planes
+// of the plate (describing their points, keeping two of its four nearest neighbours) and two
+// straight lines along the plate predict it to half a sigma.
+PointTest envelope_against_its_surface() {
+  PointTest t;
+  t.z = 0;
+  LooFit& whole = t.model[0];  // the whole window, across the foot, misses it
+  whole.ok = true;
+  whole.scale = 1.5;
+  whole.gain = 0.5;
+  whole.near_kept = 2;
+  whole.prediction = 40;
+  for (int w : {2, 4}) {
+    LooFit& m = t.model[w];
+    m.ok = true;
+    m.scale = 0.6;
+    m.gain = 2.0;
+    m.near_kept = 2;
+    m.prediction = 0.5;
+  }
+  for (int d : {0, 1}) {
+    LooFit& line = t.model[kWindows + d];
+    line.ok = true;
+    line.scale = 0.7;
+    line.gain = 1.1;
+    line.near_kept = 4;
+    line.prediction = -0.5;
+  }
+  return t;
+}
+
+}  // namespace
+
+TEST(LtsJudges, APointTwoWindowsAndTwoLinesOfItsSurfaceVouchForIsOutvoted) {
+  CHECK(outvoted(envelope_against_its_surface(), 1.0, 5.0));
+}
+
+TEST(LtsJudges, OneWindowOrOneStraightLineDoesNotOutvote) {
+  PointTest t = envelope_against_its_surface();
+  t.model[4].scale = 3.0;  // this half-plane straddles a crease: it describes nothing
+  CHECK_FALSE(outvoted(t, 1.0, 5.0));
+  t = envelope_against_its_surface();
+  t.model[kWindows + 1].curved = true;  // a curved line extrapolates its curvature: not counted
+  CHECK_FALSE(outvoted(t, 1.0, 5.0));
+  t = envelope_against_its_surface();
+  t.model[kWindows + 1].prediction = 30;  // a line that puts it far off does not vouch
+  CHECK_FALSE(outvoted(t, 1.0, 5.0));
+}

@@ -724,3 +724,11 @@ TEST(LtsRecall, APlatePointAtABallsFootIsClearedByTheHalfPlaneOfThePlate) {
   // predicts the point's grid neighbours on its side, predicts each within its bound, and clears it.
   check_not_condemned(dg::sim::PartKind::kBallPlate, 10.0, 4, {{11, 11}, {19, 11}, {19, 19}, {11, 19}}, Listing::kNotListed);
 }
+
+TEST(LtsRecall, PlatePointsAtABallsFootThatModelsOfThePlateVouchForAreListedNotCondemned) {
+  // The ball plate at 10 um, seed 2: the envelope of the plate and a quadratic cap (no sphere at its
+  // foot) put (9, 15), (11, 11) and (11, 19) 13 to 31 sigma low, where two or three half-planes
+  // of the plate and two to five straight lines along it predicted within their bounds. Three of the
+  // scan's six false alarms; they are now listed as not judged.
+  check_not_condemned(dg::sim::PartKind::kBallPlate, 10.0, 2, {{9, 15}, {11, 11}, {11, 19}}, Listing::kListed);
+}
