@@ -567,8 +567,8 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
   // A row, column or diagonal through the point that is one smooth curve on both sides of it and
   // puts it far off condemns it, whatever the windows said: two outliers side by side on the dome's
   // steep flank, 52 and 58 sigma high, were vouched for by windows that held both, while the row
-  // through them, without them, was the cap's smooth curve on both sides.
-  // The points a line through them condemned, whatever the windows said.
+  // through them, without them, was the cap's smooth curve on both sides. by_line marks them, so
+  // that the final judgement does not let models of the point's surface outvote such a line.
   std::vector<char> by_line(points.size(), 0);
   if (result.gridded) {
     parallel_for(points.size(), [&](size_t begin, size_t end, unsigned) {
@@ -685,6 +685,7 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
       // The judges passed it, but nearly every model of its neighbours stands against it.
       if (!condemned[i] && !unjudged[i] && doubted(tests[i], sigma, options.outlier_sigmas)) unjudged[i] = 1;
       // Condemned, but models of its own surface vouch for it: two windows and two straight lines.
+      // Not asked of a point a line through it condemned: that line was smooth on both sides of it.
       if (condemned[i] && !by_line[i] && outvoted(tests[i], sigma, options.outlier_sigmas)) {
         condemned[i] = 0;
         unjudged[i] = 1;

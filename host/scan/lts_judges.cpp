@@ -22,6 +22,12 @@ bool describes_its_points(const LooFit& window, double sigma, int nearest_kept) 
   return window.ok && window.near_kept >= nearest_kept && window.scale <= 2.0 * sigma && window.gain <= kWindowGainMax;
 }
 
+// A line describes its own points: it keeps two of the point's four nearest neighbours and its
+// trimmed scale is one noise gives. Its gain is not limited: line_bound() widens with it.
+bool line_describes(const LooFit& line, double sigma) {
+  return line.ok && line.near_kept >= 2 && line.scale <= 2.0 * sigma;
+}
+
 // Fits point i's windows `first` to `last` (0: the whole neighbourhood, 1 to 8: the half-planes)
 // into t, from its neighbours not excluded.
 void fit_windows(const std::vector<Point3>& points, IndexSpan hood, size_t i,
@@ -262,7 +268,7 @@ bool vouches(const PointTest& t, int w, double sigma, double k, bool final_judge
   // A window whose prediction has a gain beyond kWindowGainMax extrapolates too far to vouch: a
   // cubic over a window at the scan's edge with its suspects left out reached a gain of 30 and a
   // bound of 28 sigma, wide enough to pass an outlier of 18.
-  const bool describes = w < kWindows ? describes_its_points(m, sigma, 2) : m.ok && m.near_kept >= 2 && m.scale <= 2.0 * sigma;
+  const bool describes = w < kWindows ? describes_its_points(m, sigma, 2) : line_describes(m, sigma);
   if (!describes) return false;
   const double bound = w < kWindows ? prediction_bound(k, sigma, m.gain, m.scale) : line_bound(m, sigma, k);
   if (final_judgement && w == 0 && std::isfinite(m.near_worst) && m.near_worst > kWholeFarMiss * bound) return false;

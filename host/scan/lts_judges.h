@@ -189,8 +189,7 @@ bool doubted(const PointTest& t, double sigma, double k);
 // 31 sigma low (0.14 to 0.37 mm), where two or three half-planes of the plate and two to five
 // lines along it predicted them within their bounds, most to 3 sigma (over seeds 1 to 14 at 10 um,
 // false alarms on the ball plate 47 -> 38 and on the dome 4 -> 3; no outlier listed instead of
-// caught, none passed unlisted, no other row of the benchmark changed). A point that a line through
-// it condemned (smooth on both sides) is not asked.
+// caught, none passed unlisted, no other row of the benchmark changed).
 constexpr int kOutvotingModels = 2;
 bool outvoted(const PointTest& t, double sigma, double k);
 
