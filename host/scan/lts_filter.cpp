@@ -682,6 +682,11 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
     judge_resolution(true);
     for (size_t i = 0; i < points.size(); ++i) {
       if (cleared[i] || unjudged[i]) condemned[i] = 0;
+      // The judges passed it, but it lies in a pit narrower than the grid resolves (or is an outlier).
+      if (!condemned[i] && !unjudged[i] &&
+          below_a_straight_run(points, sides[i], i, condemned, sigma, options.outlier_sigmas, limit)) {
+        unjudged[i] = 1;
+      }
       // The judges passed it, but nearly every model of its neighbours stands against it.
       if (!condemned[i] && !unjudged[i] && doubted(tests[i], sigma, options.outlier_sigmas)) unjudged[i] = 1;
       // Condemned, but models of its own surface vouch for it: two windows and two straight lines.

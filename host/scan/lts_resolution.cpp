@@ -115,6 +115,48 @@ int half_order(int w) { return w < 4 ? 1 : 2; }
 
 }  // namespace
 
+bool below_a_straight_run(const std::vector<Point3>& points, const LineSides& sides, size_t i,
+                          const std::vector<char>& marked, double sigma, double k, double limit_mm) {
+  for (int d = 0; d < kLines; ++d) {
+    // Side d ^ 1 runs the other way along the same line (lts_grid.h).
+    const LineSide& run = sides[static_cast<size_t>(d)];
+    const LineSide& across = sides[static_cast<size_t>(d ^ 1)];
+    // Distances along the line, positive on the run's side.
+    double ts[kPitRunSide + 1], zs[kPitRunSide + 1];
+    int n = 0;
+    for (size_t m = 0; m < std::min(kPitRunReach, run.size()) && n < kPitRunSide; ++m) {
+      if (marked[run[m]]) continue;
+      ts[n] = std::hypot(points[run[m]].x - points[i].x, points[run[m]].y - points[i].y);
+      zs[n++] = points[run[m]].z;
+    }
+    if (n < kPitRunSide) continue;
+    for (size_t m = 0; m < std::min<size_t>(2, across.size()); ++m) {
+      if (marked[across[m]]) continue;
+      ts[n] = -std::hypot(points[across[m]].x - points[i].x, points[across[m]].y - points[i].y);
+      zs[n++] = points[across[m]].z;
+      break;
+    }
+    if (n < kPitRunSide + 1) continue;
+    // z = mean + slope (t - t_mean): the height at t = 0 has variance (1/n + t_mean^2 / Stt) sigma^2.
+    double t_mean = 0, z_mean = 0;
+    for (int m = 0; m < n; ++m) t_mean += ts[m] / n, z_mean += zs[m] / n;
+    double stt = 0, stz = 0;
+    for (int m = 0; m < n; ++m) stt += (ts[m] - t_mean) * (ts[m] - t_mean), stz += (ts[m] - t_mean) * (zs[m] - z_mean);
+    const double slope = stz / stt;
+    double ss = 0;
+    for (int m = 0; m < n; ++m) {
+      const double r = zs[m] - z_mean - slope * (ts[m] - t_mean);
+      ss += r * r;
+    }
+    const double scale = std::sqrt(ss / (n - 2));
+    if (scale > 2.0 * sigma) continue;
+    const double gain = 1.0 / n + t_mean * t_mean / stt;
+    const double below = z_mean - slope * t_mean - points[i].z;
+    if (below > kPitWiden * std::max(prediction_bound(k, sigma, gain, scale), limit_mm)) return true;
+  }
+  return false;
+}
+
 bool on_unresolved_slope(const std::vector<Point3>& points, const LineSides& sides, size_t i,
                          const std::vector<char>& in_groups, double window_near_worst_mm, double sigma,
                          const std::vector<char>* marked) {

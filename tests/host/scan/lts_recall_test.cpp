@@ -732,3 +732,14 @@ TEST(LtsRecall, PlatePointsAtABallsFootThatModelsOfThePlateVouchForAreListedNotC
   // scan's six false alarms; they are now listed as not judged.
   check_not_condemned(dg::sim::PartKind::kBallPlate, 10.0, 2, {{9, 15}, {11, 11}, {11, 19}}, Listing::kListed);
 }
+
+TEST(LtsRecall, AnOutlierOnAPlateStripThatTheCapContinuedWouldMeetIsListed) {
+  // At the scan's edge beside the dome's rim the base plate is a strip one point wide. Outliers
+  // there 44 to 84 sigma below it lay near the cap's surface continued past the rim, and the cap's
+  // windows vouched for them: (0, 21) at 10 um in seeds 8 and 12, (40, 9) at 5 um in seed 10. The
+  // plate's points along the edge, a straight run on both sides of each, put it far below. And at
+  // the step gauge's edge at 10 um (seed 3, (6, 5)) one 70 sigma low passed the same way. Each
+  // passed unlisted; each is now caught or listed.
+  check_caught_or_listed(dg::sim::PartKind::kDome, {{10.0, 8, 901}, {10.0, 12, 901}, {5.0, 10, 369}});
+  check_caught_or_listed(dg::sim::PartKind::kStepGauge, {{10.0, 3, 239}});
+}
