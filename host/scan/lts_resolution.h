@@ -62,8 +62,8 @@ bool on_unresolved_slope(const std::vector<Point3>& points, const LineSides& sid
                          const std::vector<char>* marked = nullptr);
 
 // A point the judges passed that lies far below a straight run of its line's points spanning it:
-// up to kPitRunSide points on one side (the first not `marked` among the nearest kPitRunReach)
-// and the nearest unmarked one of the first two on the other lie on one straight line within the
+// kPitRunSide points on one side (the first not `marked` among the nearest kPitRunReach) and the
+// nearest unmarked one of the first two on the other lie on one straight line within the
 // noise (trimmed of nothing: a scale within 2 sigma), and the point lies below that line by more
 // than kPitWiden times its bound k sqrt(sigma^2 (1 + gain) + scale^2) (or `limit_mm`, the larger).
 // Only a pit narrower than two grid steps puts a real point there, which the grid does not
