@@ -263,6 +263,12 @@ int windows_on_its_surface_condemn(const PointTest& t, double sigma, double k) {
   return condemning;
 }
 
+bool whole_overrules(const PointTest& t, double sigma, double k) {
+  const LooFit& whole = t.model[0];
+  if (!describes_its_points(whole, sigma, 3) || whole.gain > kInteriorGain) return false;
+  return std::fabs(t.residual(0)) > kWholeOverrulesWiden * whole_bound(whole, sigma, k);
+}
+
 bool vouches(const PointTest& t, int w, double sigma, double k, bool final_judgement) {
   const LooFit& m = t.model[w];
   // A window whose prediction has a gain beyond kWindowGainMax extrapolates too far to vouch: a
@@ -271,8 +277,11 @@ bool vouches(const PointTest& t, int w, double sigma, double k, bool final_judge
   const bool describes = w < kWindows ? describes_its_points(m, sigma, 2) : line_describes(m, sigma);
   if (!describes) return false;
   const double bound = w < kWindows ? prediction_bound(k, sigma, m.gain, m.scale) : line_bound(m, sigma, k);
-  if (final_judgement && w == 0 && std::isfinite(m.near_worst) && m.near_worst > kWholeFarMiss * bound) return false;
+  const bool misses_a_neighbour_far = std::isfinite(m.near_worst) && m.near_worst > kWholeFarMiss * bound;
+  if (final_judgement && w == 0 && misses_a_neighbour_far) return false;
   if (std::fabs(t.residual(w)) > bound) return false;
+  const bool half_plane = w > 0 && w < kWindows;
+  if ((m.curved || (final_judgement && half_plane && misses_a_neighbour_far)) && whole_overrules(t, sigma, k)) return false;
   return !m.curved || windows_on_its_surface_condemn(t, sigma, k) < kCurvedLineOverruled;
 }
 

@@ -109,9 +109,47 @@ TEST(LtsJudges, AStraightLineStillVouchesAgainstTheWindows) {
 
 TEST(LtsJudges, TwoCondemningWindowsDoNotOverruleACurvedLine) {
   PointTest t = windows_against_a_line(true);
-  t.model[3].near_kept = 2;  // this half-plane keeps only two of the nearest: maybe another surface
+  t.model[0].near_kept = 2;  // the whole window keeps only two of the nearest: maybe another surface
   LONGS_EQUAL(2, windows_on_its_surface_condemn(t, 1.0, 5.0));
+  CHECK_FALSE(whole_overrules(t, 1.0, 5.0));
   CHECK(vouches(t, kWindows + 2, 1.0, 5.0));
+}
+
+TEST(LtsJudges, AWholeWindowThatPutsThePointFarOffOverrulesACurvedLineAlone) {
+  // The sphere's flank at 0.5 um: no half-plane describes its points, and the whole window, which
+  // does and interpolates, puts the point beyond twice its bound (20 sigma, bound 6.4).
+  PointTest t = windows_against_a_line(true);
+  t.model[1].near_kept = t.model[3].near_kept = 2;
+  LONGS_EQUAL(1, windows_on_its_surface_condemn(t, 1.0, 5.0));
+  CHECK(whole_overrules(t, 1.0, 5.0));
+  CHECK_FALSE(vouches(t, kWindows + 2, 1.0, 5.0));
+  // Within twice its bound, or extrapolating (gain over 1), it does not overrule alone.
+  t.model[0].prediction = 8;
+  CHECK_FALSE(whole_overrules(t, 1.0, 5.0));
+  CHECK(vouches(t, kWindows + 2, 1.0, 5.0));
+  t.model[0].prediction = 0;
+  t.model[0].gain = 1.5;
+  CHECK_FALSE(whole_overrules(t, 1.0, 5.0));
+  CHECK(vouches(t, kWindows + 2, 1.0, 5.0));
+}
+
+TEST(LtsJudges, AHalfPlaneThatMissesANearestNeighbourFarIsOverruledInTheFinalJudgement) {
+  // The sphere's flank at 2 um: a half-plane bent by outliers beside the point put it 5 sigma off,
+  // within its bound, and missed a clean nearest neighbour by 18 times that bound.
+  PointTest t = windows_against_a_line(false);
+  LooFit& half = t.model[4];
+  half.ok = true;
+  half.prediction = 18;
+  half.scale = 1.0;
+  half.gain = 1.0;
+  half.near_kept = 2;
+  half.near_worst = 224;  // bound 5 sqrt(2 + 1) = 8.7
+  CHECK(whole_overrules(t, 1.0, 5.0));
+  CHECK_FALSE(vouches(t, 4, 1.0, 5.0, /*final_judgement=*/true));
+  // Not while the suspects are sorted out, nor where it predicts its nearest neighbours.
+  CHECK(vouches(t, 4, 1.0, 5.0, /*final_judgement=*/false));
+  half.near_worst = 20;
+  CHECK(vouches(t, 4, 1.0, 5.0, /*final_judgement=*/true));
 }
 
 namespace {
