@@ -695,6 +695,11 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
         condemned[i] = 0;
         unjudged[i] = 1;
       }
+      // Condemned, but a half-plane of its own surface, a little rougher than a judge, predicts it.
+      if (condemned[i] && !by_line[i] && a_half_plane_nearly_vouches(tests[i], sigma, options.outlier_sigmas)) {
+        condemned[i] = 0;
+        unjudged[i] = 1;
+      }
       // Condemned, but by no model by much where the window's own shape error is as large.
       if (condemned[i] && condemned_narrowly(tests[i], sigma, options.outlier_sigmas)) {
         condemned[i] = 0;

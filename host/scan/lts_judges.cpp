@@ -304,6 +304,16 @@ bool doubted(const PointTest& t, double sigma, double k) {
   return windows_against >= kDoubtModels && lines_against >= kDoubtModels && lines_for <= 1;
 }
 
+bool a_half_plane_nearly_vouches(const PointTest& t, double sigma, double k) {
+  if (!t.model[0].ok || t.model[0].gain > kInteriorGain || whole_overrules(t, sigma, k)) return false;
+  for (int w = 1; w < kWindows; ++w) {
+    const LooFit& m = t.model[w];
+    if (!m.ok || m.near_kept < 3 || m.scale > kRoughScale * sigma || m.gain > kWindowGainMax) continue;
+    if (std::fabs(t.residual(w)) <= kRoughWithin * prediction_bound(k, sigma, m.gain, m.scale)) return true;
+  }
+  return false;
+}
+
 bool condemned_narrowly(const PointTest& t, double sigma, double k) {
   if (!t.model[0].ok || t.model[0].gain > kInteriorGain) return false;
   bool beyond = false;

@@ -152,6 +152,46 @@ TEST(LtsJudges, AHalfPlaneThatMissesANearestNeighbourFarIsOverruledInTheFinalJud
   CHECK(vouches(t, 4, 1.0, 5.0, /*final_judgement=*/true));
 }
 
+TEST(LtsJudges, AHalfPlaneALittleRougherThanAJudgeThatPredictsThePointCloselyNearlyVouches) {
+  // A ring point at a ball's foot: the ball's half-plane (scale 2.04 sigma) predicts it within a
+  // ninth of its bound; the whole window (two nearest neighbours kept) does not describe its points.
+  PointTest t;
+  t.z = 130;
+  t.model[0].ok = true;
+  t.model[0].scale = 2.7;
+  t.model[0].gain = 0.3;
+  t.model[0].near_kept = 2;
+  t.model[0].prediction = 108;
+  LooFit& half = t.model[2];
+  half.ok = true;
+  half.prediction = 128.5;
+  half.scale = 2.04;
+  half.gain = 1.8;
+  half.near_kept = 3;  // bound 5 sqrt(2.8 + 2.04^2) = 13.2
+  CHECK_FALSE(vouches(t, 2, 1.0, 5.0));
+  CHECK(a_half_plane_nearly_vouches(t, 1.0, 5.0));
+  // Not beyond half its bound, nor rougher than 2.5 sigma, nor keeping two nearest neighbours only.
+  half.prediction = 122;
+  CHECK_FALSE(a_half_plane_nearly_vouches(t, 1.0, 5.0));
+  half.prediction = 128.5;
+  half.scale = 2.6;
+  CHECK_FALSE(a_half_plane_nearly_vouches(t, 1.0, 5.0));
+  half.scale = 2.04;
+  half.near_kept = 2;
+  CHECK_FALSE(a_half_plane_nearly_vouches(t, 1.0, 5.0));
+  // Nor at the scan's edge, where the whole window extrapolates (gain over 1).
+  half.near_kept = 3;
+  t.model[0].gain = 2;
+  CHECK_FALSE(a_half_plane_nearly_vouches(t, 1.0, 5.0));
+  t.model[0].gain = 0.3;
+  CHECK(a_half_plane_nearly_vouches(t, 1.0, 5.0));
+  // Nor where the whole window, describing its points, puts the point far off.
+  t.model[0].scale = 1.0;
+  t.model[0].near_kept = 4;
+  t.model[0].prediction = 100;
+  CHECK_FALSE(a_half_plane_nearly_vouches(t, 1.0, 5.0));
+}
+
 namespace {
 
 // A point 100 sigma above what three windows predict (each describing its points to the noise and

@@ -756,3 +756,10 @@ TEST(LtsRecall, AnOutlierThatTheWholeWindowPutsFarOffIsNotClearedByALooseModel) 
     CHECK(caught(lts_filter(p.points, LtsOptions{}), i));
   }
 }
+
+TEST(LtsRecall, ARingPointThatTheBallsRougherHalfPlanePredictsIsListedNotCondemned) {
+  // The ball plate at 10 um, seed 12: (20, 15), a real point on a ball's first ring, was condemned
+  // by the plate's half-plane; the half-plane on the ball's side, at 2.04 sigma a little rougher
+  // than a window that vouches, put it 1.5 sigma off.
+  check_not_condemned(dg::sim::PartKind::kBallPlate, 10.0, 12, {{20, 15}}, Listing::kListed);
+}
