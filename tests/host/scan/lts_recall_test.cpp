@@ -745,10 +745,11 @@ TEST(LtsRecall, AnOutlierOnAPlateStripThatTheCapContinuedWouldMeetIsListed) {
 }
 
 TEST(LtsRecall, AnOutlierThatTheWholeWindowPutsFarOffIsNotClearedByALooseModel) {
-  // The sphere, seed 9: (22, 7) on the flank is planted 50 sigma high beside two more outliers. At
-  // 0.5 um a quadratic along one line, at 2 um a half-plane that missed a nearest neighbour by 224
-  // sigma, vouched for it, while the whole window, describing its points and interpolating, put it
-  // more than three times beyond its bound. The whole window overrules them, and it is caught.
+  // The sphere, seed 9: (22, 7) on the flank reads about 50 sigma above the true shape, beside two
+  // more outliers. At 0.5 um a quadratic along one line, at 2 um a half-plane that missed a nearest
+  // neighbour by 224 sigma, vouched for it, while the whole window, describing its points and
+  // interpolating, put it more than three times beyond its bound. The whole window overrules them,
+  // and it is caught.
   for (double sigma_um : {0.5, 2.0}) {
     const dg::test::Planted p = dg::test::plant_outliers(dg::sim::PartKind::kSphere, sigma_um, 9);
     const size_t i = grid_index(p, 22, 7);
