@@ -680,6 +680,8 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
     };
     judge_resolution(false);
     judge_resolution(true);
+    // The lines of vouched_only_from_afar are fitted without the points condemned so far.
+    const std::vector<char> condemned_so_far = condemned;
     for (size_t i = 0; i < points.size(); ++i) {
       if (cleared[i] || unjudged[i]) condemned[i] = 0;
       // The judges passed it, but it lies in a pit narrower than the grid resolves (or is an outlier).
@@ -689,6 +691,12 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
       }
       // The judges passed it, but nearly every model of its neighbours stands against it.
       if (!condemned[i] && !unjudged[i] && doubted(tests[i], sigma, options.outlier_sigmas)) unjudged[i] = 1;
+      // The judges passed it, but only windows reaching it from afar, and lines along it stand against it.
+      if (!condemned[i] && !unjudged[i] && vouched_only_from_afar(tests[i], sigma, options.outlier_sigmas)) {
+        PointTest with_lines = tests[i];
+        add_line_models(points, sides[i], i, condemned_so_far, sigma, with_lines);
+        if (lines_stand_against(with_lines, sigma, options.outlier_sigmas)) unjudged[i] = 1;
+      }
       // Condemned, but models of its own surface vouch for it: two windows and two straight lines.
       // Not asked of a point a line through it condemned: that line was smooth on both sides of it.
       if (condemned[i] && !by_line[i] && outvoted(tests[i], sigma, options.outlier_sigmas)) {

@@ -304,6 +304,28 @@ bool doubted(const PointTest& t, double sigma, double k) {
   return windows_against >= kDoubtModels && lines_against >= kDoubtModels && lines_for <= 1;
 }
 
+bool vouched_only_from_afar(const PointTest& t, double sigma, double k) {
+  bool vouched = false;
+  for (int w = 0; w < kWindows; ++w) {
+    if (!vouches(t, w, sigma, k, true)) continue;
+    if (t.model[w].gain <= kFarGain) return false;
+    vouched = true;
+  }
+  return vouched;
+}
+
+bool lines_stand_against(const PointTest& t, double sigma, double k) {
+  int against = 0;
+  for (int w = kWindows; w < kWindows + kLines; ++w) {
+    const LooFit& line = t.model[w];
+    if (!line_describes(line, sigma)) continue;
+    const double off = std::fabs(t.residual(w));
+    if (off <= line_bound(line, sigma, k)) return false;
+    against += off > kLinesAgainstWiden * line_bound(line, sigma, k);
+  }
+  return against >= kLinesAgainst;
+}
+
 bool a_half_plane_nearly_vouches(const PointTest& t, double sigma, double k) {
   if (!t.model[0].ok || t.model[0].gain > kInteriorGain || whole_overrules(t, sigma, k)) return false;
   for (int w = 1; w < kWindows; ++w) {

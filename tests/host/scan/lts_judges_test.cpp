@@ -360,3 +360,73 @@ TEST(LtsJudges, OneWindowOrOneStraightLineDoesNotOutvote) {
   t.model[kWindows + 1].prediction = 30;  // a line that puts it far off does not vouch
   CHECK_FALSE(outvoted(t, 1.0, 5.0));
 }
+
+namespace {
+
+// An outlier 33 sigma high on a plate strip one point wide at the scan's edge (the dome at 0.5 um,
+// seed 6, (0, 19)): the whole window does not describe its points, a half-plane reaching across
+// the rim (gain 3.7) vouches for it, and the straight line along the strip and a quadratic along a
+// diagonal put it 4.8 and 2.9 times beyond their bounds.
+PointTest vouched_from_across_the_rim() {
+  PointTest t;
+  t.z = 33;
+  t.model[0].ok = true;
+  t.model[0].scale = 2.6;
+  t.model[0].gain = 1.0;
+  t.model[0].near_kept = 3;
+  t.model[0].prediction = 1;
+  LooFit& half = t.model[5];
+  half.ok = true;
+  half.scale = 1.6;
+  half.gain = 3.7;
+  half.near_kept = 2;
+  half.prediction = 29;  // bound 5 sqrt(4.7 + 1.6^2) = 13.5
+  LooFit& straight = t.model[kWindows + 3];
+  straight.ok = true;
+  straight.gain = 1.1;
+  straight.near_kept = 4;
+  straight.prediction = 5;  // 28 off, bound 0.8 x 5 sqrt(2.1) = 5.8
+  LooFit& quadratic = t.model[kWindows + 2];
+  quadratic.ok = true;
+  quadratic.curved = true;
+  quadratic.scale = 0.76;
+  quadratic.gain = 4.6;
+  quadratic.near_kept = 4;
+  quadratic.prediction = 6;  // 27 off, bound 0.8 x 5 sqrt(5.6) = 9.5
+  return t;
+}
+
+}  // namespace
+
+TEST(LtsJudges, APointOnlyAWindowReachingFromAfarVouchesForIsVouchedOnlyFromAfar) {
+  PointTest t = vouched_from_across_the_rim();
+  CHECK(vouches(t, 5, 1.0, 5.0, true));
+  CHECK(vouched_only_from_afar(t, 1.0, 5.0));
+  // Not where a vouching window reaches it from nearer (gain 3 or less).
+  t.model[5].gain = 2.5;
+  CHECK(vouches(t, 5, 1.0, 5.0, true));
+  CHECK_FALSE(vouched_only_from_afar(t, 1.0, 5.0));
+  // Nor where no window vouches at all: the judges condemned it or had none.
+  t.model[5].gain = 3.7;
+  t.model[5].prediction = 10;
+  CHECK_FALSE(vouched_only_from_afar(t, 1.0, 5.0));
+}
+
+TEST(LtsJudges, TwoLinesThatDescribeTheirPointsFarFromThePointStandAgainstIt) {
+  PointTest t = vouched_from_across_the_rim();
+  CHECK(lines_stand_against(t, 1.0, 5.0));
+  // One line alone does not: the quadratic within twice its bound (27 -> 17 off, 1.8 bounds).
+  t.model[kWindows + 2].prediction = 16;
+  CHECK_FALSE(lines_stand_against(t, 1.0, 5.0));
+  // Nor two where a third line that describes its points predicts the point.
+  t = vouched_from_across_the_rim();
+  LooFit& third = t.model[kWindows + 6];
+  third.ok = true;
+  third.gain = 1.1;
+  third.near_kept = 4;
+  third.prediction = 31;
+  CHECK_FALSE(lines_stand_against(t, 1.0, 5.0));
+  // A line that does not describe its points (a crease along it) is no evidence either way.
+  third.scale = 3.0;
+  CHECK(lines_stand_against(t, 1.0, 5.0));
+}

@@ -764,3 +764,11 @@ TEST(LtsRecall, ARingPointThatTheBallsRougherHalfPlanePredictsIsListedNotCondemn
   // than a window that vouches, put it 1.5 sigma off.
   check_not_condemned(dg::sim::PartKind::kBallPlate, 10.0, 12, {{20, 15}}, Listing::kListed);
 }
+
+TEST(LtsRecall, AnOutlierOnAPlateStripAtTheScansEdgeVouchedForFromAcrossTheRimIsListed) {
+  // The dome at 0.5 um, seed 6: (0, 19) lies on the base plate where it is a strip one point wide
+  // along the scan's edge, 33 sigma high. Two half-planes reaching across the rim (gain 3.7)
+  // vouched for it; the straight line along the strip and a quadratic along a diagonal put it 28
+  // and 27 sigma off. It passed unlisted; now it is at least listed.
+  check_caught_or_listed(dg::sim::PartKind::kDome, {{0.5, 6, 819}});
+}
