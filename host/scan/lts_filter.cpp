@@ -691,11 +691,16 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
       }
       // The judges passed it, but nearly every model of its neighbours stands against it.
       if (!condemned[i] && !unjudged[i] && doubted(tests[i], sigma, options.outlier_sigmas)) unjudged[i] = 1;
-      // The judges passed it, but only windows reaching it from afar, and lines along it stand against it.
+      // The judges passed it, but only windows reaching it from afar, and nearer windows or lines
+      // along it stand against it.
       if (!condemned[i] && !unjudged[i] && vouched_only_from_afar(tests[i], sigma, options.outlier_sigmas)) {
-        PointTest with_lines = tests[i];
-        add_line_models(points, sides[i], i, condemned_so_far, sigma, with_lines);
-        if (lines_stand_against(with_lines, sigma, options.outlier_sigmas)) unjudged[i] = 1;
+        if (windows_stand_against(tests[i], sigma, options.outlier_sigmas)) {
+          unjudged[i] = 1;
+        } else {
+          PointTest with_lines = tests[i];
+          add_line_models(points, sides[i], i, condemned_so_far, sigma, with_lines);
+          if (lines_stand_against(with_lines, sigma, options.outlier_sigmas)) unjudged[i] = 1;
+        }
       }
       // Condemned, but models of its own surface vouch for it: two windows and two straight lines.
       // Not asked of a point a line through it condemned: that line was smooth on both sides of it.

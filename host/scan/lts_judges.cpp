@@ -314,6 +314,16 @@ bool vouched_only_from_afar(const PointTest& t, double sigma, double k) {
   return vouched;
 }
 
+bool windows_stand_against(const PointTest& t, double sigma, double k) {
+  int against = 0;
+  for (int w = 0; w < kWindows; ++w) {
+    const LooFit& m = t.model[w];
+    if (!describes_its_points(m, sigma, 3) || m.gain > kNearGain) continue;
+    against += std::fabs(t.residual(w)) > prediction_bound(k, sigma, m.gain, m.scale);
+  }
+  return against >= kWindowsAgainst;
+}
+
 bool lines_stand_against(const PointTest& t, double sigma, double k) {
   int against = 0;
   for (int w = kWindows; w < kWindows + kLines; ++w) {

@@ -430,3 +430,35 @@ TEST(LtsJudges, TwoLinesThatDescribeTheirPointsFarFromThePointStandAgainstIt) {
   third.scale = 3.0;
   CHECK(lines_stand_against(t, 1.0, 5.0));
 }
+
+TEST(LtsJudges, TwoNearWindowsThatPutThePointBeyondTheirBoundsStandAgainstIt) {
+  // The ball plate's outlier at 2 um (seed 4, (15, 12)): half-planes of gain 2.0 and 0.85 put it
+  // 2.1 and 1.4 times beyond their bounds.
+  PointTest t;
+  t.z = -27;
+  for (int w : {5, 8}) {
+    LooFit& m = t.model[w];
+    m.ok = true;
+    m.near_kept = 3;
+  }
+  t.model[5].scale = 1.8;
+  t.model[5].gain = 1.96;  // bound 5 sqrt(2.96 + 1.8^2) = 12.4
+  t.model[8].scale = 1.1;
+  t.model[8].gain = 0.85;  // bound 5 sqrt(1.85 + 1.1^2) = 8.7
+  t.model[8].prediction = -14.5;
+  CHECK(windows_stand_against(t, 1.0, 5.0));
+  // Not with one of them within its bound.
+  t.model[8].prediction = -20;
+  CHECK_FALSE(windows_stand_against(t, 1.0, 5.0));
+  t.model[8].prediction = -14.5;
+  // Nor where one predicts from farther (gain over 2), keeps two nearest neighbours only, or does
+  // not describe its points.
+  t.model[5].gain = 2.5;
+  CHECK_FALSE(windows_stand_against(t, 1.0, 5.0));
+  t.model[5].gain = 1.96;
+  t.model[5].near_kept = 2;
+  CHECK_FALSE(windows_stand_against(t, 1.0, 5.0));
+  t.model[5].near_kept = 3;
+  t.model[5].scale = 2.2;
+  CHECK_FALSE(windows_stand_against(t, 1.0, 5.0));
+}

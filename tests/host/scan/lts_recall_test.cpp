@@ -772,3 +772,10 @@ TEST(LtsRecall, AnOutlierOnAPlateStripAtTheScansEdgeVouchedForFromAcrossTheRimIs
   // and 27 sigma off. It passed unlisted; now it is at least listed.
   check_caught_or_listed(dg::sim::PartKind::kDome, {{0.5, 6, 819}});
 }
+
+TEST(LtsRecall, AnOutlierOnABallsFlankVouchedForFromAfarAgainstTwoNearWindowsIsListed) {
+  // The ball plate at 2 um, seed 4: (15, 12) on a ball's flank, 27 sigma low beside another
+  // outlier, passed on the word of one half-plane reaching to it from far (gain 8.2), while two
+  // half-planes on its side of the ball put it 2.1 and 1.4 times beyond their bounds.
+  check_caught_or_listed(dg::sim::PartKind::kBallPlate, {{2.0, 4, 507}});
+}
