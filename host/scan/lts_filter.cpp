@@ -680,7 +680,7 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
     };
     judge_resolution(false);
     judge_resolution(true);
-    // The lines of vouched_only_from_afar are fitted without the points condemned so far.
+    // The lines that lines_stand_against reads are fitted without the points condemned so far.
     const std::vector<char> condemned_so_far = condemned;
     for (size_t i = 0; i < points.size(); ++i) {
       if (cleared[i] || unjudged[i]) condemned[i] = 0;

@@ -207,10 +207,10 @@ bool doubted(const PointTest& t, double sigma, double k);
 // the few points that only such windows vouch for.
 // Chosen over seeds 1 to 14, seven parts and five noise levels: outliers passed unlisted 3 -> 2,
 // false alarms unchanged (172), clean points listed 16,384 -> 16,424 (37 on the ball plate and
-// the sphere at 5 and 10 um, 2 on the dome, 1 on the step gauge). With every vouching window above gain 1 instead of 3,
-// seeds 1 to 7 alone listed 166 clean points more, with gain 2 39 more, with 3 19; with lines 3
-// times beyond their bounds the dome's outlier passed again, and one straight line alone listed
-// 824 more.
+// the sphere at 5 and 10 um, 2 on the dome, 1 on the step gauge). With every vouching window
+// above gain 1 instead of 3, seeds 1 to 7 alone listed 166 clean points more, with gain 2 39 more,
+// with 3 19; with lines 3 times beyond their bounds the dome's outlier passed again, and one
+// straight line alone listed 824 more.
 constexpr double kFarGain = 3;
 constexpr double kLinesAgainstWiden = 2;
 constexpr int kLinesAgainst = 2;
