@@ -702,6 +702,15 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
           if (lines_stand_against(with_lines, sigma, options.outlier_sigmas)) unjudged[i] = 1;
         }
       }
+      // The judges passed it on the word of lines alone, none shown to extrapolate its surface, while
+      // its windows lean against it.
+      if (!condemned[i] && !unjudged[i] && windows_lean_against(tests[i], sigma, options.outlier_sigmas)) {
+        PointTest with_lines = tests[i];
+        add_line_models(points, sides[i], i, condemned_so_far, sigma, with_lines);
+        if (vouched_only_by_untested_lines(points, sides[i], condemned_so_far, with_lines, sigma, options.outlier_sigmas)) {
+          unjudged[i] = 1;
+        }
+      }
       // Condemned, but models of its own surface vouch for it: two windows and two straight lines.
       // Not asked of a point a line through it condemned: that line was smooth on both sides of it.
       if (condemned[i] && !by_line[i] && outvoted(tests[i], sigma, options.outlier_sigmas)) {

@@ -336,6 +336,40 @@ bool lines_stand_against(const PointTest& t, double sigma, double k) {
   return against >= kLinesAgainst;
 }
 
+bool windows_lean_against(const PointTest& t, double sigma, double k) {
+  const LooFit& whole = t.model[0];
+  if (!whole.ok || whole.scale > kWholeLeansScale * sigma) return false;
+  if (std::fabs(t.residual(0)) <= kWholeLeans * whole_bound(whole, sigma, k)) return false;
+  return windows_on_its_surface_condemn(t, sigma, k) >= 1;
+}
+
+bool vouched_only_by_untested_lines(const std::vector<Point3>& points, const LineSides& sides,
+                                    const std::vector<char>& suspect, const PointTest& t, double sigma, double k) {
+  for (int w = 0; w < kWindows; ++w) {
+    if (vouches(t, w, sigma, k, true)) return false;
+  }
+  bool vouched = false;
+  for (int d = 0; d < kLines; ++d) {
+    if (!vouches(t, kWindows + d, sigma, k, true)) continue;
+    vouched = true;
+    // The side without its nearest unsuspected point, predicting that point.
+    const LineSide& side = sides[static_cast<size_t>(d)];
+    LineSide beyond;
+    size_t nearest = points.size();
+    for (size_t m = 0; m < side.size(); ++m) {
+      if (nearest == points.size() && !suspect[side[m]]) {
+        nearest = side[m];
+      } else {
+        beyond.push_back(side[m]);
+      }
+    }
+    if (nearest == points.size()) continue;
+    const LooFit back = line_model(points, beyond, nearest, suspect, sigma);
+    if (back.ok && std::fabs(points[nearest].z - back.prediction) <= line_bound(back, sigma, k)) return false;
+  }
+  return vouched;
+}
+
 bool a_half_plane_nearly_vouches(const PointTest& t, double sigma, double k) {
   if (!t.model[0].ok || t.model[0].gain > kInteriorGain || whole_overrules(t, sigma, k)) return false;
   for (int w = 1; w < kWindows; ++w) {

@@ -462,3 +462,107 @@ TEST(LtsJudges, TwoNearWindowsThatPutThePointBeyondTheirBoundsStandAgainstIt) {
   t.model[5].scale = 2.2;
   CHECK_FALSE(windows_stand_against(t, 1.0, 5.0));
 }
+
+namespace {
+
+// The sphere's outlier at 5 um (seed 8, (10, 13)): the whole window (2.6 sigma) puts it 11.5 sigma
+// off, 0.8 of its bound, and a half-plane describing its points 1.6 times beyond its own.
+PointTest leaned_against() {
+  PointTest t;
+  t.z = 11.5;
+  LooFit& whole = t.model[0];
+  whole.ok = true;
+  whole.scale = 2.6;
+  whole.gain = 0.4;
+  whole.near_kept = 3;  // bound 5 hypot(1, 2.6) = 13.9
+  LooFit& half = t.model[5];
+  half.ok = true;
+  half.scale = 1.08;
+  half.gain = 2.0;
+  half.near_kept = 3;
+  half.prediction = -4.9;  // 16.4 off, bound 5 sqrt(3 + 1.08^2) = 10.2
+  return t;
+}
+
+}  // namespace
+
+TEST(LtsJudges, WindowsOnItsSurfaceLeanAgainstAPointTheWholeWindowPutsOverHalfItsBoundOff) {
+  CHECK(windows_lean_against(leaned_against(), 1.0, 5.0));
+  const std::function<void(PointTest&)> not_leaning[] = {
+      [](PointTest& t) { t.model[0].prediction = 5; },  // the whole window within half its bound
+      [](PointTest& t) { t.model[0].scale = 3.2; },     // nor following the surface within 3 sigma
+      [](PointTest& t) { t.model[5].prediction = 2; },  // the half-plane within its bound
+      [](PointTest& t) { t.model[5].near_kept = 2; },   // or keeping two nearest neighbours only
+  };
+  for (const auto& change : not_leaning) {
+    PointTest t = leaned_against();
+    change(t);
+    CHECK_FALSE(windows_lean_against(t, 1.0, 5.0));
+  }
+}
+
+namespace {
+
+// A point at the origin and one side of its line along -x: eight points on z = 0.5 t^2 (sigma 1),
+// the point on that curve too.
+struct OneSidedLine {
+  std::vector<dg::host::Point3> points;
+  LineSides sides;
+  std::vector<char> suspect;
+  OneSidedLine() {
+    points.push_back({0, 0, 0});
+    for (int t = 1; t <= 8; ++t) {
+      points.push_back({-static_cast<double>(t), 0, 0.5 * t * t});
+      sides[1].push_back(static_cast<size_t>(t));
+    }
+    suspect.assign(points.size(), 0);
+  }
+  PointTest test() const {
+    PointTest t;
+    t.z = points[0].z;
+    add_line_models(points, sides, 0, suspect, 1.0, t);
+    return t;
+  }
+};
+
+}  // namespace
+
+TEST(LtsJudges, ALineThatPredictsItsNearestPointOneStepBackVouchesAlone) {
+  const OneSidedLine line;
+  const PointTest t = line.test();
+  CHECK(vouches(t, kWindows + 1, 1.0, 5.0, true));
+  CHECK_FALSE(vouched_only_by_untested_lines(line.points, line.sides, line.suspect, t, 1.0, 5.0));
+}
+
+TEST(LtsJudges, ALineThatCannotBeFittedOneStepBackIsUntested) {
+  // With the second and third points suspected, the line still predicts the point from the first
+  // and the fourth to seventh, but one step back its nearest point only from the fourth on: a gain
+  // beyond kLineGainMax.
+  OneSidedLine line;
+  line.suspect[2] = line.suspect[3] = 1;
+  PointTest t = line.test();
+  CHECK(vouches(t, kWindows + 1, 1.0, 5.0, true));
+  CHECK(vouched_only_by_untested_lines(line.points, line.sides, line.suspect, t, 1.0, 5.0));
+  // Where a window vouches, the lines are not asked.
+  t.model[0].ok = true;
+  t.model[0].scale = 1;
+  t.model[0].gain = 0.5;
+  t.model[0].near_kept = 4;
+  t.model[0].prediction = t.z;
+  CHECK_FALSE(vouched_only_by_untested_lines(line.points, line.sides, line.suspect, t, 1.0, 5.0));
+}
+
+TEST(LtsJudges, ALineWhoseFartherPointsMissItsNearestOneStepBackIsUntested) {
+  // The sixth point 30 sigma off the curve: the line through the nearest five still predicts the
+  // point exactly, but one step back the second to sixth put the nearest 18 sigma off (the sixth's
+  // weight in a quadratic's prediction one step beyond five points is 0.6), beyond the bound of
+  // 0.8 x 5 sqrt(1 + 4.6) = 9.5.
+  OneSidedLine line;
+  line.points[6].z += 30;
+  const PointTest t = line.test();
+  CHECK(vouches(t, kWindows + 1, 1.0, 5.0, true));
+  CHECK(vouched_only_by_untested_lines(line.points, line.sides, line.suspect, t, 1.0, 5.0));
+  // 10 sigma off, the nearest is predicted 6 sigma off, within the bound: the line is tested.
+  line.points[6].z -= 20;
+  CHECK_FALSE(vouched_only_by_untested_lines(line.points, line.sides, line.suspect, line.test(), 1.0, 5.0));
+}

@@ -779,3 +779,10 @@ TEST(LtsRecall, AnOutlierOnABallsFlankVouchedForFromAfarAgainstTwoNearWindowsIsL
   // half-planes on its side of the ball put it 2.1 and 1.4 times beyond their bounds.
   check_caught_or_listed(dg::sim::PartKind::kBallPlate, {{2.0, 4, 507}});
 }
+
+TEST(LtsRecall, AnOutlierOnTheSpheresFlankThatOnlyAnUntestedLineVouchesForIsListed) {
+  // The sphere at 5 um, seed 8: (10, 13), 19 sigma above the true shape, passed on the word of one
+  // diagonal's quadratic that one step back, without the suspects beside it, could not be fitted
+  // within its gain limit, while a half-plane and the whole window leaned against it.
+  check_caught_or_listed(dg::sim::PartKind::kSphere, {{5.0, 8, 563}});
+}
