@@ -372,10 +372,17 @@ bool vouched_only_by_untested_lines(const std::vector<Point3>& points, const Lin
 
 bool a_half_plane_nearly_vouches(const PointTest& t, double sigma, double k) {
   if (!t.model[0].ok || t.model[0].gain > kInteriorGain || whole_overrules(t, sigma, k)) return false;
+  // Far off a whole window that describes the rest, whichever of the nearest neighbours it keeps.
+  const LooFit& whole = t.model[0];
+  const bool whole_far_off =
+      whole.scale <= 2 * sigma && std::fabs(t.residual(0)) > kWholeOverrulesWiden * whole_bound(whole, sigma, k);
   for (int w = 1; w < kWindows; ++w) {
     const LooFit& m = t.model[w];
     if (!m.ok || m.near_kept < 3 || m.scale > kRoughScale * sigma || m.gain > kWindowGainMax) continue;
-    if (std::fabs(t.residual(w)) <= kRoughWithin * prediction_bound(k, sigma, m.gain, m.scale)) return true;
+    const double bound = prediction_bound(k, sigma, m.gain, m.scale);
+    // Not one that misses a nearest neighbour beyond its bound: it holds the outliers beside the point.
+    if (whole_far_off && std::isfinite(m.near_worst) && m.near_worst > bound) continue;
+    if (std::fabs(t.residual(w)) <= kRoughWithin * bound) return true;
   }
   return false;
 }

@@ -465,40 +465,52 @@ TEST(LtsJudges, TwoNearWindowsThatPutThePointBeyondTheirBoundsStandAgainstIt) {
 
 namespace {
 
+// A window's model that fitted, with its figures.
+LooFit fitted(double prediction, double scale, double gain, int near_kept, double near_worst = HUGE_VAL) {
+  LooFit m;
+  m.ok = true;
+  m.prediction = prediction;
+  m.scale = scale;
+  m.gain = gain;
+  m.near_kept = static_cast<int8_t>(near_kept);
+  m.near_worst = near_worst;
+  return m;
+}
+
 // The sphere's outlier at 5 um (seed 8, (10, 13)): the whole window (2.6 sigma) puts it 11.5 sigma
 // off, 0.8 of its bound, and a half-plane describing its points 1.6 times beyond its own.
 PointTest leaned_against() {
   PointTest t;
   t.z = 11.5;
-  LooFit& whole = t.model[0];
-  whole.ok = true;
-  whole.scale = 2.6;
-  whole.gain = 0.4;
-  whole.near_kept = 3;  // bound 5 hypot(1, 2.6) = 13.9
-  LooFit& half = t.model[5];
-  half.ok = true;
-  half.scale = 1.08;
-  half.gain = 2.0;
-  half.near_kept = 3;
-  half.prediction = -4.9;  // 16.4 off, bound 5 sqrt(3 + 1.08^2) = 10.2
+  t.model[0] = fitted(0, 2.6, 0.4, 3);      // bound 5 hypot(1, 2.6) = 13.9
+  t.model[5] = fitted(-4.9, 1.08, 2.0, 3);  // 16.4 off, bound 5 sqrt(3 + 1.08^2) = 10.2
   return t;
+}
+
+using Change = std::function<void(PointTest&)>;
+
+// Checks that `holds` gives `expected` on `made()` after each one of `changes`.
+void check_each_change(PointTest (*made)(), std::initializer_list<Change> changes,
+                       const std::function<bool(const PointTest&)>& holds, bool expected) {
+  for (const Change& change : changes) {
+    PointTest t = made();
+    change(t);
+    CHECK_EQUAL(expected, holds(t));
+  }
 }
 
 }  // namespace
 
 TEST(LtsJudges, WindowsOnItsSurfaceLeanAgainstAPointTheWholeWindowPutsOverHalfItsBoundOff) {
   CHECK(windows_lean_against(leaned_against(), 1.0, 5.0));
-  const std::function<void(PointTest&)> not_leaning[] = {
-      [](PointTest& t) { t.model[0].prediction = 5; },  // the whole window within half its bound
-      [](PointTest& t) { t.model[0].scale = 3.2; },     // nor following the surface within 3 sigma
-      [](PointTest& t) { t.model[5].prediction = 2; },  // the half-plane within its bound
-      [](PointTest& t) { t.model[5].near_kept = 2; },   // or keeping two nearest neighbours only
-  };
-  for (const auto& change : not_leaning) {
-    PointTest t = leaned_against();
-    change(t);
-    CHECK_FALSE(windows_lean_against(t, 1.0, 5.0));
-  }
+  check_each_change(leaned_against,
+                    {
+                        [](PointTest& t) { t.model[0].prediction = 5; },  // the whole window within half its bound
+                        [](PointTest& t) { t.model[0].scale = 3.2; },     // nor following the surface within 3 sigma
+                        [](PointTest& t) { t.model[5].prediction = 2; },  // the half-plane within its bound
+                        [](PointTest& t) { t.model[5].near_kept = 2; },   // or keeping two nearest neighbours only
+                    },
+                    [](const PointTest& t) { return windows_lean_against(t, 1.0, 5.0); }, false);
 }
 
 namespace {
@@ -565,4 +577,33 @@ TEST(LtsJudges, ALineWhoseFartherPointsMissItsNearestOneStepBackIsUntested) {
   // 10 sigma off, the nearest is predicted 6 sigma off, within the bound: the line is tested.
   line.points[6].z -= 20;
   CHECK_FALSE(vouched_only_by_untested_lines(line.points, line.sides, line.suspect, line.test(), 1.0, 5.0));
+}
+
+namespace {
+
+// The canister's outlier at 0.5 um (seed 1, (16, 12)) beside a pair of outliers: the whole window
+// (scale 0.13 sigma, two nearest neighbours kept) puts it 25 sigma low, four times its bound; a
+// half-plane of scale 2.03 sigma puts it 2 sigma off but misses a nearest neighbour by 18.
+PointTest beside_a_pair() {
+  PointTest t;
+  t.z = -25.3;
+  t.model[0] = fitted(0, 0.13, 0.5, 2, 1.8);         // bound 5 hypot(1, 0.13) = 5.0
+  t.model[8] = fitted(-27.25, 2.03, 1.43, 3, 18.1);  // 1.95 off, bound 5 sqrt(2.43 + 2.03^2) = 12.8
+  return t;
+}
+
+}  // namespace
+
+TEST(LtsJudges, AHalfPlaneMissingANearestNeighbourDoesNotNearlyVouchFarOffATightWholeWindow) {
+  CHECK_FALSE(whole_overrules(beside_a_pair(), 1.0, 5.0));  // it keeps two nearest neighbours only
+  CHECK_FALSE(a_half_plane_nearly_vouches(beside_a_pair(), 1.0, 5.0));
+  // The half-plane still nearly vouches where it predicts the nearest neighbours within its bound,
+  // where the whole window does not describe its points, or puts the point within twice its bound.
+  check_each_change(beside_a_pair,
+                    {
+                        [](PointTest& t) { t.model[8].near_worst = 10; },
+                        [](PointTest& t) { t.model[0].scale = 2.2; },
+                        [](PointTest& t) { t.model[0].prediction = -16; },
+                    },
+                    [](const PointTest& t) { return a_half_plane_nearly_vouches(t, 1.0, 5.0); }, true);
 }

@@ -786,3 +786,22 @@ TEST(LtsRecall, AnOutlierOnTheSpheresFlankThatOnlyAnUntestedLineVouchesForIsList
   // within its gain limit, while a half-plane and the whole window leaned against it.
   check_caught_or_listed(dg::sim::PartKind::kSphere, {{5.0, 8, 563}});
 }
+
+TEST(LtsRecall, AnOutlierBesideAPairIsCaughtWhereOnlyAHalfPlaneHoldingThePairPredictsIt) {
+  // Each 25 to 238 sigma off a whole window that describes the rest (0.13 to 0.57 sigma) but keeps
+  // only one or two of its nearest neighbours, beside outliers; a half-plane holding them put it
+  // within half its bound, and it was listed as not judged instead of caught.
+  const struct {
+    dg::sim::PartKind part;
+    PlantedOutlier outlier;
+  } cases[] = {{dg::sim::PartKind::kCanister, {0.5, 1, 508}}, {dg::sim::PartKind::kCanister, {1.0, 8, 925}},
+               {dg::sim::PartKind::kDome, {0.5, 12, 611}}, {dg::sim::PartKind::kDome, {5.0, 12, 536}}};
+  for (const auto& c : cases) {
+    const dg::test::Planted p = dg::test::plant_outliers(c.part, c.outlier.sigma_um, c.outlier.seed);
+    CHECK(p.outliers.count(c.outlier.index) == 1);
+    const LtsResult r = lts_filter(p.points, LtsOptions{});
+    bool caught = false;
+    for (const LtsOutlier& o : r.outliers) caught = caught || o.index == c.outlier.index;
+    CHECK(caught);
+  }
+}
