@@ -680,9 +680,18 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
     };
     judge_resolution(false);
     judge_resolution(true);
-    // The lines that lines_stand_against reads are fitted without the points condemned so far.
+    // The lines that lines_stand_against and vouched_only_by_untested_lines read are fitted
+    // without the points condemned so far, once a point and only for the few points asked.
     const std::vector<char> condemned_so_far = condemned;
     for (size_t i = 0; i < points.size(); ++i) {
+      std::optional<PointTest> refitted;
+      auto with_lines = [&]() -> const PointTest& {
+        if (!refitted) {
+          refitted = tests[i];
+          add_line_models(points, sides[i], i, condemned_so_far, sigma, *refitted);
+        }
+        return *refitted;
+      };
       if (cleared[i] || unjudged[i]) condemned[i] = 0;
       // The judges passed it, but it lies in a pit narrower than the grid resolves (or is an outlier).
       if (!condemned[i] && !unjudged[i] &&
@@ -696,20 +705,15 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
       if (!condemned[i] && !unjudged[i] && vouched_only_from_afar(tests[i], sigma, options.outlier_sigmas)) {
         if (windows_stand_against(tests[i], sigma, options.outlier_sigmas)) {
           unjudged[i] = 1;
-        } else {
-          PointTest with_lines = tests[i];
-          add_line_models(points, sides[i], i, condemned_so_far, sigma, with_lines);
-          if (lines_stand_against(with_lines, sigma, options.outlier_sigmas)) unjudged[i] = 1;
+        } else if (lines_stand_against(with_lines(), sigma, options.outlier_sigmas)) {
+          unjudged[i] = 1;
         }
       }
       // The judges passed it on the word of lines alone, none shown to extrapolate its surface, while
       // its windows lean against it.
-      if (!condemned[i] && !unjudged[i] && windows_lean_against(tests[i], sigma, options.outlier_sigmas)) {
-        PointTest with_lines = tests[i];
-        add_line_models(points, sides[i], i, condemned_so_far, sigma, with_lines);
-        if (vouched_only_by_untested_lines(points, sides[i], condemned_so_far, with_lines, sigma, options.outlier_sigmas)) {
-          unjudged[i] = 1;
-        }
+      if (!condemned[i] && !unjudged[i] && windows_lean_against(tests[i], sigma, options.outlier_sigmas) &&
+          vouched_only_by_untested_lines(points, sides[i], condemned_so_far, with_lines(), sigma, options.outlier_sigmas)) {
+        unjudged[i] = 1;
       }
       // Condemned, but models of its own surface vouch for it: two windows and two straight lines.
       // Not asked of a point a line through it condemned: that line was smooth on both sides of it.

@@ -548,8 +548,8 @@ TEST(LtsJudges, ALineThatPredictsItsNearestPointOneStepBackVouchesAlone) {
 
 TEST(LtsJudges, ALineThatCannotBeFittedOneStepBackIsUntested) {
   // With the second and third points suspected, the line still predicts the point from the first
-  // and the fourth to seventh, but one step back its nearest point only from the fourth on: a gain
-  // beyond kLineGainMax.
+  // and the fourth to seventh (gain 2.7), but one step back its nearest point only from the fourth
+  // to eighth, three to seven steps away: a gain of 40, beyond kLineGainMax.
   OneSidedLine line;
   line.suspect[2] = line.suspect[3] = 1;
   PointTest t = line.test();
