@@ -649,9 +649,15 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
           const double noise_bound = prediction_bound(options.outlier_sigmas, sigma, whole.gain, 0);
           const double shape_bound =
               prediction_bound(options.outlier_sigmas, sigma, whole.gain, std::max(0.0, whole.scale - 2.5 * sigma));
+          // And so is one the whole window puts within its own bound, k times the noise and its
+          // scale together, nearest neighbours too: a tilted model (kTiltSlope) that follows a
+          // ball's flank to 3.5 sigma put a real point 12.6 sigma off, where a half-plane of the plate
+          // beside it condemned it (ball plate at 1 um, seeds 7 to 14: false alarms 13 -> 4).
+          const double whole_within = options.outlier_sigmas * std::hypot(sigma, whole.scale);
           const double off = std::fabs(tests[i].residual(0));
           if (of_condemned && whole.ok && whole.scale > 2.5 * sigma && whole.scale <= kUnresolvedScale * sigma &&
-              (off <= noise_bound || (off <= shape_bound && whole.near_worst <= shape_bound))) {
+              (off <= noise_bound || (off <= shape_bound && whole.near_worst <= shape_bound) ||
+               (off <= whole_within && whole.near_worst <= whole_within))) {
             unjudged[i] = 1;
             continue;
           }
@@ -715,6 +721,8 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
           vouched_only_by_untested_lines(points, sides[i], condemned_so_far, with_lines(), sigma, options.outlier_sigmas)) {
         unjudged[i] = 1;
       }
+      // The judges passed it, but no model of its neighbours vouches for it.
+      if (!condemned[i] && !unjudged[i] && unvouched(tests[i], sigma, options.outlier_sigmas)) unjudged[i] = 1;
       // Condemned, but models of its own surface vouch for it: two windows and two straight lines.
       // Not asked of a point a line through it condemned: that line was smooth on both sides of it.
       if (condemned[i] && !by_line[i] && outvoted(tests[i], sigma, options.outlier_sigmas)) {

@@ -28,6 +28,15 @@ bool line_describes(const LooFit& line, double sigma) {
   return line.ok && line.near_kept >= 2 && line.scale <= 2.0 * sigma;
 }
 
+// The whole window, an interior one (gain within kInteriorGain) that describes the rest of its
+// points (scale within 2 sigma), whichever of the point's nearest neighbours it keeps, puts the point
+// beyond kWholeOverrulesWiden times its bound.
+bool whole_far_off(const PointTest& t, double sigma, double k) {
+  const LooFit& whole = t.model[0];
+  return whole.ok && whole.gain <= kInteriorGain && whole.scale <= 2 * sigma &&
+         std::fabs(t.residual(0)) > kWholeOverrulesWiden * whole_bound(whole, sigma, k);
+}
+
 // Fits point i's windows `first` to `last` (0: the whole neighbourhood, 1 to 8: the half-planes)
 // into t, from its neighbours not excluded.
 void fit_windows(const std::vector<Point3>& points, IndexSpan hood, size_t i,
@@ -47,8 +56,8 @@ void fit_windows(const std::vector<Point3>& points, IndexSpan hood, size_t i,
   for (int w = first; w <= last; ++w) {
     // The whole neighbourhood, a cubic: at 0.5 um of noise a quadratic's shape error over 5 x 5 mm
     // of the canister's dish is several sigma. A half-plane holds too few points for one.
-    t.model[w] = w == 0 ? loo_model(points, windows[w], i, reference, 3, 0.7, &t.whole_misses)
-                        : loo_model(points, windows[w], i, reference, 2);
+    t.model[w] = w == 0 ? loo_model(points, windows[w], i, reference, 3, 0.7, &t.whole_misses, true)
+                        : loo_model(points, windows[w], i, reference, 2, 0.7, nullptr, true);
   }
 }
 
@@ -281,7 +290,11 @@ bool vouches(const PointTest& t, int w, double sigma, double k, bool final_judge
   if (final_judgement && w == 0 && misses_a_neighbour_far) return false;
   if (std::fabs(t.residual(w)) > bound) return false;
   const bool half_plane = w > 0 && w < kWindows;
-  if ((m.curved || (final_judgement && half_plane && misses_a_neighbour_far)) && whole_overrules(t, sigma, k)) return false;
+  if (m.curved && whole_overrules(t, sigma, k)) return false;
+  // A half-plane that misses a nearest neighbour far holds the outliers beside the point: in the
+  // final judgement it is no witness against a whole window that describes the rest and puts the
+  // point far off, even one that keeps only two of the nearest neighbours (those outliers).
+  if (final_judgement && half_plane && misses_a_neighbour_far && whole_far_off(t, sigma, k)) return false;
   return !m.curved || windows_on_its_surface_condemn(t, sigma, k) < kCurvedLineOverruled;
 }
 
@@ -372,16 +385,13 @@ bool vouched_only_by_untested_lines(const std::vector<Point3>& points, const Lin
 
 bool a_half_plane_nearly_vouches(const PointTest& t, double sigma, double k) {
   if (!t.model[0].ok || t.model[0].gain > kInteriorGain || whole_overrules(t, sigma, k)) return false;
-  // Far off a whole window that describes the rest, whichever of the nearest neighbours it keeps.
-  const LooFit& whole = t.model[0];
-  const bool whole_far_off =
-      whole.scale <= 2 * sigma && std::fabs(t.residual(0)) > kWholeOverrulesWiden * whole_bound(whole, sigma, k);
+  const bool far_off_the_whole = whole_far_off(t, sigma, k);
   for (int w = 1; w < kWindows; ++w) {
     const LooFit& m = t.model[w];
     if (!m.ok || m.near_kept < 3 || m.scale > kRoughScale * sigma || m.gain > kWindowGainMax) continue;
     const double bound = prediction_bound(k, sigma, m.gain, m.scale);
     // Not one that misses a nearest neighbour beyond its bound: it holds the outliers beside the point.
-    if (whole_far_off && std::isfinite(m.near_worst) && m.near_worst > bound) continue;
+    if (far_off_the_whole && std::isfinite(m.near_worst) && m.near_worst > bound) continue;
     if (std::fabs(t.residual(w)) <= kRoughWithin * bound) return true;
   }
   return false;
@@ -416,6 +426,16 @@ bool outvoted(const PointTest& t, double sigma, double k) {
     }
   }
   return windows_for >= kOutvotingModels && lines_for >= kOutvotingModels;
+}
+
+bool unvouched(const PointTest& t, double sigma, double k) {
+  bool described = false;
+  for (int w = 0; w < kWindows + kLines; ++w) {
+    if (vouches(t, w, sigma, k, /*final_judgement=*/true)) return false;
+    const LooFit& m = t.model[w];
+    described = described || (w < kWindows ? describes_its_points(m, sigma, 2) : line_describes(m, sigma));
+  }
+  return described;
 }
 
 bool a_line_vouches(const PointTest& t, double sigma, double k) {

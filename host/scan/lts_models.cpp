@@ -164,7 +164,7 @@ struct LooScratch {
 
 LooModel loo_model(const std::vector<Point3>& points, const std::vector<size_t>& window, size_t i,
                    const std::vector<double>& reference, int max_order, double keep,
-                   WindowMisses* misses) {
+                   WindowMisses* misses, bool tilt_on_slopes) {
   thread_local LooScratch scratch;
   LooModel out;
   const int n = static_cast<int>(window.size());
@@ -255,17 +255,24 @@ LooModel loo_model(const std::vector<Point3>& points, const std::vector<size_t>&
   std::vector<size_t>& fitted_set = scratch.fitted_set;
   std::vector<size_t>& kept_set = scratch.kept_set;
   std::vector<size_t>& subset = scratch.subset;
-  auto concentrate = [&](const std::vector<size_t>& from, uint64_t subset_mask, std::vector<size_t>& kept) {
+  // `tilt`, when given, is the normal of the frame the model is fitted in (fit_tilted_polynomial),
+  // about `centre`.
+  auto concentrate = [&](const std::vector<size_t>& from, uint64_t subset_mask, std::vector<size_t>& kept,
+                         const double (*tilt)[3] = nullptr, const Point3& centre = Point3{}) {
     LooModel result;
     LocalPolynomial model;
     subset.assign(from.begin(), from.end());
-    for (int step = 0; step < 4 && fit_local_polynomial(points, subset, points[i], order, model); ++step) {
+    auto fit = [&] {
+      return tilt ? fit_tilted_polynomial(points, subset, centre, *tilt, order, model)
+                  : fit_local_polynomial(points, subset, points[i], order, model);
+    };
+    for (int step = 0; step < 4 && fit(); ++step) {
       const uint64_t fitted_mask = subset_mask;
       if (!masked) fitted_set.assign(subset.begin(), subset.end());
       const double trimmed = rank([&](size_t j) { return model.at(points[j].x, points[j].y); }, subset, subset_mask, true);
       result = LooModel{};
       result.ok = true;
-      result.prediction = model.c[0];
+      result.prediction = tilt ? model.at(points[i].x, points[i].y) : model.c[0];
       result.scale = std::sqrt(trimmed / std::max(1, h - p));
       result.gain = model.centre_gain;
       result.dof = std::max(1, h - p);
@@ -297,6 +304,39 @@ LooModel loo_model(const std::vector<Point3>& points, const std::vector<size_t>&
     if (other.ok && (!out.ok || other.scale < out.scale)) {
       out = other;
       kept_subset = &scratch.kept_second;
+    }
+  }
+  if (tilt_on_slopes && out.ok && order >= 2) {
+    // On a steep flank, the model again in the frame of its own tangent plane at the point, from
+    // the subset it kept (see kTiltSlope).
+    const LocalPolynomial& upright = out.polynomial;
+    const double slope_x = upright.c[1] / upright.scale_x, slope_y = upright.c[2] / upright.scale_y;
+    if (std::hypot(slope_x, slope_y) >= kTiltSlope) {
+      const double normal[3] = {-slope_x, -slope_y, 1};
+      std::vector<size_t>& from = scratch.start;
+      from.assign(kept_subset->begin(), kept_subset->end());
+      uint64_t from_mask = 0;
+      if (masked) {
+        for (int m = 0; m < n; ++m) {
+          if (std::find(from.begin(), from.end(), window[static_cast<size_t>(m)]) != from.end()) from_mask |= uint64_t{1} << m;
+        }
+      }
+      // About the height the upright model predicts: the point's own reading may be an outlier.
+      const Point3 centre{points[i].x, points[i].y, out.prediction};
+      std::vector<size_t>& kept_tilted = kept_subset == &scratch.kept_first ? scratch.kept_second : scratch.kept_first;
+      const LooModel tilted = concentrate(from, from_mask, kept_tilted, &normal, centre);
+      size_t near_index[4];
+      const size_t count = nearest_four(points, window, i, near_index, scratch.ranked_points);
+      size_t near_within = 0;
+      for (size_t m = 0; m < count; ++m) {
+        const Point3& q = points[near_index[m]];
+        near_within += std::fabs(q.z - tilted.polynomial.at(q.x, q.y)) <= kTiltNearWithin * tilted.scale;
+      }
+      const bool near_ok = near_within >= std::min<size_t>(3, count);
+      if (tilted.ok && tilted.scale < kTiltKeep * out.scale && near_ok) {
+        out = tilted;
+        kept_subset = &kept_tilted;
+      }
     }
   }
   const LocalPolynomial& model = out.polynomial;

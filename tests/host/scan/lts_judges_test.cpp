@@ -607,3 +607,66 @@ TEST(LtsJudges, AHalfPlaneMissingANearestNeighbourDoesNotNearlyVouchFarOffATight
                     },
                     [](const PointTest& t) { return a_half_plane_nearly_vouches(t, 1.0, 5.0); }, true);
 }
+
+namespace {
+
+// The dome's pair on its rim at 0.5 um (seed 12, (37, 14)): the whole window (scale 0.46 sigma,
+// two nearest neighbours kept, the other being the pair's) puts the point 207 sigma high; a
+// half-plane holding the pair's other point puts it 1.7 sigma off and misses that nearest neighbour
+// by 210 sigma, 22 times its bound.
+PointTest beside_its_pair_on_the_rim() {
+  PointTest t;
+  t.z = 207;
+  t.model[0] = fitted(0, 0.46, 0.43, 2, 210);           // bound 5 hypot(1, 0.46) = 5.5
+  t.model[2] = fitted(208.71, 1.08, 1.56, 3, 210.4);  // bound 5 sqrt(2.56 + 1.08^2) = 9.7
+  return t;
+}
+
+}  // namespace
+
+TEST(LtsJudges, AHalfPlaneHoldingTheOutlierBesideThePointDoesNotVouchFarOffATightWholeWindow) {
+  CHECK_FALSE(whole_overrules(beside_its_pair_on_the_rim(), 1.0, 5.0));  // two nearest neighbours kept
+  CHECK_FALSE(vouches(beside_its_pair_on_the_rim(), 2, 1.0, 5.0, /*final_judgement=*/true));
+  // Not while the suspects are sorted out; nor where the half-plane misses no nearest neighbour far,
+  // the whole window does not describe its points, or puts the point within twice its bound.
+  CHECK(vouches(beside_its_pair_on_the_rim(), 2, 1.0, 5.0, /*final_judgement=*/false));
+  check_each_change(beside_its_pair_on_the_rim,
+                    {
+                        [](PointTest& t) { t.model[2].near_worst = 50; },
+                        [](PointTest& t) { t.model[0].scale = 2.2; },
+                        [](PointTest& t) { t.model[0].prediction = 200; },
+                    },
+                    [](const PointTest& t) { return vouches(t, 2, 1.0, 5.0, /*final_judgement=*/true); }, true);
+}
+
+namespace {
+
+// The ball plate's outlier at its foot at 5 um (seed 8, (10, 13)): the whole window, fitted in its
+// tangent plane, follows the flank to 3.4 sigma (no description of its points) and puts it 45 sigma
+// off; a half-plane describing its points 86 sigma, and a straight line along the plate 152 sigma.
+// Nothing vouches for it.
+PointTest vouched_for_by_nothing() {
+  PointTest t;
+  t.z = 45.5;
+  t.model[0] = fitted(0, 3.42, 0.57, 2, 114);
+  t.model[8] = fitted(132, 0.91, 1.96, 4, 1.43);
+  t.model[kWindows + 4] = fitted(-106.8, 0.49, 0.89, 4);
+  return t;
+}
+
+}  // namespace
+
+TEST(LtsJudges, APointNoModelVouchesForWhileOneDescribesItsPointsIsUnvouched) {
+  CHECK(unvouched(vouched_for_by_nothing(), 1.0, 5.0));
+  // Not where one model vouches, a window or a line; nor where no model describes its points.
+  check_each_change(vouched_for_by_nothing,
+                    {
+                        [](PointTest& t) { t.model[8].prediction = 40; },
+                        [](PointTest& t) { t.model[kWindows + 4].prediction = 44; },
+                        [](PointTest& t) {
+                          t.model[8].scale = 2.5;
+                          t.model[kWindows + 4].scale = 2.5;
+                        },
+                    },
+                    [](const PointTest& t) { return unvouched(t, 1.0, 5.0); }, false);
+}
