@@ -318,7 +318,8 @@ LooModel loo_model(const std::vector<Point3>& points, const std::vector<size_t>&
       uint64_t from_mask = 0;
       if (masked) {
         for (int m = 0; m < n; ++m) {
-          if (std::find(from.begin(), from.end(), window[static_cast<size_t>(m)]) != from.end()) from_mask |= uint64_t{1} << m;
+          const size_t j = window[static_cast<size_t>(m)];
+          if (std::find(from.begin(), from.end(), j) != from.end()) from_mask |= uint64_t{1} << m;
         }
       }
       // About the height the upright model predicts: the point's own reading may be an outlier.

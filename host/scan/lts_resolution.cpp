@@ -213,7 +213,8 @@ bool surface_resolved(const std::vector<Point3>& points, IndexSpan hood, IndexSp
   }
   for (int w : {0, 1}) {
     const IndexSpan around = w == 0 ? hood : wide;
-    const LooModel cubic = w == 0 ? whole : loo_model(points, others_in(around, i, condemned), i, reference, 3, 0.7, nullptr, true);
+    const LooModel cubic =
+        w == 0 ? whole : loo_model(points, others_in(around, i, condemned), i, reference, 3, 0.7, nullptr, true);
     if (describes(cubic, 2.5)) {
       // Within the bound of any prediction of a point left out of its fit, the noise amplified by
       // the cubic's gain included: without the gain, a real point at a ball's foot that the cubic

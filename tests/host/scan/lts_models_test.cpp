@@ -69,7 +69,8 @@ TEST(LtsModels, AWindowOnASteepFlankIsModelledInItsTangentPlane) {
   // misses the centre's true height by over 20 um, more than a 10 sigma outlier; the tilted model
   // follows the flank to its trimmed scale of 1.3 to 3.6 um and misses it by under 10 um. (With the
   // gauge's noise of 2 um and the point left out, a few micrometres of that is the fit's own.)
-  for (const auto& [cx, cy] : {std::pair{31.0, 15.0}, std::pair{27.0, 23.0}, std::pair{9.0, 15.0}, std::pair{12.0, 8.0}, std::pair{20.0, 26.0}}) {
+  for (const auto& [cx, cy] :
+       {std::pair{31.0, 15.0}, std::pair{27.0, 23.0}, std::pair{9.0, 15.0}, std::pair{12.0, 8.0}, std::pair{20.0, 26.0}}) {
     const std::vector<dg::host::Point3> points = sphere_window(cx, cy, 0.002, 5);
     std::vector<size_t> others;
     for (size_t j = 0; j < points.size(); ++j) {
