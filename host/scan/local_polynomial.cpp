@@ -88,9 +88,9 @@ void slope_of(const LocalPolynomial& m, double dx, double dy, double& along_x, d
   }
 }
 
-// How many Newton steps a tilted model's height takes: the surface is nearly flat in its own frame,
-// so each step gains at least a few digits, and four leave less than 1e-12 mm on any window the
-// LTS filter fits (a step that changes the height by less than 1e-12 mm ends it sooner).
+// At most this many Newton steps for a tilted model's height: the surface is nearly flat in its own
+// frame, so the tangent plane's height is a close start and each step converges quadratically; a
+// step that changes the height by less than 1e-12 mm ends it sooner.
 constexpr int kHeightSteps = 4;
 
 }  // namespace
