@@ -90,8 +90,30 @@ void slope_of(const LocalPolynomial& m, double dx, double dy, double& along_x, d
 
 // At most this many Newton steps for a tilted model's height: the surface is nearly flat in its own
 // frame, so the tangent plane's height is a close start and each step converges quadratically; a
-// step that changes the height by less than 1e-12 mm ends it sooner.
-constexpr int kHeightSteps = 4;
+// step that changes the height by less than 1e-12 mm ends it sooner. Eight, not four: on a parabola
+// of curvature 2 per mm tilted 80 degrees, 0.3 mm from the centre, the fourth step still moved the
+// height by 43 nm and the sixth by less than 1e-16 mm.
+constexpr int kHeightSteps = 8;
+
+}  // namespace
+
+namespace {
+
+// How far a tilted model's surface lies from the point at offset `oz` above (ox, oy), along the
+// normal (`miss`), and how fast that changes with oz (`rate`).
+void miss_and_rate(const LocalPolynomial& m, double ox, double oy, double oz, double& miss, double& rate) {
+  const double du = dot(m.axis_u, ox, oy, oz) / m.scale_x, dv = dot(m.axis_v, ox, oy, oz) / m.scale_y;
+  double along_u, along_v;
+  slope_of(m, du, dv, along_u, along_v);
+  miss = dot(m.normal, ox, oy, oz) - value_of(m, du, dv);
+  rate = m.normal[2] - along_u * m.axis_u[2] / m.scale_x - along_v * m.axis_v[2] / m.scale_y;
+}
+
+// A rate below this leaves Newton's step undefined: the vertical touches the surface there.
+constexpr double kRateMin = 1e-12;
+
+// A height whose next Newton step would move it by more than this is not one the steps reached.
+constexpr double kHeightConverged_mm = 1e-9;
 
 }  // namespace
 
@@ -102,17 +124,24 @@ double LocalPolynomial::at(double x, double y) const {
   // plane's height by Newton's steps.
   double oz = -(normal[0] * ox + normal[1] * oy) / normal[2];
   for (int step = 0; step < kHeightSteps; ++step) {
-    const double du = dot(axis_u, ox, oy, oz) / scale_x, dv = dot(axis_v, ox, oy, oz) / scale_y;
-    double along_u, along_v;
-    slope_of(*this, du, dv, along_u, along_v);
-    const double miss = dot(normal, ox, oy, oz) - value_of(*this, du, dv);
-    const double rate = normal[2] - along_u * axis_u[2] / scale_x - along_v * axis_v[2] / scale_y;
-    if (!(std::fabs(rate) > 1e-12)) break;
+    double miss, rate;
+    miss_and_rate(*this, ox, oy, oz, miss, rate);
+    if (!(std::fabs(rate) > kRateMin)) break;
     const double change = miss / rate;
     oz -= change;
     if (!(std::fabs(change) > 1e-12)) break;
   }
   return centre.z + oz;
+}
+
+bool LocalPolynomial::height(double x, double y, double& z) const {
+  z = at(x, y);
+  if (!tilted) return std::isfinite(z);
+  // One more step from where at() stopped tells whether it stopped on the surface: where the
+  // vertical misses it, the steps wander (or stop on a zero rate) with a miss that stays large.
+  double miss, rate;
+  miss_and_rate(*this, x - centre.x, y - centre.y, z - centre.z, miss, rate);
+  return std::isfinite(z) && std::fabs(rate) > kRateMin && std::fabs(miss / rate) <= kHeightConverged_mm;
 }
 
 namespace {

@@ -25,6 +25,10 @@ struct LocalPolynomial {
   int terms() const { return order == 1 ? 3 : order == 2 ? 6 : 10; }
   // The model surface's height z above (x, y); for an upright model at the centre it is c[0].
   double at(double x, double y) const;
+  // The same, checked: false where a tilted model's surface has no height above (x, y) that Newton's
+  // steps reach (the vertical there misses the surface, or meets it where it turns over), and `z`
+  // is then the last step's value, no height of the model. An upright model always has one.
+  bool height(double x, double y, double& z) const;
 };
 
 // Fits the model to points[indices]; false when they do not determine it (too few, or collinear in XY).

@@ -326,14 +326,18 @@ LooModel loo_model(const std::vector<Point3>& points, const std::vector<size_t>&
       const Point3 centre{points[i].x, points[i].y, out.prediction};
       std::vector<size_t>& kept_tilted = kept_subset == &scratch.kept_first ? scratch.kept_second : scratch.kept_first;
       const LooModel tilted = concentrate(from, from_mask, kept_tilted, &normal, centre);
-      // Only a fitted model is asked how it predicts the nearest neighbours.
+      // Only a fitted model is asked how it predicts the nearest neighbours, and only heights its
+      // surface has count: where the vertical through a point misses a surface that turns over,
+      // its prediction would be no number of the model.
       auto predicts_nearest = [&] {
+        double z = 0;
+        if (!tilted.polynomial.height(points[i].x, points[i].y, z)) return false;
         size_t near_index[4];
         const size_t count = nearest_four(points, window, i, near_index, scratch.ranked_points);
         size_t near_within = 0;
         for (size_t m = 0; m < count; ++m) {
           const Point3& q = points[near_index[m]];
-          near_within += std::fabs(q.z - tilted.polynomial.at(q.x, q.y)) <= kTiltNearWithin * tilted.scale;
+          near_within += tilted.polynomial.height(q.x, q.y, z) && std::fabs(q.z - z) <= kTiltNearWithin * tilted.scale;
         }
         return near_within >= std::min<size_t>(3, count);
       };

@@ -81,3 +81,31 @@ TEST(LocalPolynomial, ATiltedFitRefusesANormalThatIsNotUpward) {
   CHECK_FALSE(fit_tilted_polynomial(points, all_of(points), points[0], {0.5, 0, -1}, 2, model));
   CHECK_FALSE(fit_tilted_polynomial(points, all_of(points), points[0], {1, 0, 0}, 2, model));
 }
+
+TEST(LocalPolynomial, ATiltedModelHasNoHeightWhereTheVerticalMissesItsSurface) {
+  // The parabola w = u^2 in a frame tilted 80 degrees (normal (sin, 0, cos)): the vertical through
+  // (x, 0) meets it where sin x + cos z = (cos x - sin z)^2, a quadratic in z whose discriminant is
+  // cos^2 + 4 sin x. Below x = -cos^2 / (4 sin) = -0.0077 mm it has no root: there is no height, and
+  // height() says so. Above it there are two, and the one height() gives lies on the surface.
+  const double theta = 80.0 * M_PI / 180.0, s = std::sin(theta), c = std::cos(theta);
+  LocalPolynomial model;
+  model.order = 2;
+  model.tilted = true;
+  model.centre = {0, 0, 0};
+  const double u[3] = {c, 0, -s}, n[3] = {s, 0, c};
+  for (int k = 0; k < 3; ++k) model.axis_u[k] = u[k], model.normal[k] = n[k];
+  model.c[3] = 1.0;
+  double z = 0;
+  for (double x : {-0.5, -0.05, -0.01}) CHECK_FALSE(model.height(x, 0, z));
+  for (double x : {0.0, 0.01, 0.3}) {
+    CHECK(model.height(x, 0, z));
+    const double along_u = c * x - s * z, along_n = s * x + c * z;
+    DOUBLES_EQUAL(along_u * along_u, along_n, 1e-9);
+  }
+  // An upright model always has a height.
+  LocalPolynomial upright;
+  upright.order = 2;
+  upright.c[3] = 1.0;
+  CHECK(upright.height(-0.5, 0, z));
+  DOUBLES_EQUAL(0.25, z, 1e-12);
+}
