@@ -87,7 +87,8 @@ constexpr double kFlatSlope = 0.1;
 // wider one (a cubic, or the envelope of two across a crease; without every `condemned` point), an
 // axis half-plane's plane or a diagonal half-plane's quadratic that also predicts the point's grid
 // neighbours on its side, a line through the point or a line
-// from one side along the surface (without the points `in_groups` marks); and i is no point of a
+// from one side along the surface, not one that climbs a slope through the point (without the points
+// `in_groups` marks); and i is no point of a
 // slope steeper than the grid resolves (kSlopeScale, on_unresolved_slope). A condemned point on
 // such a slope is judged only by models of its own surface: a half-plane that misses it by more
 // than the slope scale vouches only where another half-plane's level lies beyond that scale on its
