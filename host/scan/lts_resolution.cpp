@@ -364,11 +364,11 @@ bool surface_resolved(const std::vector<Point3>& points, IndexSpan hood, IndexSp
     // Only a line within 30 degrees of the level direction: one down the slope leaves the surface.
     const double ux = points[side[0]].x - points[i].x, uy = points[side[0]].y - points[i].y;
     if (steepest > kFlatSlope && std::fabs(ux * slope[0] + uy * slope[1]) > 0.5 * steepest * std::hypot(ux, uy)) continue;
+    // Nor one that climbs a slope through the point (climbs_through), asked before the line is fitted.
+    if (climbs_through(points, sides, d, i, in_groups, condemned, slope_scale)) continue;
     const LooFit m = line_model(points, side, i, in_groups, sigma);
     // Nor one that itself rises steeply to the point: it runs across a slope steeper still.
     if (std::fabs(points[side[0]].z - m.prediction) > kLineRiseMax * std::hypot(ux, uy)) continue;
-    // Nor one that climbs a slope through the point (climbs_through).
-    if (climbs_through(points, sides, d, i, in_groups, condemned, slope_scale)) continue;
     if (m.ok && m.scale <= 2.0 * sigma && m.gain <= kLineGainMax && predicted(m.prediction, m.gain, m.scale, false, false)) {
       return true;
     }

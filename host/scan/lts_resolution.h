@@ -86,10 +86,9 @@ constexpr double kFlatSlope = 0.1;
 // nearest neighbours within the bound k sqrt(sigma^2 (1 + gain) + scale^2): the whole window or the
 // wider one (a cubic, or the envelope of two across a crease; without every `condemned` point), an
 // axis half-plane's plane or a diagonal half-plane's quadratic that also predicts the point's grid
-// neighbours on its side, a line through the point or a line
-// from one side along the surface, not one that climbs a slope through the point (without the points
-// `in_groups` marks); and i is no point of a
-// slope steeper than the grid resolves (kSlopeScale, on_unresolved_slope). A condemned point on
+// neighbours on its side, a line through the point or a line from one side along the surface, not
+// one that climbs a slope through the point (without the points `in_groups` marks); and i is no
+// point of a slope steeper than the grid resolves (kSlopeScale, on_unresolved_slope). A condemned point on
 // such a slope is judged only by models of its own surface: a half-plane that misses it by more
 // than the slope scale vouches only where another half-plane's level lies beyond that scale on its
 // other side (a step's two levels), and an envelope only where it predicts all eight of the
