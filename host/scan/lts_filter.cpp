@@ -356,27 +356,39 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
   // the scan's edge), so the lines, which skip the marked points, are asked again until no mark
   // changes. `cleared_by(i)`: whether point i's verdict, with its lines now in its test, clears it.
   auto clear_by_lines = [&](std::vector<char>& marked, const std::function<bool(size_t)>& cleared_by) {
+    // A pass reads the marks and writes only point i's test and its own flag, so the points are
+    // shared among the cores; the marks change between passes.
+    std::vector<char> cleared(points.size(), 0);
     for (bool changed = result.gridded; changed;) {
-      std::vector<size_t> cleared;
+      parallel_for(points.size(), [&](size_t begin, size_t end, unsigned) {
+        for (size_t i = begin; i < end; ++i) {
+          // Only where some window does not describe one surface (a crease crosses it): on a smooth
+          // curved part a quadratic along five points has shape error enough to vouch for an outlier
+          // that the windows see plainly (seen at the canister's dish: 0.027 mm off over 7 mm).
+          if (!marked[i] || !near_crease(tests[i], sigma)) continue;
+          add_line_models(points, sides[i], i, marked, sigma, tests[i]);
+          cleared[i] = cleared_by(i);
+        }
+      });
+      changed = false;
       for (size_t i = 0; i < points.size(); ++i) {
-        // Only where some window does not describe one surface (a crease crosses it): on a smooth
-        // curved part a quadratic along five points has shape error enough to vouch for an outlier
-        // that the windows see plainly (seen at the canister's dish: 0.027 mm off over 7 mm).
-        if (!marked[i] || !near_crease(tests[i], sigma)) continue;
-        add_line_models(points, sides[i], i, marked, sigma, tests[i]);
-        if (cleared_by(i)) cleared.push_back(i);
+        if (!cleared[i]) continue;
+        marked[i] = 0;
+        cleared[i] = 0;
+        changed = true;
       }
-      for (size_t i : cleared) marked[i] = 0;
-      changed = !cleared.empty();
     }
   };
   const std::function<bool(size_t)> no_window_condemns = [&](size_t i) { return outlier_window(i) < 0; };
   auto classify = [&]() {
     prior = suspect;
-    for (size_t i = 0; i < points.size(); ++i) {
-      for (int d = 0; d < kLines; ++d) tests[i].model[kWindows + d] = LooFit{};
-      suspect[i] = outlier_window(i) >= 0;
-    }
+    // Each verdict reads the prior suspects and its own test alone.
+    parallel_for(points.size(), [&](size_t begin, size_t end, unsigned) {
+      for (size_t i = begin; i < end; ++i) {
+        tests[i].model.clear_lines();
+        suspect[i] = outlier_window(i) >= 0;
+      }
+    });
     clear_by_lines(suspect, no_window_condemns);
   };
   classify();
@@ -391,7 +403,9 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
   std::vector<char> left_out(points.size(), 0);
   for (int round = 0; round < kSuspectRounds; ++round) {
     const std::vector<char> before_round = suspect;
-    for (size_t i = 0; i < points.size(); ++i) left_out[i] = left_out[i] || (suspect[i] && outlier_window(i) == 0);
+    parallel_for(points.size(), [&](size_t begin, size_t end, unsigned) {
+      for (size_t i = begin; i < end; ++i) left_out[i] = left_out[i] || (suspect[i] && outlier_window(i) == 0);
+    });
     parallel_for(points.size(), [&](size_t begin, size_t end, unsigned) {
       for (size_t i = begin; i < end; ++i) {
         bool beside = false;

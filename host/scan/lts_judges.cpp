@@ -7,6 +7,23 @@
 
 namespace dg::host::lts {
 
+const LooFit PointModels::kUnfitted{};
+
+PointModels& PointModels::operator=(const PointModels& other) {
+  if (this == &other) return *this;
+  whole_ = other.whole_;
+  halves_ = other.halves_ ? std::make_unique<Block>(*other.halves_) : nullptr;
+  lines_ = other.lines_ ? std::make_unique<Block>(*other.lines_) : nullptr;
+  return *this;
+}
+
+LooFit& PointModels::set(int w) {
+  if (w == 0) return whole_;
+  std::unique_ptr<Block>& block = w < kWindows ? halves_ : lines_;
+  if (!block) block = std::make_unique<Block>();
+  return (*block)[static_cast<size_t>(w < kWindows ? w - 1 : w - kWindows)];
+}
+
 namespace {
 
 // The whole window's bound on a point: k times the noise and the window's trimmed scale together.
@@ -56,7 +73,7 @@ void fit_windows(const std::vector<Point3>& points, IndexSpan hood, size_t i,
   for (int w = first; w <= last; ++w) {
     // The whole neighbourhood, a cubic: at 0.5 um of noise a quadratic's shape error over 5 x 5 mm
     // of the canister's dish is several sigma. A half-plane holds too few points for one.
-    t.model[w] = w == 0 ? loo_model(points, windows[w], i, reference, 3, 0.7, &t.whole_misses, true)
+    t.model.set(w) = w == 0 ? loo_model(points, windows[w], i, reference, 3, 0.7, &t.whole_misses, true)
                         : loo_model(points, windows[w], i, reference, 2, 0.7, nullptr, true);
   }
 }
@@ -221,7 +238,7 @@ CreaseModel crease_model(const std::vector<Point3>& points, IndexSpan hood, size
 void add_line_models(const std::vector<Point3>& points, const LineSides& sides, size_t i,
                      const std::vector<char>& suspect, double sigma, PointTest& t) {
   for (int d = 0; d < kLines; ++d) {
-    LooFit& m = t.model[kWindows + d];
+    LooFit& m = t.model.set(kWindows + d);
     m = line_model(points, sides[static_cast<size_t>(d)], i, suspect, sigma);
   }
 }

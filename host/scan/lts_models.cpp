@@ -360,13 +360,13 @@ LooModel loo_model(const std::vector<Point3>& points, const std::vector<size_t>&
       const size_t kept = std::min<size_t>(WindowMisses::kWorst, worst.size());
       std::partial_sort(worst.begin(), worst.begin() + static_cast<std::ptrdiff_t>(kept), worst.end(),
                         [](const auto& a, const auto& b) { return a.first > b.first; });
-      for (size_t m = 0; m < kept; ++m) misses->worst_residual[m] = worst[m].first, misses->worst_index[m] = worst[m].second;
+      for (size_t m = 0; m < kept; ++m) misses->worst_residual[m] = worst[m].first, misses->worst_index[m] = static_cast<uint32_t>(worst[m].second);
     }
     for (size_t m = 0; m < count; ++m) {
       const size_t j = near_index[m];
       if (std::find(kept_subset->begin(), kept_subset->end(), j) != kept_subset->end()) ++out.near_kept;
       const double residual = std::fabs(points[j].z - model.at(points[j].x, points[j].y));
-      if (misses != nullptr) misses->near_index[m] = j, misses->near_residual[m] = residual;
+      if (misses != nullptr) misses->near_index[m] = static_cast<uint32_t>(j), misses->near_residual[m] = residual;
       out.near_worst = std::max(out.near_worst, residual);
     }
   }

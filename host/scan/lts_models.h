@@ -141,11 +141,12 @@ size_t nearest_four(const std::vector<Point3>& points, const std::vector<size_t>
 // Which of a window's points its model misses, for the whole window's model only (kept apart from
 // the LooFit, of which every point holds seventeen): the judge may pass over a suspected neighbour,
 // but not a surface beyond a crease.
+// Point numbers are 32-bit, as in the windows (lts_grid.h).
 struct WindowMisses {
-  size_t near_index[4] = {};  // point i's four nearest neighbours in the window
+  uint32_t near_index[4] = {};  // point i's four nearest neighbours in the window
   double near_residual[4] = {};  // and their |residuals|
   static constexpr int kWorst = 5;
-  size_t worst_index[kWorst] = {};  // the window's points with the largest |residuals|, largest first
+  uint32_t worst_index[kWorst] = {};  // the window's points with the largest |residuals|, largest first
   double worst_residual[kWorst] = {};
 };
 

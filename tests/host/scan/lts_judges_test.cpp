@@ -25,10 +25,10 @@ TEST(LtsJudges, AWholeWindowThatJudgesAloneWithoutSuspectsStillJudgesAloneWithAn
   int judged_without = 0;
   for (int trial = 0; trial < 20000; ++trial) {
     PointTest t;
-    t.model[0].ok = true;
-    t.model[0].scale = 2.5 * sigma * unit(rng);
-    t.model[0].near_worst = 1.0;
-    const double bound = k * std::hypot(sigma, t.model[0].scale);
+    t.model.set(0).ok = true;
+    t.model.set(0).scale = 2.5 * sigma * unit(rng);
+    t.model.set(0).near_worst = 1.0;
+    const double bound = k * std::hypot(sigma, t.model.set(0).scale);
     t.z = (unit(rng) - 0.5) * 6 * bound;  // model 0 predicts 0
     // Ten window points: four nearest, five worst, drawn from the same ten.
     std::vector<size_t> order(10);
@@ -67,7 +67,7 @@ PointTest windows_against_a_line(bool line_curved) {
   PointTest t;
   t.z = 20 * sigma;
   for (int w : {0, 1, 3}) {
-    LooFit& m = t.model[w];
+    LooFit& m = t.model.set(w);
     m.ok = true;
     m.prediction = 0;
     m.scale = 0.8 * sigma;
@@ -77,7 +77,7 @@ PointTest windows_against_a_line(bool line_curved) {
   }
   // The whole window misses one of the four by far (the one it trimmed), so it does not judge alone.
   t.whole_misses.near_residual[0] = 100 * sigma;
-  LooFit& line = t.model[kWindows + 2];
+  LooFit& line = t.model.set(kWindows + 2);
   line.ok = true;
   line.prediction = 18 * sigma;
   line.scale = 1.2 * sigma;
@@ -109,7 +109,7 @@ TEST(LtsJudges, AStraightLineStillVouchesAgainstTheWindows) {
 
 TEST(LtsJudges, TwoCondemningWindowsDoNotOverruleACurvedLine) {
   PointTest t = windows_against_a_line(true);
-  t.model[0].near_kept = 2;  // the whole window keeps only two of the nearest: maybe another surface
+  t.model.set(0).near_kept = 2;  // the whole window keeps only two of the nearest: maybe another surface
   LONGS_EQUAL(2, windows_on_its_surface_condemn(t, 1.0, 5.0));
   CHECK_FALSE(whole_overrules(t, 1.0, 5.0));
   CHECK(vouches(t, kWindows + 2, 1.0, 5.0));
@@ -119,16 +119,16 @@ TEST(LtsJudges, AWholeWindowThatPutsThePointFarOffOverrulesACurvedLineAlone) {
   // The sphere's flank at 0.5 um: no half-plane describes its points, and the whole window, which
   // does and interpolates, puts the point beyond twice its bound (20 sigma, bound 6.4).
   PointTest t = windows_against_a_line(true);
-  t.model[1].near_kept = t.model[3].near_kept = 2;
+  t.model.set(1).near_kept = t.model.set(3).near_kept = 2;
   LONGS_EQUAL(1, windows_on_its_surface_condemn(t, 1.0, 5.0));
   CHECK(whole_overrules(t, 1.0, 5.0));
   CHECK_FALSE(vouches(t, kWindows + 2, 1.0, 5.0));
   // Within twice its bound, or extrapolating (gain over 1), it does not overrule alone.
-  t.model[0].prediction = 8;
+  t.model.set(0).prediction = 8;
   CHECK_FALSE(whole_overrules(t, 1.0, 5.0));
   CHECK(vouches(t, kWindows + 2, 1.0, 5.0));
-  t.model[0].prediction = 0;
-  t.model[0].gain = 1.5;
+  t.model.set(0).prediction = 0;
+  t.model.set(0).gain = 1.5;
   CHECK_FALSE(whole_overrules(t, 1.0, 5.0));
   CHECK(vouches(t, kWindows + 2, 1.0, 5.0));
 }
@@ -137,7 +137,7 @@ TEST(LtsJudges, AHalfPlaneThatMissesANearestNeighbourFarIsOverruledInTheFinalJud
   // The sphere's flank at 2 um: a half-plane bent by outliers beside the point put it 5 sigma off,
   // within its bound, and missed a clean nearest neighbour by 18 times that bound.
   PointTest t = windows_against_a_line(false);
-  LooFit& half = t.model[4];
+  LooFit& half = t.model.set(4);
   half.ok = true;
   half.prediction = 18;
   half.scale = 1.0;
@@ -157,12 +157,12 @@ TEST(LtsJudges, AHalfPlaneALittleRougherThanAJudgeThatPredictsThePointCloselyNea
   // ninth of its bound; the whole window (two nearest neighbours kept) does not describe its points.
   PointTest t;
   t.z = 130;
-  t.model[0].ok = true;
-  t.model[0].scale = 2.7;
-  t.model[0].gain = 0.3;
-  t.model[0].near_kept = 2;
-  t.model[0].prediction = 108;
-  LooFit& half = t.model[2];
+  t.model.set(0).ok = true;
+  t.model.set(0).scale = 2.7;
+  t.model.set(0).gain = 0.3;
+  t.model.set(0).near_kept = 2;
+  t.model.set(0).prediction = 108;
+  LooFit& half = t.model.set(2);
   half.ok = true;
   half.prediction = 128.5;
   half.scale = 2.04;
@@ -181,14 +181,14 @@ TEST(LtsJudges, AHalfPlaneALittleRougherThanAJudgeThatPredictsThePointCloselyNea
   CHECK_FALSE(a_half_plane_nearly_vouches(t, 1.0, 5.0));
   // Nor at the scan's edge, where the whole window extrapolates (gain over 1).
   half.near_kept = 3;
-  t.model[0].gain = 2;
+  t.model.set(0).gain = 2;
   CHECK_FALSE(a_half_plane_nearly_vouches(t, 1.0, 5.0));
-  t.model[0].gain = 0.3;
+  t.model.set(0).gain = 0.3;
   CHECK(a_half_plane_nearly_vouches(t, 1.0, 5.0));
   // Nor where the whole window, describing its points, puts the point far off.
-  t.model[0].scale = 1.0;
-  t.model[0].near_kept = 4;
-  t.model[0].prediction = 100;
+  t.model.set(0).scale = 1.0;
+  t.model.set(0).near_kept = 4;
+  t.model.set(0).prediction = 100;
   CHECK_FALSE(a_half_plane_nearly_vouches(t, 1.0, 5.0));
 }
 
@@ -203,14 +203,14 @@ PointTest one_line_against_the_rest() {
   PointTest t;
   t.z = 100 * sigma;
   for (int w : {0, 3, 4}) {
-    LooFit& m = t.model[w];
+    LooFit& m = t.model.set(w);
     m.ok = true;
     m.scale = 0.5 * sigma;
     m.gain = 0.5;
     m.near_kept = 3;
   }
   for (int d = 0; d < 4; ++d) {
-    LooFit& line = t.model[kWindows + d];
+    LooFit& line = t.model.set(kWindows + d);
     line.ok = true;
     line.gain = 1.1;
     line.near_kept = 4;
@@ -227,27 +227,27 @@ TEST(LtsJudges, APointOneLineVouchesForAgainstThreeWindowsAndThreeLinesIsDoubted
 
 TEST(LtsJudges, APointAWindowDescribingItsPointsVouchesForIsNotDoubted) {
   PointTest t = one_line_against_the_rest();
-  t.model[5] = t.model[3];
-  t.model[5].prediction = 99;  // a half-plane of the point's own level
+  t.model.set(5) = t.model.set(3);
+  t.model.set(5).prediction = 99;  // a half-plane of the point's own level
   CHECK_FALSE(doubted(t, 1.0, 5.0));
   // A window that does not describe its points (a crease inside it) is no evidence either way.
-  t.model[5].scale = 3.0;
+  t.model.set(5).scale = 3.0;
   CHECK(doubted(t, 1.0, 5.0));
 }
 
 TEST(LtsJudges, APointTwoStraightLinesVouchForIsNotDoubted) {
   // At a step block's corner the lines along the point's own level vouch for it.
   PointTest t = one_line_against_the_rest();
-  t.model[kWindows + 2].prediction = 99;
+  t.model.set(kWindows + 2).prediction = 99;
   CHECK_FALSE(doubted(t, 1.0, 5.0));
 }
 
 TEST(LtsJudges, TwoModelsOfAKindAgainstAPointDoNotMakeADoubt) {
   PointTest t = one_line_against_the_rest();
-  t.model[4].ok = false;
+  t.model.set(4).ok = false;
   CHECK_FALSE(doubted(t, 1.0, 5.0));
   t = one_line_against_the_rest();
-  t.model[kWindows + 1].curved = true;  // a curved line extrapolates curvature: not counted
+  t.model.set(kWindows + 1).curved = true;  // a curved line extrapolates curvature: not counted
   CHECK_FALSE(doubted(t, 1.0, 5.0));
 }
 
@@ -262,7 +262,7 @@ PointTest narrowly_off() {
   const double predictions[3] = {10.9, -18.2, -13.7}, scales[3] = {1.73, 0.86, 0.86}, gains[3] = {0.34, 4.8, 3.0};
   const int windows[3] = {0, 3, 5};
   for (int n = 0; n < 3; ++n) {
-    LooFit& m = t.model[windows[n]];
+    LooFit& m = t.model.set(windows[n]);
     m.ok = true;
     m.prediction = predictions[n];
     m.scale = scales[n];
@@ -280,13 +280,13 @@ TEST(LtsJudges, AnInteriorPointNoModelPutsFarBeyondItsBoundIsCondemnedOnlyNarrow
 
 TEST(LtsJudges, APointOneWindowPutsFarOffIsNotCondemnedNarrowly) {
   PointTest t = narrowly_off();
-  t.model[3].prediction = -40;  // 2.6 times the half-plane's bound
+  t.model.set(3).prediction = -40;  // 2.6 times the half-plane's bound
   CHECK_FALSE(condemned_narrowly(t, 1.0, 5.0));
 }
 
 TEST(LtsJudges, APointAStraightLinePutsFarOffIsNotCondemnedNarrowly) {
   PointTest t = narrowly_off();
-  LooFit& line = t.model[kWindows + 1];
+  LooFit& line = t.model.set(kWindows + 1);
   line.ok = true;
   line.gain = 1.1;
   line.near_kept = 4;
@@ -300,13 +300,13 @@ TEST(LtsJudges, APointAtTheScansEdgeIsNotCondemnedNarrowly) {
   // There the whole window extrapolates (gain 5 at the canister's last line), its bound grows with
   // the gain, and an outlier of 20 sigma lay 1.34 times beyond it.
   PointTest t = narrowly_off();
-  t.model[0].gain = 5.0;
+  t.model.set(0).gain = 5.0;
   CHECK_FALSE(condemned_narrowly(t, 1.0, 5.0));
 }
 
 TEST(LtsJudges, APointEveryWindowPredictsIsNotCondemnedNarrowly) {
   PointTest t = narrowly_off();
-  for (int w : {0, 3, 5}) t.model[w].prediction = 1;
+  for (int w : {0, 3, 5}) t.model.set(w).prediction = 1;
   CHECK_FALSE(condemned_narrowly(t, 1.0, 5.0));
 }
 
@@ -318,14 +318,14 @@ namespace {
 PointTest envelope_against_its_surface() {
   PointTest t;
   t.z = 0;
-  LooFit& whole = t.model[0];  // the whole window, across the foot, misses it
+  LooFit& whole = t.model.set(0);  // the whole window, across the foot, misses it
   whole.ok = true;
   whole.scale = 1.5;
   whole.gain = 0.5;
   whole.near_kept = 2;
   whole.prediction = 40;
   for (int w : {2, 4}) {
-    LooFit& m = t.model[w];
+    LooFit& m = t.model.set(w);
     m.ok = true;
     m.scale = 0.6;
     m.gain = 2.0;
@@ -333,7 +333,7 @@ PointTest envelope_against_its_surface() {
     m.prediction = 0.5;
   }
   for (int d : {0, 1}) {
-    LooFit& line = t.model[kWindows + d];
+    LooFit& line = t.model.set(kWindows + d);
     line.ok = true;
     line.scale = 0.7;
     line.gain = 1.1;
@@ -351,13 +351,13 @@ TEST(LtsJudges, APointTwoWindowsAndTwoLinesOfItsSurfaceVouchForIsOutvoted) {
 
 TEST(LtsJudges, OneWindowOrOneStraightLineDoesNotOutvote) {
   PointTest t = envelope_against_its_surface();
-  t.model[4].scale = 3.0;  // this half-plane straddles a crease: it describes nothing
+  t.model.set(4).scale = 3.0;  // this half-plane straddles a crease: it describes nothing
   CHECK_FALSE(outvoted(t, 1.0, 5.0));
   t = envelope_against_its_surface();
-  t.model[kWindows + 1].curved = true;  // a curved line extrapolates its curvature: not counted
+  t.model.set(kWindows + 1).curved = true;  // a curved line extrapolates its curvature: not counted
   CHECK_FALSE(outvoted(t, 1.0, 5.0));
   t = envelope_against_its_surface();
-  t.model[kWindows + 1].prediction = 30;  // a line that puts it far off does not vouch
+  t.model.set(kWindows + 1).prediction = 30;  // a line that puts it far off does not vouch
   CHECK_FALSE(outvoted(t, 1.0, 5.0));
 }
 
@@ -370,23 +370,23 @@ namespace {
 PointTest vouched_from_across_the_rim() {
   PointTest t;
   t.z = 33;
-  t.model[0].ok = true;
-  t.model[0].scale = 2.6;
-  t.model[0].gain = 1.0;
-  t.model[0].near_kept = 3;
-  t.model[0].prediction = 1;
-  LooFit& half = t.model[5];
+  t.model.set(0).ok = true;
+  t.model.set(0).scale = 2.6;
+  t.model.set(0).gain = 1.0;
+  t.model.set(0).near_kept = 3;
+  t.model.set(0).prediction = 1;
+  LooFit& half = t.model.set(5);
   half.ok = true;
   half.scale = 1.6;
   half.gain = 3.7;
   half.near_kept = 2;
   half.prediction = 29;  // bound 5 sqrt(4.7 + 1.6^2) = 13.5
-  LooFit& straight = t.model[kWindows + 3];
+  LooFit& straight = t.model.set(kWindows + 3);
   straight.ok = true;
   straight.gain = 1.1;
   straight.near_kept = 4;
   straight.prediction = 5;  // 28 off, bound 0.8 x 5 sqrt(2.1) = 5.8
-  LooFit& quadratic = t.model[kWindows + 2];
+  LooFit& quadratic = t.model.set(kWindows + 2);
   quadratic.ok = true;
   quadratic.curved = true;
   quadratic.scale = 0.76;
@@ -403,12 +403,12 @@ TEST(LtsJudges, APointOnlyAWindowReachingFromAfarVouchesForIsVouchedOnlyFromAfar
   CHECK(vouches(t, 5, 1.0, 5.0, true));
   CHECK(vouched_only_from_afar(t, 1.0, 5.0));
   // Not where a vouching window reaches it from nearer (gain 3 or less).
-  t.model[5].gain = 2.5;
+  t.model.set(5).gain = 2.5;
   CHECK(vouches(t, 5, 1.0, 5.0, true));
   CHECK_FALSE(vouched_only_from_afar(t, 1.0, 5.0));
   // Nor where no window vouches at all: the judges condemned it or had none.
-  t.model[5].gain = 3.7;
-  t.model[5].prediction = 10;
+  t.model.set(5).gain = 3.7;
+  t.model.set(5).prediction = 10;
   CHECK_FALSE(vouched_only_from_afar(t, 1.0, 5.0));
 }
 
@@ -416,11 +416,11 @@ TEST(LtsJudges, TwoLinesThatDescribeTheirPointsFarFromThePointStandAgainstIt) {
   PointTest t = vouched_from_across_the_rim();
   CHECK(lines_stand_against(t, 1.0, 5.0));
   // One line alone does not: the quadratic within twice its bound (27 -> 17 off, 1.8 bounds).
-  t.model[kWindows + 2].prediction = 16;
+  t.model.set(kWindows + 2).prediction = 16;
   CHECK_FALSE(lines_stand_against(t, 1.0, 5.0));
   // Nor two where a third line that describes its points predicts the point.
   t = vouched_from_across_the_rim();
-  LooFit& third = t.model[kWindows + 6];
+  LooFit& third = t.model.set(kWindows + 6);
   third.ok = true;
   third.gain = 1.1;
   third.near_kept = 4;
@@ -437,29 +437,29 @@ TEST(LtsJudges, TwoNearWindowsThatPutThePointBeyondTheirBoundsStandAgainstIt) {
   PointTest t;
   t.z = -27;
   for (int w : {5, 8}) {
-    LooFit& m = t.model[w];
+    LooFit& m = t.model.set(w);
     m.ok = true;
     m.near_kept = 3;
   }
-  t.model[5].scale = 1.8;
-  t.model[5].gain = 1.96;  // bound 5 sqrt(2.96 + 1.8^2) = 12.4
-  t.model[8].scale = 1.1;
-  t.model[8].gain = 0.85;  // bound 5 sqrt(1.85 + 1.1^2) = 8.7
-  t.model[8].prediction = -14.5;
+  t.model.set(5).scale = 1.8;
+  t.model.set(5).gain = 1.96;  // bound 5 sqrt(2.96 + 1.8^2) = 12.4
+  t.model.set(8).scale = 1.1;
+  t.model.set(8).gain = 0.85;  // bound 5 sqrt(1.85 + 1.1^2) = 8.7
+  t.model.set(8).prediction = -14.5;
   CHECK(windows_stand_against(t, 1.0, 5.0));
   // Not with one of them within its bound.
-  t.model[8].prediction = -20;
+  t.model.set(8).prediction = -20;
   CHECK_FALSE(windows_stand_against(t, 1.0, 5.0));
-  t.model[8].prediction = -14.5;
+  t.model.set(8).prediction = -14.5;
   // Nor where one predicts from farther (gain over 2), keeps two nearest neighbours only, or does
   // not describe its points.
-  t.model[5].gain = 2.5;
+  t.model.set(5).gain = 2.5;
   CHECK_FALSE(windows_stand_against(t, 1.0, 5.0));
-  t.model[5].gain = 1.96;
-  t.model[5].near_kept = 2;
+  t.model.set(5).gain = 1.96;
+  t.model.set(5).near_kept = 2;
   CHECK_FALSE(windows_stand_against(t, 1.0, 5.0));
-  t.model[5].near_kept = 3;
-  t.model[5].scale = 2.2;
+  t.model.set(5).near_kept = 3;
+  t.model.set(5).scale = 2.2;
   CHECK_FALSE(windows_stand_against(t, 1.0, 5.0));
 }
 
@@ -482,8 +482,8 @@ LooFit fitted(double prediction, double scale, double gain, int near_kept, doubl
 PointTest leaned_against() {
   PointTest t;
   t.z = 11.5;
-  t.model[0] = fitted(0, 2.6, 0.4, 3);      // bound 5 hypot(1, 2.6) = 13.9
-  t.model[5] = fitted(-4.9, 1.08, 2.0, 3);  // 16.4 off, bound 5 sqrt(3 + 1.08^2) = 10.2
+  t.model.set(0) = fitted(0, 2.6, 0.4, 3);      // bound 5 hypot(1, 2.6) = 13.9
+  t.model.set(5) = fitted(-4.9, 1.08, 2.0, 3);  // 16.4 off, bound 5 sqrt(3 + 1.08^2) = 10.2
   return t;
 }
 
@@ -505,10 +505,10 @@ TEST(LtsJudges, WindowsOnItsSurfaceLeanAgainstAPointTheWholeWindowPutsOverHalfIt
   CHECK(windows_lean_against(leaned_against(), 1.0, 5.0));
   check_each_change(leaned_against,
                     {
-                        [](PointTest& t) { t.model[0].prediction = 5; },  // the whole window within half its bound
-                        [](PointTest& t) { t.model[0].scale = 3.2; },     // nor following the surface within 3 sigma
-                        [](PointTest& t) { t.model[5].prediction = 2; },  // the half-plane within its bound
-                        [](PointTest& t) { t.model[5].near_kept = 2; },   // or keeping two nearest neighbours only
+                        [](PointTest& t) { t.model.set(0).prediction = 5; },  // the whole window within half its bound
+                        [](PointTest& t) { t.model.set(0).scale = 3.2; },     // nor following the surface to 3 sigma
+                        [](PointTest& t) { t.model.set(5).prediction = 2; },  // the half-plane within its bound
+                        [](PointTest& t) { t.model.set(5).near_kept = 2; },   // or keeping two nearest neighbours only
                     },
                     [](const PointTest& t) { return windows_lean_against(t, 1.0, 5.0); }, false);
 }
@@ -556,11 +556,11 @@ TEST(LtsJudges, ALineThatCannotBeFittedOneStepBackIsUntested) {
   CHECK(vouches(t, kWindows + 1, 1.0, 5.0, true));
   CHECK(vouched_only_by_untested_lines(line.points, line.sides, line.suspect, t, 1.0, 5.0));
   // Where a window vouches, the lines are not asked.
-  t.model[0].ok = true;
-  t.model[0].scale = 1;
-  t.model[0].gain = 0.5;
-  t.model[0].near_kept = 4;
-  t.model[0].prediction = t.z;
+  t.model.set(0).ok = true;
+  t.model.set(0).scale = 1;
+  t.model.set(0).gain = 0.5;
+  t.model.set(0).near_kept = 4;
+  t.model.set(0).prediction = t.z;
   CHECK_FALSE(vouched_only_by_untested_lines(line.points, line.sides, line.suspect, t, 1.0, 5.0));
 }
 
@@ -587,8 +587,8 @@ namespace {
 PointTest beside_a_pair() {
   PointTest t;
   t.z = -25.3;
-  t.model[0] = fitted(0, 0.13, 0.5, 2, 1.8);         // bound 5 hypot(1, 0.13) = 5.0
-  t.model[8] = fitted(-27.25, 2.03, 1.43, 3, 18.1);  // 1.95 off, bound 5 sqrt(2.43 + 2.03^2) = 12.8
+  t.model.set(0) = fitted(0, 0.13, 0.5, 2, 1.8);         // bound 5 hypot(1, 0.13) = 5.0
+  t.model.set(8) = fitted(-27.25, 2.03, 1.43, 3, 18.1);  // 1.95 off, bound 5 sqrt(2.43 + 2.03^2) = 12.8
   return t;
 }
 
@@ -601,9 +601,9 @@ TEST(LtsJudges, AHalfPlaneMissingANearestNeighbourDoesNotNearlyVouchFarOffATight
   // where the whole window does not describe its points, or puts the point within twice its bound.
   check_each_change(beside_a_pair,
                     {
-                        [](PointTest& t) { t.model[8].near_worst = 10; },
-                        [](PointTest& t) { t.model[0].scale = 2.2; },
-                        [](PointTest& t) { t.model[0].prediction = -16; },
+                        [](PointTest& t) { t.model.set(8).near_worst = 10; },
+                        [](PointTest& t) { t.model.set(0).scale = 2.2; },
+                        [](PointTest& t) { t.model.set(0).prediction = -16; },
                     },
                     [](const PointTest& t) { return a_half_plane_nearly_vouches(t, 1.0, 5.0); }, true);
 }
@@ -617,8 +617,8 @@ namespace {
 PointTest beside_its_pair_on_the_rim() {
   PointTest t;
   t.z = 207;
-  t.model[0] = fitted(0, 0.46, 0.43, 2, 210);           // bound 5 hypot(1, 0.46) = 5.5
-  t.model[2] = fitted(208.71, 1.08, 1.56, 3, 210.4);  // bound 5 sqrt(2.56 + 1.08^2) = 9.7
+  t.model.set(0) = fitted(0, 0.46, 0.43, 2, 210);           // bound 5 hypot(1, 0.46) = 5.5
+  t.model.set(2) = fitted(208.71, 1.08, 1.56, 3, 210.4);  // bound 5 sqrt(2.56 + 1.08^2) = 9.7
   return t;
 }
 
@@ -632,9 +632,9 @@ TEST(LtsJudges, AHalfPlaneHoldingTheOutlierBesideThePointDoesNotVouchFarOffATigh
   CHECK(vouches(beside_its_pair_on_the_rim(), 2, 1.0, 5.0, /*final_judgement=*/false));
   check_each_change(beside_its_pair_on_the_rim,
                     {
-                        [](PointTest& t) { t.model[2].near_worst = 50; },
-                        [](PointTest& t) { t.model[0].scale = 2.2; },
-                        [](PointTest& t) { t.model[0].prediction = 200; },
+                        [](PointTest& t) { t.model.set(2).near_worst = 50; },
+                        [](PointTest& t) { t.model.set(0).scale = 2.2; },
+                        [](PointTest& t) { t.model.set(0).prediction = 200; },
                     },
                     [](const PointTest& t) { return vouches(t, 2, 1.0, 5.0, /*final_judgement=*/true); }, true);
 }
@@ -648,9 +648,9 @@ namespace {
 PointTest vouched_for_by_nothing() {
   PointTest t;
   t.z = 45.5;
-  t.model[0] = fitted(0, 3.42, 0.57, 2, 114);
-  t.model[8] = fitted(132, 0.91, 1.96, 4, 1.43);
-  t.model[kWindows + 4] = fitted(-106.8, 0.49, 0.89, 4);
+  t.model.set(0) = fitted(0, 3.42, 0.57, 2, 114);
+  t.model.set(8) = fitted(132, 0.91, 1.96, 4, 1.43);
+  t.model.set(kWindows + 4) = fitted(-106.8, 0.49, 0.89, 4);
   return t;
 }
 
@@ -661,11 +661,11 @@ TEST(LtsJudges, APointNoModelVouchesForWhileOneDescribesItsPointsIsUnvouched) {
   // Not where one model vouches, a window or a line; nor where no model describes its points.
   check_each_change(vouched_for_by_nothing,
                     {
-                        [](PointTest& t) { t.model[8].prediction = 40; },
-                        [](PointTest& t) { t.model[kWindows + 4].prediction = 44; },
+                        [](PointTest& t) { t.model.set(8).prediction = 40; },
+                        [](PointTest& t) { t.model.set(kWindows + 4).prediction = 44; },
                         [](PointTest& t) {
-                          t.model[8].scale = 2.5;
-                          t.model[kWindows + 4].scale = 2.5;
+                          t.model.set(8).scale = 2.5;
+                          t.model.set(kWindows + 4).scale = 2.5;
                         },
                     },
                     [](const PointTest& t) { return unvouched(t, 1.0, 5.0); }, false);
