@@ -10,24 +10,8 @@ namespace dg::host {
 
 namespace {
 
-// The first N terms (3, 6 or 10) at (dx, dy).
-template <int N>
-void terms(double dx, double dy, double* t) {
-  t[0] = 1, t[1] = dx, t[2] = dy;
-  if constexpr (N >= 6) t[3] = dx * dx, t[4] = dx * dy, t[5] = dy * dy;
-  if constexpr (N == 10) t[6] = dx * dx * dx, t[7] = dx * dx * dy, t[8] = dx * dy * dy, t[9] = dy * dy * dy;
-}
-
-// The polynomial of N terms with coefficients c at (dx, dy), summed in the terms' order.
-template <int N>
-double value(const double* c, double dx, double dy) {
-  double t[N];
-  terms<N>(dx, dy, t);
-  double z = 0;
-#pragma GCC unroll 10
-  for (int k = 0; k < N; ++k) z += c[k] * t[k];
-  return z;
-}
+using polynomial_terms::terms;
+using polynomial_terms::value;
 
 // The points' terms into the normal equations (packed lower triangle) and the right-hand side, N
 // terms a point, `place(j, dx, dy, value)` giving point j's scaled offsets and value. N is fixed at
@@ -113,9 +97,8 @@ constexpr double kHeightConverged_mm = 1e-9;
 
 }  // namespace
 
-double LocalPolynomial::at(double x, double y) const {
+double LocalPolynomial::tilted_at(double x, double y) const {
   const double ox = x - centre.x, oy = y - centre.y;
-  if (!tilted) return value_of(*this, ox / scale_x, oy / scale_y);
   // The height z where the offset along the normal equals the polynomial's, from the tangent
   // plane's height by Newton's steps.
   double oz = -(normal[0] * ox + normal[1] * oy) / normal[2];

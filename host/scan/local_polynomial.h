@@ -7,6 +7,29 @@
 
 namespace dg::host {
 
+namespace polynomial_terms {
+
+// The first N terms (3, 6 or 10) at (dx, dy).
+template <int N>
+inline void terms(double dx, double dy, double* t) {
+  t[0] = 1, t[1] = dx, t[2] = dy;
+  if constexpr (N >= 6) t[3] = dx * dx, t[4] = dx * dy, t[5] = dy * dy;
+  if constexpr (N == 10) t[6] = dx * dx * dx, t[7] = dx * dx * dy, t[8] = dx * dy * dy, t[9] = dy * dy * dy;
+}
+
+// The polynomial of N terms with coefficients c at (dx, dy), summed in the terms' order.
+template <int N>
+inline double value(const double* c, double dx, double dy) {
+  double t[N];
+  terms<N>(dx, dy, t);
+  double z = 0;
+#pragma GCC unroll 10
+  for (int k = 0; k < N; ++k) z += c[k] * t[k];
+  return z;
+}
+
+}  // namespace polynomial_terms
+
 // z = c0 + c1 dx + c2 dy (+ c3 dx^2 + c4 dx dy + c5 dy^2 (+ the four cubic terms)), with dx, dy measured from `centre` and
 // scaled by the neighbourhood's extent so the normal equations stay well conditioned in any unit.
 struct LocalPolynomial {
@@ -24,11 +47,24 @@ struct LocalPolynomial {
 
   int terms() const { return order == 1 ? 3 : order == 2 ? 6 : 10; }
   // The model surface's height z above (x, y); for an upright model at the centre it is c[0].
-  double at(double x, double y) const;
+  // Inline for an upright model: the LTS filter asks it of every point of a window at each of its
+  // steps, and the call and the switch on the order were a seventh of the filter's time.
+  double at(double x, double y) const {
+    if (tilted) return tilted_at(x, y);
+    const double dx = (x - centre.x) / scale_x, dy = (y - centre.y) / scale_y;
+    switch (order) {
+      case 1: return polynomial_terms::value<3>(c, dx, dy);
+      case 2: return polynomial_terms::value<6>(c, dx, dy);
+      default: return polynomial_terms::value<10>(c, dx, dy);
+    }
+  }
   // The same, checked: false where a tilted model's surface has no height above (x, y) that Newton's
   // steps reach (the vertical there misses the surface, or meets it where it turns over), and `z`
   // is then the last step's value, no height of the model. An upright model always has one.
   bool height(double x, double y, double& z) const;
+
+ private:
+  double tilted_at(double x, double y) const;
 };
 
 // Fits the model to points[indices]; false when they do not determine it (too few, or collinear in XY).
