@@ -211,10 +211,13 @@ void check_units(size_t n, Unit unit, FitValidation& out) {
 }
 
 // Each point's four nearest neighbours in the parameter plane, itself among them.
+// Read in place: a copy as Point3s was 24 MB for a million points, an eighth of the validation's
+// peak, and fresh memory is dear (memory_reuse.h).
 Neighbourhoods parameter_plane_neighbours(const Parameters& params) {
-  std::vector<Point3> plane(params.uv.size());
-  for (size_t i = 0; i < plane.size(); ++i) plane[i] = {params.uv[i].u, params.uv[i].v, 0.0};
-  return nearest_neighbours(plane, 5);
+  return nearest_neighbours(params.uv.size(), [](const void* from, size_t i, double& u, double& v) {
+    const UV& at = (*static_cast<const std::vector<UV>*>(from))[i];
+    u = at.u, v = at.v;
+  }, &params.uv, 5);
 }
 
 void check_neighbours(const BSplineSurface& surface, const PointCloud& cloud, const Parameters& params,
@@ -276,7 +279,7 @@ void check_neighbours(const BSplineSurface& surface, const PointCloud& cloud, co
   // Taken in the buckets' order, so each point's neighbours are mostly in the cache already.
   check_units(near.order.size(), [&](size_t position, RangeWorst& worst) {
     const size_t i = near.order[position];
-    for (const size_t* j = near.at_position(position); j != near.at_position(position) + near.k; ++j) {
+    for (const uint32_t* j = near.at_position(position); j != near.at_position(position) + near.k; ++j) {
       if (*j > i) check.segment(i, *j, options.samples_between, 0.0, worst);
     }
   }, out);

@@ -98,6 +98,11 @@ void WindowLists::set(size_t i, const size_t* members, size_t count) {
   count_[i] = static_cast<uint32_t>(count);
 }
 
+void WindowLists::set(size_t i, const uint32_t* members, size_t count) {
+  std::copy(members, members + count, index_.get() + i * slots_);
+  count_[i] = static_cast<uint32_t>(count);
+}
+
 void nearest_windows(const std::vector<Point3>& points, size_t k, WindowLists& out) {
   const Neighbourhoods flat = nearest_neighbours(points, k);
   out.reset(points.size(), flat.k);

@@ -62,6 +62,7 @@ class WindowLists {
   void reset(size_t n, size_t slots);
   // Point i's members, set once (from one thread a point).
   void set(size_t i, const size_t* members, size_t count);
+  void set(size_t i, const uint32_t* members, size_t count);
   IndexSpan operator[](size_t i) const { return {index_.get() + i * slots_, count_[i]}; }
 
  private:

@@ -6,55 +6,77 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include "host/parallel/parallel_for.h"
 
 namespace dg::host {
 
 Neighbourhoods nearest_neighbours(const std::vector<Point3>& points, size_t k) {
+  return nearest_neighbours(points.size(), [](const void* from, size_t i, double& x, double& y) {
+    const Point3& p = (*static_cast<const std::vector<Point3>*>(from))[i];
+    x = p.x, y = p.y;
+  }, &points, k);
+}
+
+Neighbourhoods nearest_neighbours(size_t count, PlanePoint at, const void* from, size_t k) {
   Neighbourhoods out;
-  if (points.empty()) return out;
+  if (count == 0) return out;
+  if (count > kMostNeighbourPoints) {
+    throw std::length_error("the nearest-neighbour search takes at most 4,294,967,295 points, not " + std::to_string(count));
+  }
   double x0 = HUGE_VAL, x1 = -HUGE_VAL, y0 = HUGE_VAL, y1 = -HUGE_VAL;
-  for (const auto& p : points) x0 = std::min(x0, p.x), x1 = std::max(x1, p.x), y0 = std::min(y0, p.y), y1 = std::max(y1, p.y);
+  for (size_t i = 0; i < count; ++i) {
+    double x, y;
+    at(from, i, x, y);
+    x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+  }
   const double area = std::max((x1 - x0) * (y1 - y0), 1e-12);
   // About 4 points a cell; points on (nearly) one line have no area, so the cell is also at least
   // four points' share of the longer side (else it collapses and the rings grow for ever). Either
   // way the grid has at most about n / 4 + its width + its height cells.
-  const double n = static_cast<double>(points.size());
+  const double n = static_cast<double>(count);
   const double cell = std::max({std::sqrt(area * 4.0 / n), 4.0 * std::max(x1 - x0, y1 - y0) / n, 1e-9});
   const long columns = static_cast<long>(std::floor((x1 - x0) / cell)) + 1, rows = static_cast<long>(std::floor((y1 - y0) / cell)) + 1;
   // Truncation is the floor here (no point lies below x0 or y0), without a call into libm.
   auto column_of = [&](double x) { return std::min(columns - 1, static_cast<long>((x - x0) / cell)); };
   auto row_of = [&](double y) { return std::min(rows - 1, static_cast<long>((y - y0) / cell)); };
-  // Counting sort of the points by cell: cell c holds members[start[c] .. start[c + 1]).
-  std::vector<size_t> start(static_cast<size_t>(columns * rows) + 1, 0), members(points.size());
-  for (const Point3& p : points) ++start[static_cast<size_t>(row_of(p.y) * columns + column_of(p.x)) + 1];
+  // Counting sort of the points by cell: cell c holds members[start[c] .. start[c + 1]). Each
+  // point's cell is kept from the count for the placing.
+  std::vector<size_t> start(static_cast<size_t>(columns * rows) + 1, 0);
+  std::vector<uint32_t> members(count);
+  std::vector<size_t> cell_of(count);
+  for (size_t i = 0; i < count; ++i) {
+    double x, y;
+    at(from, i, x, y);
+    cell_of[i] = static_cast<size_t>(row_of(y) * columns + column_of(x));
+    ++start[cell_of[i] + 1];
+  }
   for (size_t c = 1; c < start.size(); ++c) start[c] += start[c - 1];
   {
     std::vector<size_t> fill(start.begin(), start.end() - 1);
-    for (size_t i = 0; i < points.size(); ++i) members[fill[static_cast<size_t>(row_of(points[i].y) * columns + column_of(points[i].x))]++] = i;
+    for (size_t i = 0; i < count; ++i) members[fill[cell_of[i]]++] = static_cast<uint32_t>(i);
   }
-  k = std::min(k, points.size());
+  cell_of = {};
+  k = std::min(k, count);
   out.k = k;
-  out.nearest.reset(new size_t[points.size() * k]);
-  out.position.resize(points.size());
-  for (size_t m = 0; m < members.size(); ++m) out.position[members[m]] = m;
+  out.nearest.reset(new uint32_t[count * k]);
+  out.position.resize(count);
+  for (size_t m = 0; m < members.size(); ++m) out.position[members[m]] = static_cast<uint32_t>(m);
   if (k == 0) {
     out.order = std::move(members);
     return out;
   }
   // The points' XY in cell order: a cell's candidates are then read from one run of memory, not
-  // from wherever the cloud keeps them (for a million points that was most of the time).
-  std::vector<double> cell_xy(2 * points.size());
-  for (size_t m = 0; m < members.size(); ++m) {
-    cell_xy[2 * m] = points[members[m]].x;
-    cell_xy[2 * m + 1] = points[members[m]].y;
-  }
+  // from wherever the caller keeps them (for a million points that was most of the time).
+  std::vector<double> cell_xy(2 * count);
+  for (size_t m = 0; m < members.size(); ++m) at(from, members[m], cell_xy[2 * m], cell_xy[2 * m + 1]);
   // Each ring adds only its new cells; the k best (distance, index) pairs so far are kept sorted, so
   // ties go to the lower index whatever order the cells give them in. Point i is done once its k-th
   // best lies within `ring * cell`: every point that near has been seen. Points are taken in cell
   // order too, so neighbouring searches share what the cache holds.
-  parallel_for(points.size(), [&](size_t begin, size_t end, unsigned) {
+  parallel_for(count, [&](size_t begin, size_t end, unsigned) {
     // The chunk's own list: per-worker lists side by side in one array shared their cache line,
     // and every insert by one core stalled the other.
     // Kept sorted by hand, the few larger ones shifted up: a handful of moves, no search and no
@@ -109,7 +131,7 @@ Neighbourhoods nearest_neighbours(const std::vector<Point3>& points, size_t k) {
       // The cells around passed over are farther than the k-th best; every cell beyond them lies
       // at least a cell and the point's distance to its own cell's nearest side away.
       const double beyond = (1 + std::min({fx, 1 - fx, fy, 1 - fy})) * cell;
-      bool done = (held == k && best[k - 1].first <= beyond * beyond * kMargin) || seen == points.size();
+      bool done = (held == k && best[k - 1].first <= beyond * beyond * kMargin) || seen == count;
       if (!done) {
         for (int p = 0; p < passed; ++p) take_cell(cx + around[passed_over[p]][0], cy + around[passed_over[p]][1]);
       }
@@ -124,10 +146,10 @@ Neighbourhoods nearest_neighbours(const std::vector<Point3>& points, size_t k) {
           }
         }
         const double reach = static_cast<double>(ring) * cell;
-        done = (held == k && best[k - 1].first <= reach * reach) || seen == points.size();
+        done = (held == k && best[k - 1].first <= reach * reach) || seen == count;
       }
-      size_t* nearest = out.nearest.get() + position * k;
-      for (size_t b = 0; b < held; ++b) *nearest++ = best[b].second;
+      uint32_t* nearest = out.nearest.get() + position * k;
+      for (size_t b = 0; b < held; ++b) *nearest++ = static_cast<uint32_t>(best[b].second);
     }
   }, 64);
   out.order = std::move(members);

@@ -77,7 +77,7 @@ TEST(Neighbours, TheFlatFormHoldsTheSameNeighboursAndAnOrderOfEveryPoint) {
     for (size_t m = 0; m < 6; ++m) LONGS_EQUAL(hood[i][m], flat.of(i)[m]);
   }
   // The order visits every point once, and consecutive points in it lie close together.
-  std::vector<size_t> sorted = flat.order;
+  std::vector<size_t> sorted(flat.order.begin(), flat.order.end());
   std::sort(sorted.begin(), sorted.end());
   for (size_t i = 0; i < sorted.size(); ++i) LONGS_EQUAL(i, sorted[i]);
   double step_sum = 0;
