@@ -1,5 +1,6 @@
 // A low-order polynomial z(x, y) fitted by least squares to a handful of neighbouring points.
 #pragma once
+#include <cmath>
 #include <cstddef>
 #include <vector>
 
@@ -62,6 +63,13 @@ struct LocalPolynomial {
   // steps reach (the vertical there misses the surface, or meets it where it turns over), and `z`
   // is then the last step's value, no height of the model. An upright model always has one.
   bool height(double x, double y, double& z) const;
+  // at() for an upright model; for a tilted one its height(), or HUGE_VAL where it has none, so
+  // that a point there is missed by any bound rather than judged by a number the model lacks.
+  double height_or_huge(double x, double y) const {
+    if (!tilted) return at(x, y);
+    double z = 0;
+    return height(x, y, z) ? z : HUGE_VAL;
+  }
 
  private:
   double tilted_at(double x, double y) const;

@@ -269,7 +269,9 @@ LooModel loo_model(const std::vector<Point3>& points, const std::vector<size_t>&
     for (int step = 0; step < 4 && fit(); ++step) {
       const uint64_t fitted_mask = subset_mask;
       if (!masked) fitted_set.assign(subset.begin(), subset.end());
-      const double trimmed = rank([&](size_t j) { return model.at(points[j].x, points[j].y); }, subset, subset_mask, true);
+      // A tilted model's points without a height under it rank last (height_or_huge).
+      const double trimmed =
+          rank([&](size_t j) { return model.height_or_huge(points[j].x, points[j].y); }, subset, subset_mask, true);
       result = LooModel{};
       result.ok = true;
       result.prediction = tilt ? model.at(points[i].x, points[i].y) : model.c[0];
@@ -356,7 +358,7 @@ LooModel loo_model(const std::vector<Point3>& points, const std::vector<size_t>&
       *misses = WindowMisses{};
       std::vector<std::pair<double, size_t>>& worst = scratch.ranked_points;
       worst.clear();
-      for (size_t j : window) worst.push_back({std::fabs(points[j].z - model.at(points[j].x, points[j].y)), j});
+      for (size_t j : window) worst.push_back({std::fabs(points[j].z - model.height_or_huge(points[j].x, points[j].y)), j});
       const size_t kept = std::min<size_t>(WindowMisses::kWorst, worst.size());
       std::partial_sort(worst.begin(), worst.begin() + static_cast<std::ptrdiff_t>(kept), worst.end(),
                         [](const auto& a, const auto& b) { return a.first > b.first; });
@@ -365,7 +367,7 @@ LooModel loo_model(const std::vector<Point3>& points, const std::vector<size_t>&
     for (size_t m = 0; m < count; ++m) {
       const size_t j = near_index[m];
       if (std::find(kept_subset->begin(), kept_subset->end(), j) != kept_subset->end()) ++out.near_kept;
-      const double residual = std::fabs(points[j].z - model.at(points[j].x, points[j].y));
+      const double residual = std::fabs(points[j].z - model.height_or_huge(points[j].x, points[j].y));
       if (misses != nullptr) misses->near_index[m] = static_cast<uint32_t>(j), misses->near_residual[m] = residual;
       out.near_worst = std::max(out.near_worst, residual);
     }

@@ -90,7 +90,7 @@ bool spans_beyond_order(const std::vector<Point3>& points, const std::vector<siz
                         int order, double bound) {
   std::vector<double> xs, ys;
   for (size_t j : members) {
-    if (std::fabs(points[j].z - m.polynomial.at(points[j].x, points[j].y)) > bound) continue;
+    if (!(std::fabs(points[j].z - m.polynomial.height_or_huge(points[j].x, points[j].y)) <= bound)) continue;
     xs.push_back(points[j].x);
     ys.push_back(points[j].y);
   }
@@ -319,7 +319,7 @@ bool surface_resolved(const std::vector<Point3>& points, IndexSpan hood, IndexSp
     auto predicts_ring = [&]() {
       return std::all_of(half.begin(), half.end(), [&](size_t j) {
         return std::hypot(points[j].x - points[i].x, points[j].y - points[i].y) > 1.5 * step_mm ||
-               std::fabs(points[j].z - m.polynomial.at(points[j].x, points[j].y)) <= half_bound;
+               std::fabs(points[j].z - m.polynomial.height_or_huge(points[j].x, points[j].y)) <= half_bound;
       });
     };
     if (describes(m, 2.0) && predicts_ring() && spans_beyond_order(points, half, m, half_order(w), half_bound)) {

@@ -108,4 +108,12 @@ TEST(LocalPolynomial, ATiltedModelHasNoHeightWhereTheVerticalMissesItsSurface) {
   upright.c[3] = 1.0;
   CHECK(upright.height(-0.5, 0, z));
   DOUBLES_EQUAL(0.25, z, 1e-12);
+  // The judges read heights through height_or_huge: no number where there is no height, so that
+  // no bound is ever met there; the height itself where there is one; at() for an upright model.
+  for (double x : {-0.5, -0.05, -0.01}) CHECK(model.height_or_huge(x, 0) == HUGE_VAL);
+  for (double x : {0.0, 0.01, 0.3}) {
+    CHECK(model.height(x, 0, z));
+    CHECK(model.height_or_huge(x, 0) == z);
+  }
+  CHECK(upright.height_or_huge(-0.5, 0) == upright.at(-0.5, 0));
 }
