@@ -358,11 +358,16 @@ LooModel loo_model(const std::vector<Point3>& points, const std::vector<size_t>&
       *misses = WindowMisses{};
       std::vector<std::pair<double, size_t>>& worst = scratch.ranked_points;
       worst.clear();
-      for (size_t j : window) worst.push_back({std::fabs(points[j].z - model.height_or_huge(points[j].x, points[j].y)), j});
+      for (size_t j : window) {
+        worst.push_back({std::fabs(points[j].z - model.height_or_huge(points[j].x, points[j].y)), j});
+      }
       const size_t kept = std::min<size_t>(WindowMisses::kWorst, worst.size());
       std::partial_sort(worst.begin(), worst.begin() + static_cast<std::ptrdiff_t>(kept), worst.end(),
                         [](const auto& a, const auto& b) { return a.first > b.first; });
-      for (size_t m = 0; m < kept; ++m) misses->worst_residual[m] = worst[m].first, misses->worst_index[m] = static_cast<uint32_t>(worst[m].second);
+      for (size_t m = 0; m < kept; ++m) {
+        misses->worst_residual[m] = worst[m].first;
+        misses->worst_index[m] = static_cast<uint32_t>(worst[m].second);
+      }
     }
     for (size_t m = 0; m < count; ++m) {
       const size_t j = near_index[m];

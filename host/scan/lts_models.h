@@ -50,9 +50,9 @@ inline bool keeps_mask(const std::vector<Ranked>& ranked, uint64_t mask) {
 }
 
 // What the judges read of a model of point i's neighbours fitted without i: a window's robust
-// model (LooModel) or a line's quadratic. Every point's test keeps seventeen of these, so the
-// window's polynomial itself is not among them (with it a test took 3.5 kB a point, 350 MB for
-// 100,000 points).
+// model (LooModel) or a line's quadratic. Every point's test keeps up to seventeen of these
+// (PointModels, lts_judges.h), so the window's polynomial itself is not among them (with it a test
+// took 3.5 kB a point, 350 MB for 100,000 points).
 struct LooFit {
   double prediction = 0;  // the model's height at point i
   double scale = 0;       // its trimmed residual scale
@@ -65,7 +65,7 @@ struct LooFit {
   int dof = 1;  // the trimmed residuals' degrees of freedom, h - p (at least 1)
   // How many of those four neighbours the model kept: a model that trims them describes another
   // surface than the one i is on (across a crease from it). One byte, beside `ok`: the fit is
-  // 40 bytes instead of 48 (seventeen a point).
+  // 40 bytes instead of 48 (up to seventeen a point).
   int8_t near_kept = 0;
   bool ok = false;
   // A line's quadratic, not the straight line that stands in for it: its prediction carries the
@@ -139,9 +139,9 @@ size_t nearest_four(const std::vector<Point3>& points, const std::vector<size_t>
                     std::vector<std::pair<double, size_t>>& scratch);
 
 // Which of a window's points its model misses, for the whole window's model only (kept apart from
-// the LooFit, of which every point holds seventeen): the judge may pass over a suspected neighbour,
-// but not a surface beyond a crease.
-// Point numbers are 32-bit, as in the windows (lts_grid.h).
+// the LooFit, of which every point holds up to seventeen): the judge may pass over a suspected
+// neighbour, but not a surface beyond a crease. Point numbers are 32-bit, as in the windows
+// (lts_grid.h).
 struct WindowMisses {
   uint32_t near_index[4] = {};  // point i's four nearest neighbours in the window
   double near_residual[4] = {};  // and their |residuals|

@@ -24,7 +24,8 @@ Neighbourhoods nearest_neighbours(size_t count, PlanePoint at, const void* from,
   Neighbourhoods out;
   if (count == 0) return out;
   if (count > kMostNeighbourPoints) {
-    throw std::length_error("the nearest-neighbour search takes at most 4,294,967,295 points, not " + std::to_string(count));
+    throw std::length_error("the nearest-neighbour search takes at most 4,294,967,295 points, not " +
+                            std::to_string(count));
   }
   double x0 = HUGE_VAL, x1 = -HUGE_VAL, y0 = HUGE_VAL, y1 = -HUGE_VAL;
   for (size_t i = 0; i < count; ++i) {
