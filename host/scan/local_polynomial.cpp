@@ -11,7 +11,6 @@ namespace dg::host {
 namespace {
 
 using polynomial_terms::terms;
-using polynomial_terms::value;
 
 // The points' terms into the normal equations (packed lower triangle) and the right-hand side, N
 // terms a point, `place(j, dx, dy, value)` giving point j's scaled offsets and value. N is fixed at
@@ -52,14 +51,6 @@ namespace {
 
 double dot(const double (&axis)[3], double x, double y, double z) { return axis[0] * x + axis[1] * y + axis[2] * z; }
 
-// The model's value at scaled offsets (dx, dy).
-double value_of(const LocalPolynomial& m, double dx, double dy) {
-  switch (m.order) {
-    case 1: return value<3>(m.c, dx, dy);
-    case 2: return value<6>(m.c, dx, dy);
-    default: return value<10>(m.c, dx, dy);
-  }
-}
 
 // Its derivatives along dx and dy there.
 void slope_of(const LocalPolynomial& m, double dx, double dy, double& along_x, double& along_y) {
@@ -85,7 +76,7 @@ void miss_and_rate(const LocalPolynomial& m, double ox, double oy, double oz, do
   const double du = dot(m.axis_u, ox, oy, oz) / m.scale_x, dv = dot(m.axis_v, ox, oy, oz) / m.scale_y;
   double along_u, along_v;
   slope_of(m, du, dv, along_u, along_v);
-  miss = dot(m.normal, ox, oy, oz) - value_of(m, du, dv);
+  miss = dot(m.normal, ox, oy, oz) - polynomial_terms::value_of_order(m.order, m.c, du, dv);
   rate = m.normal[2] - along_u * m.axis_u[2] / m.scale_x - along_v * m.axis_v[2] / m.scale_y;
 }
 

@@ -29,6 +29,15 @@ inline double value(const double* c, double dx, double dy) {
   return z;
 }
 
+// The polynomial of `order` (1, 2 or 3) at (dx, dy).
+inline double value_of_order(int order, const double* c, double dx, double dy) {
+  switch (order) {
+    case 1: return value<3>(c, dx, dy);
+    case 2: return value<6>(c, dx, dy);
+    default: return value<10>(c, dx, dy);
+  }
+}
+
 }  // namespace polynomial_terms
 
 // z = c0 + c1 dx + c2 dy (+ c3 dx^2 + c4 dx dy + c5 dy^2 (+ the four cubic terms)), with dx, dy measured from `centre` and
@@ -52,12 +61,7 @@ struct LocalPolynomial {
   // steps, and in a profile the call and the switch on the order were the iteration's hottest lines.
   double at(double x, double y) const {
     if (tilted) return tilted_at(x, y);
-    const double dx = (x - centre.x) / scale_x, dy = (y - centre.y) / scale_y;
-    switch (order) {
-      case 1: return polynomial_terms::value<3>(c, dx, dy);
-      case 2: return polynomial_terms::value<6>(c, dx, dy);
-      default: return polynomial_terms::value<10>(c, dx, dy);
-    }
+    return polynomial_terms::value_of_order(order, c, (x - centre.x) / scale_x, (y - centre.y) / scale_y);
   }
   // The same, checked: false where a tilted model's surface has no height above (x, y) that Newton's
   // steps reach (the vertical there misses the surface, or meets it where it turns over), and `z`

@@ -13,6 +13,22 @@ using namespace dg::host::lts;
 
 TEST_GROUP(LtsJudges){};
 
+namespace {
+
+// A window's model that fitted, with its figures.
+LooFit fitted(double prediction, double scale, double gain, int near_kept, double near_worst = HUGE_VAL) {
+  LooFit m;
+  m.ok = true;
+  m.prediction = prediction;
+  m.scale = scale;
+  m.gain = gain;
+  m.near_kept = static_cast<int8_t>(near_kept);
+  m.near_worst = near_worst;
+  return m;
+}
+
+}  // namespace
+
 TEST(LtsJudges, AWholeWindowThatJudgesAloneWithoutSuspectsStillJudgesAloneWithAny) {
   // The filter fits a point's eight half-planes only where its whole window, asked without
   // suspects, does not judge alone and clear it: every later verdict asks that window first, with
@@ -157,11 +173,7 @@ TEST(LtsJudges, AHalfPlaneALittleRougherThanAJudgeThatPredictsThePointCloselyNea
   // ninth of its bound; the whole window (two nearest neighbours kept) does not describe its points.
   PointTest t;
   t.z = 130;
-  t.model.set(0).ok = true;
-  t.model.set(0).scale = 2.7;
-  t.model.set(0).gain = 0.3;
-  t.model.set(0).near_kept = 2;
-  t.model.set(0).prediction = 108;
+  t.model.set(0) = fitted(108, 2.7, 0.3, 2);
   LooFit& half = t.model.set(2);
   half.ok = true;
   half.prediction = 128.5;
@@ -370,11 +382,7 @@ namespace {
 PointTest vouched_from_across_the_rim() {
   PointTest t;
   t.z = 33;
-  t.model.set(0).ok = true;
-  t.model.set(0).scale = 2.6;
-  t.model.set(0).gain = 1.0;
-  t.model.set(0).near_kept = 3;
-  t.model.set(0).prediction = 1;
+  t.model.set(0) = fitted(1, 2.6, 1.0, 3);
   LooFit& half = t.model.set(5);
   half.ok = true;
   half.scale = 1.6;
@@ -464,18 +472,6 @@ TEST(LtsJudges, TwoNearWindowsThatPutThePointBeyondTheirBoundsStandAgainstIt) {
 }
 
 namespace {
-
-// A window's model that fitted, with its figures.
-LooFit fitted(double prediction, double scale, double gain, int near_kept, double near_worst = HUGE_VAL) {
-  LooFit m;
-  m.ok = true;
-  m.prediction = prediction;
-  m.scale = scale;
-  m.gain = gain;
-  m.near_kept = static_cast<int8_t>(near_kept);
-  m.near_worst = near_worst;
-  return m;
-}
 
 // The sphere's outlier at 5 um (seed 8, (10, 13)): the whole window (2.6 sigma) puts it 11.5 sigma
 // off, 0.8 of its bound, and a half-plane describing its points 1.6 times beyond its own.
