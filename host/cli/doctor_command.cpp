@@ -170,7 +170,13 @@ int run_doctor_command(const CLI::App& app, const DoctorArgs& args) {
   findings.push_back(simulator_found ? Finding{Health::kOk, "simulator " + simulator + " (sim: devices)", ""}
                                      : Finding{Health::kWarning, "no digitizer-sim beside digitizer: sim: devices look for it on the PATH",
                                                "install digitizer-sim next to digitizer, or set DIGITIZER_SIM"});
-  findings.push_back({Health::kOk, "OpenCASCADE " + opencascade_version() + " (STEP and IGES nominals for inspect)", ""});
+  try {
+    findings.push_back(
+        {Health::kOk, "OpenCASCADE " + opencascade_version() + " (STEP and IGES nominals for inspect)", ""});
+  } catch (const CadNominalError& e) {
+    findings.push_back(
+        {Health::kFailure, e.what(), "reinstall the digitizer package: inspect cannot read STEP or IGES nominals"});
+  }
   const std::string chromium = find_chromium();
   findings.push_back(!chromium.empty() ? Finding{Health::kOk, "Chromium " + chromium + " (the report's PDF)", ""}
                                        : Finding{Health::kWarning, "no Chromium: inspect writes its HTML report but no PDF",

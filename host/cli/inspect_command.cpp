@@ -7,6 +7,7 @@
 #include <cstring>
 #include <cstdio>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 
@@ -271,7 +272,7 @@ int run_inspect(const InspectArgs& given) {
   const bool mesh_nominal = format == FileFormat::kStl || format == FileFormat::kObj || format == FileFormat::kPly;
   // A mesh or a CAD part: measured through its closest points, not as one B-spline.
   std::optional<MeshLocator> mesh;
-  std::optional<CadNominal> cad;
+  std::unique_ptr<CadNominal> cad;
   std::function<Closest(const Point3&)> nominal;
   char summary[200];
   if (mesh_nominal) {
@@ -283,7 +284,7 @@ int run_inspect(const InspectArgs& given) {
     surface.nominal_summary = summary;
     if (mesh->without_area() > 0) surface.nominal_summary += ", " + std::to_string(mesh->without_area()) + " of them without area and read past";
   } else if (iges || step) {
-    cad.emplace(CadNominal::read(a.surface));
+    cad = CadNominal::read(a.surface);
     nominal = [&](const Point3& p) { return cad->closest(p); };
     surface.model = "cad";
     surface.method = iges ? "nominal (IGES)" : "nominal (STEP)";
@@ -359,7 +360,7 @@ int run_inspect(const InspectArgs& given) {
                                                                       : 0;
   const bool uncertainty_drawn =
       !a.report_html.empty() && write_report(a, r, surface, alignment, decision ? &*decision : nullptr,
-                                             view_surface(r, surface, mesh ? &*mesh : nullptr, cad ? &*cad : nullptr));
+                                             view_surface(r, surface, mesh ? &*mesh : nullptr, cad.get()));
   // The PDF for sign-off, beside a report written to a regular file.
   std::string pdf_note;
   if (!a.report_html.empty() && a.pdf && a.report_html != "-") {

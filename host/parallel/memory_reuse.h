@@ -17,9 +17,10 @@ namespace dg::host {
 // build, DIGITIZER_HUGE_PAGES=0), freed blocks are still kept, by mallopt.
 // Peak memory moves by up to about 10 % from run to run with huge pages (`fit` on the 1e6-point PLY:
 // 259-287 MB, against 256-277 MB before any of this).
-// The restart costs a second start-up (about 65 ms for `digitizer`, most of it the CAD kernel's
-// libraries), so by default it is made only for a large job: one of whose arguments names a file
-// of at least kLargeInputBytes (the 1e5-point grid scan is 1.3 MB; its LTS filter gained 0.37 s).
+// The restart costs a second start-up (about 8 ms for `digitizer`; 65 ms while it linked the CAD
+// kernel, which is now a module loaded on use, cad_module.h), so by default it is made only for a
+// large job: one of whose arguments names a file of at least kLargeInputBytes (the 1e5-point grid
+// scan is 1.3 MB; its LTS filter gained 0.37 s).
 // Call first in main(), before any thread starts.
 enum class Restart { kForLargeInput, kAlways };
 constexpr long long kLargeInputBytes = 1 << 20;

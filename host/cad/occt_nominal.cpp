@@ -1,5 +1,5 @@
 // STEP and IGES parts through OpenCASCADE: read, meshed to find candidate faces, measured exactly.
-#include "host/cad/cad_nominal.h"
+// Built as the module the digitizer loads when a command first reads a CAD nominal (cad_module.h).
 
 #include <BRepAdaptor_Curve.hxx>
 #include <BRepAdaptor_Surface.hxx>
@@ -44,6 +44,8 @@
 #include <utility>
 #include <vector>
 
+#include "host/cad/cad_module.h"
+#include "host/cad/cad_nominal.h"
 #include "host/cad/trim_grid.h"
 #include "host/cad/vertex_welder.h"
 #include "host/geometry/triangle_mesh.h"
@@ -52,9 +54,9 @@
 
 namespace dg::host {
 
-std::string opencascade_version() { return OCC_VERSION_COMPLETE; }
+namespace {
 
-struct CadNominal::Impl {
+struct Impl {
   std::vector<TopoDS_Face> faces;
   std::vector<std::unique_ptr<BRepAdaptor_Surface>> surfaces;     // per face
   std::vector<std::unique_ptr<BRepTopAdaptor_FClass2d>> inside;  // per face: (u, v) in its trims
@@ -73,8 +75,6 @@ struct CadNominal::Impl {
   double deflection_mm = 0;
   mutable size_t fallbacks = 0;
 };
-
-namespace {
 
 // OpenCASCADE reports through its default messenger on standard output, where our results go.
 void silence_opencascade() {
@@ -174,13 +174,23 @@ TopoDS_Shape read_shape(const std::string& path) {
   return reader.OneShape();
 }
 
-}  // namespace
+// The part as the digitizer measures against it, through the interface of cad_nominal.h.
+class OcctNominal final : public CadNominal {
+ public:
+  explicit OcctNominal(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+  Closest closest(const Point3& p) const override;
+  size_t face_count() const override { return impl_->faces.size(); }
+  size_t triangle_count() const override { return impl_->mesh->triangle_count(); }
+  double deflection_mm() const override { return impl_->deflection_mm; }
+  const Mesh& mesh() const override { return impl_->mesh->mesh(); }
+  size_t mesh_fallbacks() const override { return impl_->fallbacks; }
 
-CadNominal::CadNominal(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
-CadNominal::CadNominal(CadNominal&&) noexcept = default;
-CadNominal::~CadNominal() = default;
+ private:
+  bool local_closest(const Point3& p, size_t triangle, const Closest& on_mesh, Closest& out) const;
+  std::unique_ptr<Impl> impl_;
+};
 
-CadNominal CadNominal::read(const std::string& path) {
+std::unique_ptr<CadNominal> read_nominal(const std::string& path) {
   auto impl = std::make_unique<Impl>();
   try {
     const TopoDS_Shape shape = read_shape(path);
@@ -236,11 +246,11 @@ CadNominal CadNominal::read(const std::string& path) {
   } catch (const std::invalid_argument& e) {
     throw CadNominalError(path + ": " + e.what());
   }
-  return CadNominal(std::move(impl));
+  return std::make_unique<OcctNominal>(std::move(impl));
 }
 
 // The local search on the face of mesh triangle t from the (u, v) of the mesh foot.
-bool CadNominal::local_closest(const Point3& p, size_t t, const Closest& on_mesh, Closest& out) const {
+bool OcctNominal::local_closest(const Point3& p, size_t t, const Closest& on_mesh, Closest& out) const {
   const auto& uv = impl_->uv_of_corner[t];
   if (std::isnan(uv[0].X())) return false;
   // The mesh foot's barycentric coordinates in its triangle carry over to (u, v).
@@ -269,7 +279,7 @@ bool CadNominal::local_closest(const Point3& p, size_t t, const Closest& on_mesh
   return std::isfinite(out.distance);
 }
 
-Closest CadNominal::closest(const Point3& p) const {
+Closest OcctNominal::closest(const Point3& p) const {
   size_t nearest = 0;
   const Closest on_mesh = impl_->mesh->closest(p, &nearest);
   // Every face that has a triangle within the mesh's distance plus twice its deflection may hold
@@ -327,11 +337,22 @@ Closest CadNominal::closest(const Point3& p) const {
   return best;
 }
 
-size_t CadNominal::face_count() const { return impl_->faces.size(); }
-size_t CadNominal::triangle_count() const { return impl_->mesh->triangle_count(); }
-double CadNominal::deflection_mm() const { return impl_->deflection_mm; }
-size_t CadNominal::mesh_fallbacks() const { return impl_->fallbacks; }
-
-const Mesh& CadNominal::mesh() const { return impl_->mesh->mesh(); }
-
+}  // namespace
 }  // namespace dg::host
+
+// The module's entry points. Nothing thrown crosses them: the error comes back as its message.
+extern "C" __attribute__((visibility("default"))) dg::host::CadNominal* dg_cad_read_nominal(const std::string* path,
+                                                                                          std::string* error) {
+  try {
+    return dg::host::read_nominal(*path).release();
+  } catch (const std::exception& e) {
+    *error = e.what();
+  } catch (...) {
+    *error = *path + ": OpenCASCADE failed on it";
+  }
+  return nullptr;
+}
+
+extern "C" __attribute__((visibility("default"))) const char* dg_cad_opencascade_version() {
+  return OCC_VERSION_COMPLETE;
+}
