@@ -2,24 +2,15 @@
 #include "host/cad/cad_module.h"
 
 #include <dlfcn.h>
-#include <limits.h>
-#include <unistd.h>
 
 #include <mutex>
+#include <vector>
 
 #include "host/cad/cad_nominal.h"
+#include "host/io/own_prefix.h"
 
 namespace dg::host {
 namespace {
-
-// The directory holding the running program ("" when /proc cannot say).
-std::string program_directory() {
-  char self[PATH_MAX] = {};
-  const ssize_t n = readlink("/proc/self/exe", self, sizeof(self) - 1);
-  if (n <= 0) return "";
-  const std::string path(self, static_cast<size_t>(n));
-  return path.substr(0, path.rfind('/'));
-}
 
 // The module's handle, loaded once (never closed: the parts it made live until the program ends),
 // or the reason it could not be.
@@ -32,10 +23,13 @@ const Loaded& loaded() {
   static Loaded module;
   static std::once_flag once;
   std::call_once(once, [] {
-    const std::string beside = program_directory() + "/../lib/digitizer/" + cad_module::kFileName;
-    const std::string installed = std::string(DIGITIZER_MODULE_DIR) + "/" + cad_module::kFileName;
+    std::vector<std::string> paths;
+    if (const std::string prefix = own_prefix(); !prefix.empty()) {
+      paths.push_back(prefix + "/lib/digitizer/" + cad_module::kFileName);
+    }
+    paths.push_back(std::string(DIGITIZER_MODULE_DIR) + "/" + cad_module::kFileName);
     std::string tried;
-    for (const std::string& path : {beside, installed}) {
+    for (const std::string& path : paths) {
       module.handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
       if (module.handle) return;
       const char* why = dlerror();

@@ -12,8 +12,9 @@ class CadNominal;
 // program loads when a command first reads such a nominal.
 namespace dg::host::cad_module {
 
-// The module's file name, looked for in `lib/digitizer` beside the program's `bin` (the build tree's
-// and the installed package's layout alike), then in the directory it was installed to.
+// The module's file name, looked for in `lib/digitizer` under the program's own prefix (own_prefix.h:
+// the build tree's and the installed package's layout alike), then in the directory it was
+// installed to.
 constexpr const char* kFileName = "digitizer-occt.so";
 
 // Its entry points, found by name. Nothing thrown crosses them.

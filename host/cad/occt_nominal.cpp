@@ -41,6 +41,7 @@
 #include <cmath>
 #include <fstream>
 #include <set>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -356,3 +357,7 @@ extern "C" __attribute__((visibility("default"))) dg::host::CadNominal* dg_cad_r
 extern "C" __attribute__((visibility("default"))) const char* dg_cad_opencascade_version() {
   return OCC_VERSION_COMPLETE;
 }
+
+// The program calls them through cad_module.h's types: they must be those exactly.
+static_assert(std::is_same_v<decltype(&dg_cad_read_nominal), dg::host::cad_module::ReadNominal>);
+static_assert(std::is_same_v<decltype(&dg_cad_opencascade_version), dg::host::cad_module::OpencascadeVersion>);

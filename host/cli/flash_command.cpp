@@ -2,6 +2,7 @@
 // tools that speak the ROM bootloader's DFU and the ST-LINK), started without a shell.
 #include "host/cli/flash_command.h"
 #include "host/cli/program_path.h"
+#include "host/io/own_prefix.h"
 
 #include <spawn.h>
 #include <sys/wait.h>

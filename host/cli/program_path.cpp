@@ -5,7 +5,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <climits>
 #include <cstdlib>
 
 namespace dg::host {
@@ -21,15 +20,6 @@ std::string find_on_path(const std::string& name) {
     start = end + 1;
   }
   return "";
-}
-
-std::string own_prefix() {
-  char self[PATH_MAX] = {};
-  const ssize_t n = readlink("/proc/self/exe", self, sizeof(self) - 1);
-  if (n <= 0) return "";
-  std::string path(self, static_cast<size_t>(n));
-  path = path.substr(0, path.rfind('/'));  // .../bin
-  return path.substr(0, path.rfind('/'));
 }
 
 }  // namespace dg::host

@@ -51,7 +51,6 @@ namespace {
 
 double dot(const double (&axis)[3], double x, double y, double z) { return axis[0] * x + axis[1] * y + axis[2] * z; }
 
-
 // Its derivatives along dx and dy there.
 void slope_of(const LocalPolynomial& m, double dx, double dy, double& along_x, double& along_y) {
   const double* c = m.c;
