@@ -22,6 +22,7 @@
 #include "host/fit/tolerance_fit.h"
 #include "host/fit/fit_validation.h"
 #include "host/fit/orthogonal_distances.h"
+#include "host/scan/spatial_order.h"
 #include "host/fit/regions.h"
 #include "host/fit/propagated_uncertainty.h"
 #include "host/fit/replica_uncertainty.h"
@@ -323,16 +324,28 @@ CLI::App* add_fit_command(CLI::App& app, FitArgs& a) {
 }
 
 int run_fit(const FitArgs& a) {
-  const PointCloud cloud = read_points(a.input);
+  PointCloud cloud = read_points(a.input);
   if (a.method == FitMethod::kIps) return run_fit_ips(a, cloud);
   if (a.model == SurfaceModel::kHermite) return run_fit_hermite(a, cloud);
-  const Parameters params = parameterize(cloud, parse_parameterization(a.param));
+  const Parameterization kind = parse_parameterization(a.param);
   std::vector<double> weights;
   if (cloud.sigma && !a.ignore_sigma) {
     SigmaWeights from_sigma = sigma_weights(*cloud.sigma);
     if (!from_sigma.problem.empty()) throw FitError(a.input + ": " + from_sigma.problem);
     weights = std::move(from_sigma.weights);
   }
+  // A large scattered cloud is fitted in an order where neighbours are near in memory
+  // (spatial_order.h); messages still name its points by their place in the file. The results are
+  // those of the file's order but for rounding and which points share a validation fold.
+  std::vector<uint32_t> file_order;
+  if (!cloud.line && kind == Parameterization::kTableXy && cloud.points.size() >= kSpatialOrderFrom) {
+    file_order = spatial_order(cloud.points);
+    if (!file_order.empty()) {
+      cloud = reordered(std::move(cloud), file_order);
+      if (!weights.empty()) weights = reordered(weights, file_order);
+    }
+  }
+  const Parameters params = parameterize(cloud, kind);
   const std::vector<double>* w = weights.empty() ? nullptr : &weights;
 
   FittedSurface out;
@@ -379,6 +392,7 @@ int run_fit(const FitArgs& a) {
     }
     options.extra_knots_u = with_crease_knots({}, creases.u, degree);
     options.extra_knots_v = with_crease_knots({}, creases.v, degree);
+    if (!file_order.empty()) options.point_numbers = &file_order;
     ToleranceResult r = fit_to_tolerance(cloud, params, w, options);
     out.surface = std::move(r.surface);
     out.tolerance_mm = a.tolerance_mm;

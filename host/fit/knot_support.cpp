@@ -177,7 +177,17 @@ std::pair<int, int> unmatched_control_point(const std::vector<double>& knots_u, 
                   });
     }
   }
-  std::vector<int> control_of_point(uv.size(), -1), seen(uv.size(), -1);
+  // The matching's points numbered by their place among those the lists hold (at most `cap` a
+  // control point): arrays over every point of the index were two fills of the whole cloud per
+  // call, and the tolerance loop calls this for every fold and every knot it would add.
+  std::vector<int> held;
+  for (const std::vector<int>& mine : points_of) held.insert(held.end(), mine.begin(), mine.end());
+  std::sort(held.begin(), held.end());
+  held.erase(std::unique(held.begin(), held.end()), held.end());
+  for (std::vector<int>& mine : points_of) {
+    for (int& k : mine) k = static_cast<int>(std::lower_bound(held.begin(), held.end(), k) - held.begin());
+  }
+  std::vector<int> control_of_point(held.size(), -1), seen(held.size(), -1);
   for (int i = 0; i < count_u; ++i) {
     for (int j = 0; j < count_v; ++j) {
       if (!asked(i, j)) continue;

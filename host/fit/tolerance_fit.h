@@ -1,5 +1,6 @@
 // Fitting to a tolerance: refine a B-spline by knot insertion until every point is within it, or refuse.
 #pragma once
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,9 @@ struct ToleranceOptions {
   // A region's points (host/fit/regions.h) over a larger box: control points beyond them are placed,
   // not fitted (LsqSpec::fill_outside).
   bool fill_outside = false;
+  // Each point's place in its file (from 0), when the caller reordered the cloud (spatial_order.h):
+  // a refusal names the point by it. Null: the cloud is in the file's order.
+  const std::vector<uint32_t>* point_numbers = nullptr;
 };
 
 struct ToleranceResult {

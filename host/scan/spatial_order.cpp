@@ -1,0 +1,61 @@
+// Counting sort of points into rows of cells, for the cache's sake (spatial_order.h).
+#include "host/scan/spatial_order.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace dg::host {
+
+std::vector<uint32_t> spatial_order(const std::vector<Point3>& points) {
+  const size_t count = points.size();
+  if (count == 0 || count > UINT32_MAX) return {};
+  double x0 = HUGE_VAL, x1 = -HUGE_VAL, y0 = HUGE_VAL, y1 = -HUGE_VAL;
+  for (const Point3& p : points) {
+    x0 = std::min(x0, p.x), x1 = std::max(x1, p.x), y0 = std::min(y0, p.y), y1 = std::max(y1, p.y);
+  }
+  // About four points a cell, as the nearest-neighbour search's buckets; at least four points'
+  // share of the longer side, so points on one line do not make a cell of no width.
+  const double n = static_cast<double>(count);
+  const double area = std::max((x1 - x0) * (y1 - y0), 1e-12);
+  const double cell = std::max({std::sqrt(area * 4.0 / n), 4.0 * std::max(x1 - x0, y1 - y0) / n, 1e-9});
+  const size_t columns = static_cast<size_t>(std::floor((x1 - x0) / cell)) + 1;
+  const size_t rows = static_cast<size_t>(std::floor((y1 - y0) / cell)) + 1;
+  std::vector<uint32_t> cell_of(count);
+  std::vector<size_t> start(columns * rows + 1, 0);
+  for (size_t i = 0; i < count; ++i) {
+    const size_t cx = std::min(columns - 1, static_cast<size_t>((points[i].x - x0) / cell));
+    const size_t cy = std::min(rows - 1, static_cast<size_t>((points[i].y - y0) / cell));
+    cell_of[i] = static_cast<uint32_t>(cy * columns + cx);
+    ++start[cell_of[i] + 1];
+  }
+  for (size_t c = 1; c < start.size(); ++c) start[c] += start[c - 1];
+  std::vector<uint32_t> order(count);
+  for (size_t i = 0; i < count; ++i) order[start[cell_of[i]]++] = static_cast<uint32_t>(i);
+  return order;
+}
+
+namespace {
+
+template <typename T>
+std::vector<T> gathered(const std::vector<T>& values, const std::vector<uint32_t>& order) {
+  std::vector<T> out;
+  out.reserve(order.size());
+  for (uint32_t i : order) out.push_back(values[i]);
+  return out;
+}
+
+}  // namespace
+
+PointCloud reordered(PointCloud cloud, const std::vector<uint32_t>& order) {
+  cloud.points = gathered(cloud.points, order);
+  if (cloud.line) cloud.line = gathered(*cloud.line, order);
+  if (cloud.normal) cloud.normal = gathered(*cloud.normal, order);
+  if (cloud.sigma) cloud.sigma = gathered(*cloud.sigma, order);
+  return cloud;
+}
+
+std::vector<double> reordered(const std::vector<double>& values, const std::vector<uint32_t>& order) {
+  return gathered(values, order);
+}
+
+}  // namespace dg::host
