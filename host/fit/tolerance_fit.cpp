@@ -14,6 +14,7 @@
 #include "host/fit/fit_validation.h"
 #include "host/fit/noise_estimate.h"
 #include "host/fit/orthogonal_distances.h"
+#include "host/scan/spatial_order.h"
 
 namespace dg::host {
 
@@ -87,6 +88,33 @@ ToleranceResult refine(const PointCloud& cloud, const Parameters& params, const 
 
 ToleranceResult fit_to_tolerance(const PointCloud& cloud, const Parameters& params, const std::vector<double>* weights,
                                  const ToleranceOptions& options) {
+  // A large scattered cloud out of order is refined in a spatial order (spatial_order.h: on a
+  // million random points 0.52 s against 0.62 s, warm), and its distances are given back in the
+  // caller's order.
+  if (!cloud.line && params.kind == Parameterization::kTableXy && params.uv.size() == cloud.points.size() &&
+      cloud.points.size() >= kSpatialOrderFrom && !spatially_ordered(cloud.points)) {
+    const std::vector<uint32_t> order = spatial_order(cloud.points);
+    if (!order.empty()) {
+      const PointCloud local = reordered(cloud, order);
+      Parameters local_params = params;
+      for (size_t k = 0; k < order.size(); ++k) local_params.uv[k] = params.uv[order[k]];
+      std::vector<double> local_weights;
+      if (weights) local_weights = reordered(*weights, order);
+      std::vector<uint32_t> numbers = order;
+      if (options.point_numbers && options.point_numbers->size() == order.size()) {
+        for (uint32_t& number : numbers) number = (*options.point_numbers)[number];
+      }
+      ToleranceOptions local_options = options;
+      local_options.point_numbers = &numbers;
+      ToleranceResult r = refine(local, local_params, weights ? &local_weights : nullptr, local_options, true, false);
+      if (r.distances.size() == order.size()) {
+        std::vector<double> distances(order.size());
+        for (size_t k = 0; k < order.size(); ++k) distances[order[k]] = r.distances[k];
+        r.distances = std::move(distances);
+      }
+      return r;
+    }
+  }
   return refine(cloud, params, weights, options, true, false);
 }
 

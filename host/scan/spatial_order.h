@@ -19,6 +19,11 @@ constexpr size_t kSpatialOrderFrom = 100000;
 // one cell in their own order (a stable counting sort). Empty for more than UINT32_MAX points.
 std::vector<uint32_t> spatial_order(const std::vector<Point3>& points);
 
+// Whether the points already lie in such an order (spatial_order's own, or a scanner's): fewer than
+// one in ten steps from a point to the next is longer than eight typical spacings. In a random
+// order nearly every step is.
+bool spatially_ordered(const std::vector<Point3>& points);
+
 // The cloud with its points and per-point columns (line, normal, sigma) in `order`.
 PointCloud reordered(PointCloud cloud, const std::vector<uint32_t>& order);
 

@@ -4,9 +4,13 @@
 #include <CppUTest/TestHarness.h>
 
 #include <cmath>
+#include <string>
 #include <random>
 
 #include "host/fit/noise_estimate.h"
+#include "host/fit/orthogonal_distances.h"
+#include "host/scan/spatial_order.h"
+#include "tests/support/scattered_cloud.h"
 #include "tests/support/part_scan.h"
 
 using namespace dg::host;
@@ -125,4 +129,33 @@ TEST(ToleranceFit, ReadingsRoundedToTheGaugeStepKeepACoarserNetConfirmedBetweenT
   CHECK(r.validation.passed);
   CHECK(!r.note.empty());
   CHECK(dg::test::max_error_against_part(r.surface, s) <= o.tolerance_mm);
+}
+
+TEST(ToleranceFit, ALargeCloudInRandomOrderGetsItsDistancesInItsOwnOrder) {
+  // 100,000 scattered points in random order are refined in a spatial order inside; each distance
+  // given back is still that of the caller's point k to the surface, and the refusal's point is
+  // named by the caller's numbers.
+  PointCloud c = dg::test::scattered_cloud(kSpatialOrderFrom, 80.0, 60.0, 11, 0.002, [](double x, double y) {
+    return 3.0 + 0.002 * ((x - 40) * (x - 40) + (y - 30) * (y - 30)) + 0.3 * std::sin(x / 6.0) * std::sin(y / 8.0);
+  });
+  CHECK_FALSE(spatially_ordered(c.points));
+  const Parameters p = parameterize(c, Parameterization::kTableXy);
+  ToleranceOptions o;
+  o.tolerance_mm = 0.02;
+  const ToleranceResult r = fit_to_tolerance(c, p, nullptr, o);
+  CHECK_TEXT(r.kept, r.reason.c_str());
+  LONGS_EQUAL(c.points.size(), r.distances.size());
+  const std::vector<double> own = orthogonal_distances(r.surface, c.points, p);
+  for (size_t k = 0; k < c.points.size(); k += 97) DOUBLES_EQUAL(own[k], r.distances[k], 1e-9);
+  // A reading 1 mm off cannot be kept within 0.02 mm: the refusal names it as the caller numbers it.
+  const size_t spike = 4321;
+  c.points[spike].z += 1.0;
+  std::vector<uint32_t> numbers(c.points.size());
+  for (size_t k = 0; k < numbers.size(); ++k) numbers[k] = static_cast<uint32_t>(k + 1000);
+  o.point_numbers = &numbers;
+  const ToleranceResult refused = fit_to_tolerance(c, p, nullptr, o);
+  CHECK_FALSE(refused.kept);
+  const std::string named = "at point " + std::to_string(spike + 1000 + 1) + " (";
+  CHECK_TEXT(refused.reason.find(named) != std::string::npos, refused.reason.c_str());
+  DOUBLES_EQUAL(refused.max_distance_mm, std::fabs(refused.distances[spike]), 1e-12);
 }

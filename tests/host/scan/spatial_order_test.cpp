@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 
 #include "tests/support/scattered_cloud.h"
 
@@ -93,4 +94,20 @@ TEST(SpatialOrder, PointsOnOneLineOrAtOnePlaceAreOrdered) {
   const std::vector<uint32_t> one_place = spatial_order(std::vector<Point3>(3, Point3{1, 1, 1}));
   CHECK((one_place == std::vector<uint32_t>{0, 1, 2}));
   CHECK(spatial_order({}).empty());
+}
+
+TEST(SpatialOrder, TellsAScannersOrderAndItsOwnFromARandomOne) {
+  // A 300 x 300 grid read row by row: one long step a row. Shuffled, nearly every step is long.
+  std::vector<Point3> rows;
+  for (int j = 0; j < 300; ++j) {
+    for (int i = 0; i < 300; ++i) rows.push_back({0.1 * i, 0.1 * j, 1.0});
+  }
+  CHECK(spatially_ordered(rows));
+  std::vector<Point3> shuffled = rows;
+  std::mt19937 rng(3);
+  std::shuffle(shuffled.begin(), shuffled.end(), rng);
+  CHECK_FALSE(spatially_ordered(shuffled));
+  const PointCloud c = cloud_of(20000);
+  CHECK_FALSE(spatially_ordered(c.points));
+  CHECK(spatially_ordered(reordered(c, spatial_order(c.points)).points));
 }
