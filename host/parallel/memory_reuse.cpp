@@ -64,10 +64,12 @@ void tune_memory(char** argv, Restart when) {
     put_back_tunables(saved.c_str());
     return;
   }
-  // Both kept by mallopt in any case: no block from a mapping of its own (a thread's arena still
-  // maps one larger than its heaps), and the heap's free top kept up to 1 GiB.
+  // All three kept by mallopt in any case: no block from a mapping of its own (a thread's arena
+  // still maps one larger than its heaps), the heap's free top kept up to 1 GiB, and one heap for
+  // every thread (memory_reuse.h).
   mallopt(M_MMAP_MAX, 0);
   mallopt(M_TRIM_THRESHOLD, 1 << 30);
+  mallopt(M_ARENA_MAX, 1);
   const char* wanted = std::getenv("DIGITIZER_HUGE_PAGES");
   if (!huge_pages_asked_for_by_restart() || argv == nullptr || argv[0] == nullptr ||
       (wanted && std::strcmp(wanted, "0") == 0) || (when == Restart::kForLargeInput && !names_large_file(argv))) {
@@ -77,7 +79,8 @@ void tune_memory(char** argv, Restart when) {
   const char* found = std::getenv("GLIBC_TUNABLES");
   const std::string caller = found ? found : kUnset;
   // The caller's own settings come last, so they win over these.
-  std::string tunables = "glibc.malloc.hugetlb=1:glibc.malloc.mmap_max=0:glibc.malloc.trim_threshold=1073741824";
+  std::string tunables =
+      "glibc.malloc.hugetlb=1:glibc.malloc.mmap_max=0:glibc.malloc.trim_threshold=1073741824:glibc.malloc.arena_max=1";
   if (found && *found) tunables += ":" + caller;
   if (setenv(kRestarted, caller.c_str(), 1) != 0 || setenv("GLIBC_TUNABLES", tunables.c_str(), 1) != 0) {
     put_back_tunables(caller.c_str());

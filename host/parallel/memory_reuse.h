@@ -5,11 +5,18 @@ namespace dg::host {
 
 // A page fault is dear on a virtual machine: on the 2-core benchmark machine fresh memory was
 // touched at about 0.4 GB/s, and faults were 9 to 11 % of the LTS filter's and fit_bench's time.
-// glibc can do two things about it, neither by default:
+// glibc can do three things about it, none by default:
 //  - keep large freed blocks for the next allocation, instead of handing each back to the kernel
 //    (every vector of a million points then faulted its pages in again);
 //  - ask the kernel for transparent huge pages on its heaps (one fault per 2 MB, not per 4 kB),
-//    which most distributions grant only to memory that asks (THP "madvise").
+//    which most distributions grant only to memory that asks (THP "madvise");
+//  - keep one heap for every thread (arena_max 1). A worker thread's own heap kept what the
+//    worker freed for that worker alone (the fit's per-slice sums, a sort's buffers: 30 to 60 MB
+//    on a million points), where the main thread's later vectors faulted fresh pages in again,
+//    and it got 4 kB pages: `fit` on the 1e6-point PLY took 10,400 faults and 0.73 s, with one
+//    heap 830 faults and 0.58 s, its peak 185 MB -> 157 MB. Small blocks still come from each
+//    thread's own cache (glibc's tcache), so the filter's many small ones do not wait on a lock
+//    (`filter --lts` times unchanged).
 // The second is only a tunable read from GLIBC_TUNABLES at start-up, so the first call starts the
 // program again (execv of /proc/self/exe, same arguments) with both set; the second run puts the
 // caller's GLIBC_TUNABLES back before anything else, so programs it starts (the simulator, a

@@ -1,9 +1,11 @@
 // memory-probe: calls tune_memory as digitizer's main does and reports what the test of it reads.
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <thread>
 
 #include "host/parallel/memory_reuse.h"
 
@@ -16,6 +18,21 @@ int main(int argc, char** argv) {
   std::printf("tunables=%s\n", tunables ? tunables : "(unset)");
   std::printf("mark=%s\n", std::getenv("DIGITIZER_CALLER_TUNABLES") ? "left" : "gone");
   std::printf("restarted=%s\n", started_with.find("glibc.malloc.hugetlb=1") != std::string::npos ? "yes" : "no");
+  // A block another thread allocates lies in the main thread's heap (within 4 GiB of one the main
+  // thread allocates) only if every thread shares that heap; a thread's own heap is a mapping of its
+  // own, far from it.
+  if (dg::host::huge_pages_asked_for_by_restart()) {
+    void* mine = std::malloc(65536);
+    void* theirs = nullptr;
+    std::thread([&] { theirs = std::malloc(65536); }).join();
+    const long long apart = static_cast<long long>(reinterpret_cast<uintptr_t>(theirs)) -
+                            static_cast<long long>(reinterpret_cast<uintptr_t>(mine));
+    std::printf("heaps=%s\n", std::llabs(apart) < (1LL << 32) ? "one" : "several");
+    std::free(theirs);
+    std::free(mine);
+  } else {
+    std::printf("heaps=(not glibc's)\n");
+  }
   for (int k = 1; k < argc; ++k) std::printf("arg=%s\n", argv[k]);
   return 0;
 }

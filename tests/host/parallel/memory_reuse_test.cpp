@@ -1,6 +1,6 @@
 // The program's restart with huge pages: made for a large input only, once, with the arguments
-// kept, and what it starts sees the caller's own GLIBC_TUNABLES (run through the memory-probe
-// program beside the tests).
+// kept, and what it starts sees the caller's own GLIBC_TUNABLES; every thread shares one heap,
+// restarted or not (run through the memory-probe program beside the tests).
 #include "host/parallel/memory_reuse.h"
 
 #include <CppUTest/TestHarness.h>
@@ -31,6 +31,9 @@ std::string probe(const std::string& environment, const std::string& arguments) 
 
 std::string restarted() { return dg::host::huge_pages_asked_for_by_restart() ? "restarted=yes\n" : "restarted=no\n"; }
 
+// Every thread shares one heap, restarted or not (glibc's allocator only).
+std::string heaps() { return dg::host::huge_pages_asked_for_by_restart() ? "heaps=one\n" : "heaps=(not glibc's)\n"; }
+
 }  // namespace
 
 TEST_GROUP(MemoryReuse) {
@@ -47,23 +50,23 @@ TEST_GROUP(MemoryReuse) {
 };
 
 TEST(MemoryReuse, TheRestartKeepsTheArgumentsAndLeavesNoTunablesBehindWhereThereWereNone) {
-  STRCMP_EQUAL(("tunables=(unset)\nmark=gone\n" + restarted() + "arg=" + large + "\narg=two words\n").c_str(),
+  STRCMP_EQUAL(("tunables=(unset)\nmark=gone\n" + restarted() + heaps() + "arg=" + large + "\narg=two words\n").c_str(),
                probe("env -u GLIBC_TUNABLES -u DIGITIZER_HUGE_PAGES", large + " 'two words'").c_str());
 }
 
 TEST(MemoryReuse, TheCallersOwnTunablesAreWhatTheProgramPassesOn) {
-  STRCMP_EQUAL(("tunables=glibc.malloc.perturb=0\nmark=gone\n" + restarted() + "arg=" + large + "\n").c_str(),
+  STRCMP_EQUAL(("tunables=glibc.malloc.perturb=0\nmark=gone\n" + restarted() + heaps() + "arg=" + large + "\n").c_str(),
                probe("env -u DIGITIZER_HUGE_PAGES GLIBC_TUNABLES=glibc.malloc.perturb=0", large).c_str());
 }
 
 TEST(MemoryReuse, HugePagesZeroMeansNoRestart) {
-  STRCMP_EQUAL(("tunables=(unset)\nmark=gone\nrestarted=no\narg=" + large + "\n").c_str(),
+  STRCMP_EQUAL(("tunables=(unset)\nmark=gone\nrestarted=no\n" + heaps() + "arg=" + large + "\n").c_str(),
                probe("env -u GLIBC_TUNABLES DIGITIZER_HUGE_PAGES=0", large).c_str());
 }
 
 TEST(MemoryReuse, AJobWithoutALargeInputIsNotRestarted) {
   // One byte short of large, and arguments that name no file.
   CHECK_EQUAL(0, truncate(large.c_str(), dg::host::kLargeInputBytes - 1));
-  STRCMP_EQUAL(("tunables=(unset)\nmark=gone\nrestarted=no\narg=one\narg=" + large + "\n").c_str(),
+  STRCMP_EQUAL(("tunables=(unset)\nmark=gone\nrestarted=no\n" + heaps() + "arg=one\narg=" + large + "\n").c_str(),
                probe("env -u GLIBC_TUNABLES -u DIGITIZER_HUGE_PAGES", "one " + large).c_str());
 }
