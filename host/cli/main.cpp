@@ -1,6 +1,7 @@
 // digitizer: the command-line front end; each subcommand lives in its own *_command file.
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <cstring>
 #include <new>
 #include <stdexcept>
 
@@ -38,7 +39,9 @@ constexpr int kExitUsage = 2;
 }  // namespace
 
 int main(int argc, char** argv) {
-  tune_memory(argv);  // huge pages, freed blocks kept (memory_reuse.h)
+  // Huge pages, freed blocks kept, one heap for all threads but in the filter (memory_reuse.h).
+  const bool filter_command = argc > 1 && std::strcmp(argv[1], "filter") == 0;
+  tune_memory(argv, Restart::kForLargeInput, filter_command ? Heaps::kPerThread : Heaps::kShared);
   // Named here, so that usage lines say "digitizer" and not the path it was started by.
   CLI::App app{"bench digitizer: scan parts on an XY table with a dial gauge", "digitizer"};
   app.require_subcommand(1);

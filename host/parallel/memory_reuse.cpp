@@ -56,7 +56,7 @@ void put_back_tunables(const char* caller) {
 
 }  // namespace
 
-void tune_memory(char** argv, Restart when) {
+void tune_memory(char** argv, Restart when, Heaps heaps) {
 #if defined(__GLIBC__)
   if (const char* caller = std::getenv(kRestarted)) {
     // A copy: unsetting the mark may release the string getenv returned.
@@ -64,12 +64,13 @@ void tune_memory(char** argv, Restart when) {
     put_back_tunables(saved.c_str());
     return;
   }
-  // All three kept by mallopt in any case: no block from a mapping of its own (a thread's arena
-  // still maps one larger than its heaps), the heap's free top kept up to 1 GiB, and one heap for
-  // every thread (memory_reuse.h).
+  // These kept by mallopt in any case: no block from a mapping of its own (a thread's arena still
+  // maps one larger than its heaps), the heap's free top kept up to 1 GiB, and (Heaps::kShared) one
+  // heap for every thread (memory_reuse.h).
   mallopt(M_MMAP_MAX, 0);
   mallopt(M_TRIM_THRESHOLD, 1 << 30);
-  mallopt(M_ARENA_MAX, 1);
+  const bool shared = heaps == Heaps::kShared;
+  if (shared) mallopt(M_ARENA_MAX, 1);
   const char* wanted = std::getenv("DIGITIZER_HUGE_PAGES");
   if (!huge_pages_asked_for_by_restart() || argv == nullptr || argv[0] == nullptr ||
       (wanted && std::strcmp(wanted, "0") == 0) || (when == Restart::kForLargeInput && !names_large_file(argv))) {
@@ -79,8 +80,8 @@ void tune_memory(char** argv, Restart when) {
   const char* found = std::getenv("GLIBC_TUNABLES");
   const std::string caller = found ? found : kUnset;
   // The caller's own settings come last, so they win over these.
-  std::string tunables =
-      "glibc.malloc.hugetlb=1:glibc.malloc.mmap_max=0:glibc.malloc.trim_threshold=1073741824:glibc.malloc.arena_max=1";
+  std::string tunables = "glibc.malloc.hugetlb=1:glibc.malloc.mmap_max=0:glibc.malloc.trim_threshold=1073741824";
+  if (shared) tunables += ":glibc.malloc.arena_max=1";
   if (found && *found) tunables += ":" + caller;
   if (setenv(kRestarted, caller.c_str(), 1) != 0 || setenv("GLIBC_TUNABLES", tunables.c_str(), 1) != 0) {
     put_back_tunables(caller.c_str());
@@ -92,6 +93,7 @@ void tune_memory(char** argv, Restart when) {
 #else
   (void)argv;
   (void)when;
+  (void)heaps;
 #endif
 }
 

@@ -10,7 +10,10 @@
 #include "host/parallel/memory_reuse.h"
 
 int main(int argc, char** argv) {
-  dg::host::tune_memory(argv);
+  // As digitizer's filter does, given "per-thread" first.
+  const bool per_thread = argc > 1 && std::string(argv[1]) == "per-thread";
+  dg::host::tune_memory(argv, dg::host::Restart::kForLargeInput,
+                        per_thread ? dg::host::Heaps::kPerThread : dg::host::Heaps::kShared);
   // The environment this image was started with: a restart's holds the tunables it set.
   std::ifstream environ_file("/proc/self/environ", std::ios::binary);
   const std::string started_with((std::istreambuf_iterator<char>(environ_file)), std::istreambuf_iterator<char>());

@@ -70,3 +70,12 @@ TEST(MemoryReuse, AJobWithoutALargeInputIsNotRestarted) {
   STRCMP_EQUAL(("tunables=(unset)\nmark=gone\nrestarted=no\n" + heaps() + "arg=one\narg=" + large + "\n").c_str(),
                probe("env -u GLIBC_TUNABLES -u DIGITIZER_HUGE_PAGES", "one " + large).c_str());
 }
+
+TEST(MemoryReuse, TheFilterKeepsAHeapPerThread) {
+  // Restarted for its large input all the same, and its threads each in a heap of their own.
+  const std::string per_thread =
+      dg::host::huge_pages_asked_for_by_restart() ? "heaps=several\n" : "heaps=(not glibc's)\n";
+  const std::string expected =
+      "tunables=(unset)\nmark=gone\n" + restarted() + per_thread + "arg=per-thread\narg=" + large + "\n";
+  STRCMP_EQUAL(expected.c_str(), probe("env -u GLIBC_TUNABLES -u DIGITIZER_HUGE_PAGES", "per-thread " + large).c_str());
+}
