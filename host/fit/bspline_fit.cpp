@@ -496,26 +496,28 @@ void solve_refits(const std::vector<Point3>& points, const Parameters& params, c
   // Each fold on whichever core is free: a fold writes only its own refit (five solves of a 32 x 32
   // net took 20 ms one after another).
   parallel_for(kept_sites.size(), [&](size_t first, size_t last, unsigned) {
-  for (size_t f = first; f < last; ++f) {
-    if (!checks.ready[f]) continue;
-    std::vector<double> blocks;
-    if (!sums.empty()) {
-      blocks.assign(sums[0].size(), 0.0);
-      for (size_t g = 0; g < sums.size(); ++g) {
-        if (g == f + 1) continue;
-        for (size_t e = 0; e < blocks.size(); ++e) blocks[e] += sums[g][e];
+    for (size_t f = first; f < last; ++f) {
+      if (!checks.ready[f]) continue;
+      std::vector<double> blocks;
+      if (!sums.empty()) {
+        blocks.assign(sums[0].size(), 0.0);
+        for (size_t g = 0; g < sums.size(); ++g) {
+          if (g == f + 1) continue;
+          for (size_t e = 0; e < blocks.size(); ++e) blocks[e] += sums[g][e];
+        }
+      } else {
+        const int left_out = static_cast<int>(f);
+        blocks = std::move(
+            cell_sums(points, params, weights, shape, 1, [&](size_t k) { return fold[k] == left_out ? -1 : 0; })[0]);
       }
-    } else {
-      const int left_out = static_cast<int>(f);
-      blocks = std::move(cell_sums(points, params, weights, shape, 1, [&](size_t k) { return fold[k] == left_out ? -1 : 0; })[0]);
+      try {
+        const NormalSystem system =
+            solve_system(shape, blocks, checks.outside[f], spec.fill_outside, *kept_sites[f], height_field);
+        refits[f].surface = solved_surface(system, params);
+      } catch (const FitError& e) {
+        refits[f].error = e.what();
+      }
     }
-    try {
-      const NormalSystem system = solve_system(shape, blocks, checks.outside[f], spec.fill_outside, *kept_sites[f], height_field);
-      refits[f].surface = solved_surface(system, params);
-    } catch (const FitError& e) {
-      refits[f].error = e.what();
-    }
-  }
   }, 1);
 }
 

@@ -39,13 +39,8 @@ LtsResult lts_filter(const std::vector<Point3>& points, const LtsOptions& option
   // The result is given back in the caller's order.
   if (points.size() >= kSpatialOrderFrom && points.size() <= UINT32_MAX && !spatially_ordered(points)) {
     const std::vector<uint32_t> order = spatial_order(points);
-    std::vector<Point3> local;
-    local.reserve(order.size());
-    for (uint32_t i : order) local.push_back(points[i]);
-    LtsResult r = filter_in_order(local, options);
-    std::vector<double> z(points.size());
-    for (size_t k = 0; k < order.size(); ++k) z[order[k]] = r.z[k];
-    r.z = std::move(z);
+    LtsResult r = filter_in_order(reordered(points, order), options);
+    r.z = in_caller_order(r.z, order);
     for (LtsOutlier& o : r.outliers) o.index = order[o.index];
     std::sort(r.outliers.begin(), r.outliers.end(),
               [](const LtsOutlier& a, const LtsOutlier& b) { return a.index < b.index; });

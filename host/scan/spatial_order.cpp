@@ -62,28 +62,12 @@ bool spatially_ordered(const std::vector<Point3>& points) {
   return static_cast<double>(long_steps) < 0.1 * (n - 1);
 }
 
-namespace {
-
-template <typename T>
-std::vector<T> gathered(const std::vector<T>& values, const std::vector<uint32_t>& order) {
-  std::vector<T> out;
-  out.reserve(order.size());
-  for (uint32_t i : order) out.push_back(values[i]);
-  return out;
-}
-
-}  // namespace
-
 PointCloud reordered(PointCloud cloud, const std::vector<uint32_t>& order) {
-  cloud.points = gathered(cloud.points, order);
-  if (cloud.line) cloud.line = gathered(*cloud.line, order);
-  if (cloud.normal) cloud.normal = gathered(*cloud.normal, order);
-  if (cloud.sigma) cloud.sigma = gathered(*cloud.sigma, order);
+  cloud.points = reordered(cloud.points, order);
+  if (cloud.line) cloud.line = reordered(*cloud.line, order);
+  if (cloud.normal) cloud.normal = reordered(*cloud.normal, order);
+  if (cloud.sigma) cloud.sigma = reordered(*cloud.sigma, order);
   return cloud;
-}
-
-std::vector<double> reordered(const std::vector<double>& values, const std::vector<uint32_t>& order) {
-  return gathered(values, order);
 }
 
 }  // namespace dg::host

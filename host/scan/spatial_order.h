@@ -27,7 +27,22 @@ bool spatially_ordered(const std::vector<Point3>& points);
 // The cloud with its points and per-point columns (line, normal, sigma) in `order`.
 PointCloud reordered(PointCloud cloud, const std::vector<uint32_t>& order);
 
-// `values[order[k]]` for each k.
-std::vector<double> reordered(const std::vector<double>& values, const std::vector<uint32_t>& order);
+// `values[order[k]]` for each k: a per-point column put in `order`.
+template <typename T>
+std::vector<T> reordered(const std::vector<T>& values, const std::vector<uint32_t>& order) {
+  std::vector<T> out;
+  out.reserve(order.size());
+  for (uint32_t i : order) out.push_back(values[i]);
+  return out;
+}
+
+// The inverse: a column computed in `order` given back in the caller's order (out[order[k]] =
+// in_order[k]).
+template <typename T>
+std::vector<T> in_caller_order(const std::vector<T>& in_order, const std::vector<uint32_t>& order) {
+  std::vector<T> out(in_order.size());
+  for (size_t k = 0; k < order.size(); ++k) out[order[k]] = in_order[k];
+  return out;
+}
 
 }  // namespace dg::host
