@@ -1,5 +1,6 @@
 // k nearest points by rings of buckets: a ring more than the one that first holds k points within
-// its reach, since a point in the next ring may still be nearer than some of them. The buckets are
+// its reach, since a point in the next ring may still be nearer than some of them; for a few
+// neighbours the 3 x 3 block about the point's bucket first, which nearly always holds them. The buckets are
 // a dense grid of about four points a cell, kept as one array of point numbers with each cell's
 // start (no hashing on the way), and the points are shared among the cores.
 #include "host/scan/neighbours.h"
@@ -12,6 +13,30 @@
 #include "host/parallel/parallel_for.h"
 
 namespace dg::host {
+
+namespace {
+
+// Up to this many neighbours, a point's are first sought among the 3 x 3 cells about its own.
+constexpr size_t kBlockMostK = 8;
+
+// The K-th smallest of `n` distances (HUGE_VAL for fewer than K): each passes through a row of K
+// minima, the smaller kept and the larger passed on, by min and max alone.
+template <size_t K>
+double kth_smallest(const double* distance, size_t n) {
+  double smallest[K];
+  for (double& d : smallest) d = HUGE_VAL;
+  for (size_t m = 0; m < n; ++m) {
+    double passed = distance[m];
+    for (size_t s = 0; s < K; ++s) {
+      const double kept = std::min(smallest[s], passed);
+      passed = std::max(smallest[s], passed);
+      smallest[s] = kept;
+    }
+  }
+  return smallest[K - 1];
+}
+
+}  // namespace
 
 Neighbourhoods nearest_neighbours(const std::vector<Point3>& points, size_t k) {
   return nearest_neighbours(points.size(), [](const void* from, size_t i, double& x, double& y) {
@@ -84,9 +109,81 @@ Neighbourhoods nearest_neighbours(size_t count, PlanePoint at, const void* from,
     // std::vector bookkeeping.
     std::vector<std::pair<double, size_t>> best(k);
     size_t held = 0;
+    // For up to kBlockMostK neighbours: the 3 x 3 block of cells about the point's cell, gathered
+    // once for the points of that cell (they come one after another). Each point measures its
+    // distance to all of the block in one pass the compiler vectorizes, and only a point whose k-th
+    // best the block does not prove searches on by rings below. On a million random points
+    // (spatially ordered, 2 cores) the search took 0.10 s instead of 0.13, the same neighbours.
+    std::vector<double> block_x, block_y, block_distance;
+    std::vector<uint32_t> block_index, block_within;
+    long block_cell = -1;
+    size_t block_seen = 0;
     for (size_t position = begin; position < end; ++position) {
       const double xi = cell_xy[2 * position], yi = cell_xy[2 * position + 1];
       const long cx = column_of(xi), cy = row_of(yi);
+      if (k <= kBlockMostK && cy * columns + cx != block_cell) {
+        block_cell = cy * columns + cx;
+        block_x.clear(), block_y.clear(), block_index.clear();
+        auto gather = [&](size_t from, size_t to) {
+          for (size_t m = from; m < to; ++m) {
+            block_x.push_back(cell_xy[2 * m]), block_y.push_back(cell_xy[2 * m + 1]);
+            block_index.push_back(members[m]);
+          }
+        };
+        // A row of the block is one run of `members`: the cells lie along rows.
+        for (long y = std::max(0L, cy - 1); y <= std::min(rows - 1, cy + 1); ++y) {
+          gather(start[static_cast<size_t>(y * columns + std::max(0L, cx - 1))],
+                 start[static_cast<size_t>(y * columns + std::min(columns - 1, cx + 1)) + 1]);
+        }
+        block_seen = block_x.size();
+        block_distance.resize(block_seen);
+        block_within.resize(block_seen);
+      }
+      if (k <= kBlockMostK) {
+        const size_t n_block = block_seen;
+        double* distance = block_distance.data();
+        const double* bx = block_x.data();
+        const double* by = block_y.data();
+        for (size_t m = 0; m < n_block; ++m) {
+          const double ddx = bx[m] - xi, ddy = by[m] - yi;
+          distance[m] = ddx * ddx + ddy * ddy;
+        }
+        // The k-th smallest distance, by a row of k minima the candidates pass through (no branch
+        // whose outcome the data decide: inserting each nearer candidate into a sorted list as it
+        // came mispredicted, and was most of the search), then the candidates within it.
+        double kth = HUGE_VAL;
+        switch (k) {
+          case 1: kth = kth_smallest<1>(distance, n_block); break;
+          case 2: kth = kth_smallest<2>(distance, n_block); break;
+          case 3: kth = kth_smallest<3>(distance, n_block); break;
+          case 4: kth = kth_smallest<4>(distance, n_block); break;
+          case 5: kth = kth_smallest<5>(distance, n_block); break;
+          case 6: kth = kth_smallest<6>(distance, n_block); break;
+          case 7: kth = kth_smallest<7>(distance, n_block); break;
+          default: kth = kth_smallest<8>(distance, n_block); break;
+        }
+        size_t within = 0;
+        for (size_t m = 0; m < n_block; ++m) {
+          block_within[within] = static_cast<uint32_t>(m);
+          within += distance[m] <= kth;
+        }
+        held = 0;
+        for (size_t w = 0; w < within; ++w) {
+          const std::pair<double, size_t> candidate{distance[block_within[w]], block_index[block_within[w]]};
+          if (held == k && !(candidate < best[k - 1])) continue;
+          size_t slot = held < k ? held++ : k - 1;
+          for (; slot > 0 && candidate < best[slot - 1]; --slot) best[slot] = best[slot - 1];
+          best[slot] = candidate;
+        }
+        const double fx = std::clamp((xi - x0) / cell - static_cast<double>(cx), 0.0, 1.0);
+        const double fy = std::clamp((yi - y0) / cell - static_cast<double>(cy), 0.0, 1.0);
+        const double beyond = (1 + std::min({fx, 1 - fx, fy, 1 - fy})) * cell;
+        if ((held == k && best[k - 1].first <= beyond * beyond * (1 - 1e-9)) || block_seen == count) {
+          uint32_t* nearest = out.nearest.get() + position * k;
+          for (size_t b = 0; b < held; ++b) *nearest++ = static_cast<uint32_t>(best[b].second);
+          continue;
+        }
+      }
       held = 0;
       size_t seen = 0;
       auto take_cell = [&](long x, long y) {

@@ -50,6 +50,22 @@ TEST(Neighbours, TheFiveNearestAreExactWithTiesToTheLowerIndexOnScatteredPointsA
   check_against_brute_force(grid, 9, 1);
 }
 
+TEST(Neighbours, AFewNearestAreExactWhetherTheBlockAboutThePointHoldsThemOrNot) {
+  // Up to eight neighbours come from the 3 x 3 cells about a point's own when they prove them; in
+  // tight clusters among sparse points they often do not (the cells are sized by the mean density),
+  // and the search goes on by rings. Coordinates on a coarse lattice make many equal distances.
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> x(0, 40), y(0, 30), spread(-0.3, 0.3);
+  std::vector<Point3> p;
+  for (int i = 0; i < 600; ++i) p.push_back({x(rng), y(rng), 0});
+  for (int cluster = 0; cluster < 6; ++cluster) {
+    const double cx = x(rng), cy = y(rng);
+    for (int i = 0; i < 150; ++i) p.push_back({cx + spread(rng), cy + spread(rng), 0});
+  }
+  for (int i = 0; i < 300; ++i) p.push_back({std::round(x(rng)), std::round(y(rng)), 0});
+  for (size_t k = 1; k <= 9; ++k) check_against_brute_force(p, k, 1);
+}
+
 TEST(Neighbours, ScatteredPointsGetTheirTrueNearest) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> x(0, 40), y(0, 30);
