@@ -335,18 +335,22 @@ FoldSupport::FoldSupport(const PointCloud& cloud, const Parameters& params, int 
   for (int f : fold) {
     if (f >= 0 && static_cast<size_t>(f) < fold_count) ++held[static_cast<size_t>(f)];
   }
-  // Each fold's sites along each direction, then its index, as separate tasks on every core.
-  std::vector<std::vector<double>> sites(2 * fold_count);
+  // Each fold's sites along each direction, then its index, as separate tasks on every core; the
+  // last two tasks take every point, for all_sites_u/v.
+  std::vector<std::vector<double>> sites(2 * fold_count + 2);
   parallel_for(sites.size(), [&](size_t begin, size_t end, unsigned) {
     for (size_t task = begin; task < end; ++task) {
       const int f = static_cast<int>(task / 2);
-      SiteGrouping grouping(site_merge_distance(fold.size() - held[task / 2]));
+      const bool every_point = task >= 2 * fold_count;
+      SiteGrouping grouping(every_point ? all_merge : site_merge_distance(fold.size() - held[task / 2]));
       for (const Tagged& t : sorted[task % 2]) {
-        if (t.fold != f) grouping.add(t.value);
+        if (every_point || t.fold != f) grouping.add(t.value);
       }
       sites[task] = grouping.finish();
     }
   }, 1);
+  all_sites_[0] = std::move(sites[2 * fold_count]);
+  all_sites_[1] = std::move(sites[2 * fold_count + 1]);
   // The folds hold nearly equal numbers of points, so their buckets mostly have one side: every
   // point is bucketed once at the first fold's, and each fold takes its points out of that.
   const SiteIndex::Shared shared =

@@ -34,6 +34,11 @@ class FoldSupport {
                       int degree_v) const;
 
   int folds() const { return static_cast<int>(kept_sites_.size()); }
+  // Every point's distinct sites along u and v (distinct_sites() with site_merge_distance() of the
+  // whole set), found in the same pass as the folds': the tolerance loop's SiteIndex takes them
+  // instead of sorting a million parameters again.
+  const std::vector<double>& all_sites_u() const { return all_sites_[0]; }
+  const std::vector<double>& all_sites_v() const { return all_sites_[1]; }
   // Fold f's remaining points, indexed over the whole set's parameters (SiteIndex::subset), for
   // validate_fit's refits.
   const SiteIndex& kept_sites(int f) const { return kept_sites_[static_cast<size_t>(f)]; }
@@ -52,6 +57,7 @@ class FoldSupport {
   std::string fold_problem(size_t f, const std::vector<double>& knots_u, int degree_u, const std::vector<double>& knots_v,
                            int degree_v) const;
   std::vector<SiteIndex> kept_sites_;  // per fold, the points that remain
+  std::vector<double> all_sites_[2];
   bool fill_outside_ = false;
   const Parameters* plane_params_ = nullptr;  // the parameters whose neighbours are wanted, if any
   mutable std::optional<Neighbourhoods> plane_neighbours_;

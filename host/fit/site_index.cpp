@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 #include "host/fit/knot_support.h"
 #include "host/parallel/parallel_for.h"
@@ -19,6 +20,12 @@ SiteIndex::SiteIndex(const std::vector<UV>& uv, bool buckets) : uv_(&uv) {
       (direction == 0 ? sites_u_ : sites_v_) = distinct_sites(uv, direction == 0, merge);
     }
   }, 1);
+  if (buckets) build_buckets(nullptr, 0);
+}
+
+SiteIndex::SiteIndex(const std::vector<UV>& uv, std::vector<double> sites_u, std::vector<double> sites_v, bool buckets)
+    : uv_(&uv), sites_u_(std::move(sites_u)), sites_v_(std::move(sites_v)) {
+  if (uv.size() >= UINT32_MAX) throw std::length_error("more than 4 billion points");
   if (buckets) build_buckets(nullptr, 0);
 }
 

@@ -16,6 +16,9 @@ class SiteIndex {
   // `buckets` false: the sites only, for a check that never visits (visit() then finds nothing).
   explicit SiteIndex(const std::vector<UV>& uv, bool buckets = true);
   explicit SiteIndex(std::vector<UV>&&, bool = true) = delete;  // it would point at a temporary
+  // The same with the sites already found (distinct_sites() of uv with site_merge_distance() of
+  // its size: FoldSupport::all_sites_u/v find them in the pass that sorts for its folds).
+  SiteIndex(const std::vector<UV>& uv, std::vector<double> sites_u, std::vector<double> sites_v, bool buckets);
   // Only the points k with group[k] != left_out (a validation fold's remaining points), whose
   // distinct sites (distinct_sites() of their uv, site_merge_distance() of their count) the caller
   // found, having sorted once for several such indexes (FoldSupport). visit() gives their numbers

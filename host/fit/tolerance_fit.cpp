@@ -146,9 +146,7 @@ ToleranceResult refine(const PointCloud& cloud, const Parameters& params, const 
   // The residuals hold the readings' whole scatter, rounding included.
   const double noise = noise_estimate.reading_sigma_mm;
   const std::vector<Point3>& points = cloud.points;
-  const SiteIndex sites(params.uv, options.fill_outside);
   LsqSpec spec;
-  spec.sites = &sites;
   spec.fill_outside = options.fill_outside;
   spec.degree_u = options.degree_u;
   spec.degree_v = options.degree_v;
@@ -165,6 +163,8 @@ ToleranceResult refine(const PointCloud& cloud, const Parameters& params, const 
   // the surface reached can be checked between the samples (fit_validation.h).
   const ValidationOptions validation_options{options.tolerance_mm, options.validation_folds, 3, options.fill_outside};
   const FoldSupport fold_support(cloud, params, options.validation_folds, options.fill_outside, !knots_only);
+  const SiteIndex sites(params.uv, fold_support.all_sites_u(), fold_support.all_sites_v(), options.fill_outside);
+  spec.sites = &sites;
   auto allowed_u = [&](const std::vector<double>& knots) {
     return fold_support.problem(knots, spec.degree_u, spec.knots_v, spec.degree_v).empty();
   };

@@ -132,6 +132,24 @@ TEST(FitValidation, PlacesTheCurvatureBoundCertifiesGiveTheFiguresOfEvaluatingEv
   }
 }
 
+TEST(FitValidation, TheSupportsSitesOfEveryPointAreThoseOfSortingThemAlone) {
+  // The tolerance loop's whole-set index takes them instead of sorting every parameter again; the
+  // first and last scan lines, in no fold, are among them.
+  for (bool lines : {true, false}) {
+    const PointCloud c = cloud(lines, 9);
+    const Parameters p = parameterize(c, Parameterization::kTableXy);
+    const FoldSupport support(c, p, 5);
+    const SiteIndex alone(p.uv, false);
+    for (bool along_u : {true, false}) {
+      const std::vector<double>& expected = along_u ? alone.sites_u() : alone.sites_v();
+      const std::vector<double>& got = along_u ? support.all_sites_u() : support.all_sites_v();
+      CHECK(expected.size() > 10);
+      LONGS_EQUAL(expected.size(), got.size());
+      for (size_t k = 0; k < got.size(); ++k) CHECK(expected[k] == got[k]);
+    }
+  }
+}
+
 TEST(FitValidation, EachFoldsIndexHoldsItsRemainingPointsAndTheirSitesToTheBit) {
   // The fold indexes merge sorted groups instead of sorting each fold: the same sites as sorting.
   for (bool lines : {true, false}) {
