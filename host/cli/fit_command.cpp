@@ -21,6 +21,7 @@
 #include "host/cad/surface_json.h"
 #include "host/fit/tolerance_fit.h"
 #include "host/fit/fit_validation.h"
+#include "host/fit/site_index.h"
 #include "host/fit/orthogonal_distances.h"
 #include "host/scan/spatial_order.h"
 #include "host/fit/regions.h"
@@ -417,6 +418,9 @@ int run_fit(const FitArgs& a) {
     // then serve its uncertainty too.
     const ValidationOptions validation;
     const FoldSupport support(cloud, params, validation.folds, validation.fill_outside);
+    // Every point's sites from the support's sorted parameters: the fit's checks need not sort them.
+    const SiteIndex sites(params.uv, support.all_sites_u(), support.all_sites_v(), spec.fill_outside);
+    spec.sites = &sites;
     std::vector<const SiteIndex*> kept_sites;
     for (int f = 0; f < validation.folds; ++f) kept_sites.push_back(&support.kept_sites(f));
     FoldedFit folded = fit_least_squares_with_folds(cloud.points, params, w, spec,
