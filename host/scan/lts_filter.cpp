@@ -162,13 +162,13 @@ LtsResult filter_in_order(const std::vector<Point3>& points, const LtsOptions& o
       // Maximal breakdown: h = [n/2] + [(p+1)/2], p = 1 (constant), 3 (plane) or 6 (quadratic).
       const int p = order == 0 ? 1 : order == 1 ? 3 : 6;
       const int h = options.h > 0 ? std::min(options.h, n) : std::min(n, n / 2 + (p + 1) / 2);
-      by_distance.clear();
+      by_distance.resize(static_cast<size_t>(n));
       // The reference signal at this point: the window's median in the first pass, this point's
       // previous output after that (Koivunen and Bajcsy 1992: "the output from previous iteration is used as a
       // reference signal for the next iteration").
       for (int m = 0; m < n; ++m) {
         const size_t j = hood[i][static_cast<size_t>(m)];
-        by_distance.push_back({std::fabs(points[j].z - reference[i]), j, static_cast<unsigned>(m)});
+        set_ranked(by_distance, static_cast<size_t>(m), std::fabs(points[j].z - reference[i]), j);
       }
       std::nth_element(by_distance.begin(), by_distance.begin() + (h - 1), by_distance.end());
       const bool masked = !by_number.empty() && n <= n_max;
@@ -203,11 +203,11 @@ LtsResult filter_in_order(const std::vector<Point3>& points, const LtsOptions& o
         // model.
         for (int step = 0; step < 4 && fit_local_polynomial(points, chosen, points[i], order, model); ++step) {
           next[i] = model.c[0];
-          by_distance.clear();
+          by_distance.resize(static_cast<size_t>(n));
           for (int m = 0; m < n; ++m) {
             const size_t j = hood[i][static_cast<size_t>(m)];
             const double r = points[j].z - model.at(points[j].x, points[j].y);
-            by_distance.push_back({std::fabs(r), j, static_cast<unsigned>(m)});
+            set_ranked(by_distance, static_cast<size_t>(m), std::fabs(r), j);
           }
           if (masked && keeps_mask(by_distance, mask)) break;
           std::nth_element(by_distance.begin(), by_distance.begin() + (h - 1), by_distance.end());

@@ -205,10 +205,10 @@ LooModel loo_model(const std::vector<Point3>& points, const std::vector<size_t>&
   // With `kept_check`, a `subset` that is already the h smallest is left as it is (in `mask`'s
   // place order for the trimmed sum): the step has converged, and no selection is made.
   auto rank = [&](auto height, std::vector<size_t>& subset, uint64_t& mask, bool kept_check = false) {
-    by_residual.clear();
+    by_residual.resize(static_cast<size_t>(n));
     for (int m = 0; m < n; ++m) {
       const size_t j = window[static_cast<size_t>(m)];
-      by_residual.push_back({std::fabs(points[j].z - height(j)), j, static_cast<unsigned>(m)});
+      set_ranked(by_residual, static_cast<size_t>(m), std::fabs(points[j].z - height(j)), j);
     }
     if (kept_check && masked && keeps_mask(by_residual, mask)) {
       double trimmed = 0;
