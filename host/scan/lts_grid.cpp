@@ -63,6 +63,7 @@ class GridCells {
     }
   }
   bool has_duplicate() const { return duplicate_; }
+  bool dense() const { return dense_; }
   // The point in cell (ix, iy), or kNone.
   size_t find(long ix, long iy) const {
     if (ix < lo_x_ || ix > hi_x_ || iy < lo_y_ || iy > hi_y_) return kNone;
@@ -138,7 +139,18 @@ bool grid_neighbourhoods(const std::vector<Point3>& points, int window, WindowLi
   // the estimate asks of each window, so they need no care here). The occupied rows (by y) and
   // columns (by x), each in order along it.
   std::vector<std::vector<size_t>> rows(static_cast<size_t>(hi_y - lo_y + 1)), columns(static_cast<size_t>(hi_x - lo_x + 1));
-  {
+  if (cell.dense()) {
+    // Along the cells in order, one point a cell: no sort of the points (two sorts of 1e5 points
+    // by their cells were 15 ms).
+    for (long y = lo_y; y <= hi_y; ++y) {
+      for (long x = lo_x; x <= hi_x; ++x) {
+        const size_t j = cell.find(x, y);
+        if (j == GridCells::kNone) continue;
+        rows[static_cast<size_t>(y - lo_y)].push_back(j);
+        columns[static_cast<size_t>(x - lo_x)].push_back(j);
+      }
+    }
+  } else {
     std::vector<size_t> by_cell(points.size());
     for (size_t i = 0; i < points.size(); ++i) by_cell[i] = i;
     std::sort(by_cell.begin(), by_cell.end(), [&](size_t a, size_t b) { return at[a] < at[b]; });  // x, then y
