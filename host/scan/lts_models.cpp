@@ -135,7 +135,14 @@ std::vector<size_t> others_in(IndexSpan window, size_t i, const std::vector<char
 size_t nearest_four(const std::vector<Point3>& points, const std::vector<size_t>& members, size_t i, size_t (&out)[4],
                     std::vector<std::pair<double, size_t>>& scratch) {
   scratch.clear();
-  for (size_t j : members) scratch.push_back({std::hypot(points[j].x - points[i].x, points[j].y - points[i].y), j});
+  // Filled by index, not pushed: a pair pushed from the stack is reloaded as one 16-byte word that
+  // the two 8-byte stores before it cannot forward (see set_ranked).
+  scratch.resize(members.size());
+  for (size_t m = 0; m < members.size(); ++m) {
+    const size_t j = members[m];
+    scratch[m].first = std::hypot(points[j].x - points[i].x, points[j].y - points[i].y);
+    scratch[m].second = j;
+  }
   const size_t count = std::min<size_t>(4, scratch.size());
   std::partial_sort(scratch.begin(), scratch.begin() + static_cast<std::ptrdiff_t>(count), scratch.end());
   for (size_t m = 0; m < count; ++m) out[m] = scratch[m].second;
@@ -173,9 +180,11 @@ LooModel loo_model(const std::vector<Point3>& points, const std::vector<size_t>&
   // (the half-plane beyond a point on the scan's edge) determines no surface and is no evidence.
   std::vector<double>& xs = scratch.xs;
   std::vector<double>& ys = scratch.ys;
-  xs.clear();
-  ys.clear();
-  for (size_t j : window) xs.push_back(points[j].x), ys.push_back(points[j].y);
+  // By index: pushing onto these thread-local vectors stored each one's end in thread-local memory
+  // at every point.
+  xs.resize(window.size());
+  ys.resize(window.size());
+  for (size_t m = 0; m < window.size(); ++m) xs[m] = points[window[m]].x, ys[m] = points[window[m]].y;
   // Distinct positions as sorting and merging each value within 1e-6 of the last one kept would
   // count them, up to four (all the order needs): each next group starts at the least value that
   // its predecessor's first does not take in, found by a pass instead of a sort.
@@ -298,8 +307,8 @@ LooModel loo_model(const std::vector<Point3>& points, const std::vector<size_t>&
     // A second start, from the h heights nearest the window's median: where outliers crowd a window
     // the filtered reference took them in too, and its start keeps them.
     std::vector<double>& heights = scratch.heights;
-    heights.clear();
-    for (size_t j : window) heights.push_back(points[j].z);
+    heights.resize(window.size());
+    for (size_t m = 0; m < window.size(); ++m) heights[m] = points[window[m]].z;
     const double middle = median_in_place(heights);
     uint64_t start_mask = 0;
     rank([&](size_t) { return middle; }, scratch.start, start_mask);
@@ -358,9 +367,11 @@ LooModel loo_model(const std::vector<Point3>& points, const std::vector<size_t>&
     if (misses != nullptr) {
       *misses = WindowMisses{};
       std::vector<std::pair<double, size_t>>& worst = scratch.ranked_points;
-      worst.clear();
-      for (size_t j : window) {
-        worst.push_back({std::fabs(points[j].z - model.height_or_huge(points[j].x, points[j].y)), j});
+      worst.resize(window.size());
+      for (size_t m = 0; m < window.size(); ++m) {
+        const size_t j = window[m];
+        worst[m].first = std::fabs(points[j].z - model.height_or_huge(points[j].x, points[j].y));
+        worst[m].second = j;
       }
       const size_t kept = std::min<size_t>(WindowMisses::kWorst, worst.size());
       std::partial_sort(worst.begin(), worst.begin() + static_cast<std::ptrdiff_t>(kept), worst.end(),
