@@ -62,19 +62,27 @@ double difference_noise_sigma(const std::vector<Point3>& points, const std::vect
   // One sequence of differences per line or column, NaN where the spacing was uneven.
   std::vector<std::vector<double>> sequences;
   std::vector<double> all;
+  // Each step between neighbours along a line, measured once: every difference spans k of them,
+  // and measuring them again in each (five hypot calls a difference) took a grid of 1e5 points
+  // 18 ms.
+  std::vector<double> steps;
   for (const std::vector<size_t>& m : lines) {
     std::vector<double> sequence;
+    steps.resize(m.size());
+    for (size_t i = 1; i < m.size(); ++i) {
+      const Point3& p = points[m[i]];
+      const Point3& q = points[m[i - 1]];
+      steps[i] = std::hypot(p.x - q.x, p.y - q.y);
+    }
     for (size_t end = k; end < m.size(); ++end) {
       // Even spacing in the table plane, within 10 %, or the difference is not a noise measure.
       double lo = HUGE_VAL, hi = 0, value = 0;
       for (int i = 0; i <= k; ++i) {
-        const Point3& p = points[m[end - k + static_cast<size_t>(i)]];
-        value += coefficient[i] * p.z;
+        const size_t at = end - k + static_cast<size_t>(i);
+        value += coefficient[i] * points[m[at]].z;
         if (i > 0) {
-          const Point3& q = points[m[end - k + static_cast<size_t>(i) - 1]];
-          const double step = std::hypot(p.x - q.x, p.y - q.y);
-          lo = std::min(lo, step);
-          hi = std::max(hi, step);
+          lo = std::min(lo, steps[at]);
+          hi = std::max(hi, steps[at]);
         }
       }
       const bool even = lo > 0 && hi <= 1.1 * lo;
