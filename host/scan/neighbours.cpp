@@ -124,8 +124,8 @@ Neighbourhoods nearest_neighbours(size_t count, PlanePoint at, const void* from,
       if (k <= kBlockMostK && cy * columns + cx != block_cell) {
         block_cell = cy * columns + cx;
         block_x.clear(), block_y.clear(), block_index.clear();
-        auto gather = [&](size_t from, size_t to) {
-          for (size_t m = from; m < to; ++m) {
+        auto gather = [&](size_t first, size_t last) {
+          for (size_t m = first; m < last; ++m) {
             block_x.push_back(cell_xy[2 * m]), block_y.push_back(cell_xy[2 * m + 1]);
             block_index.push_back(members[m]);
           }
