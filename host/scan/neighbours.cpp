@@ -69,22 +69,21 @@ Neighbourhoods nearest_neighbours(size_t count, PlanePoint at, const void* from,
   auto column_of = [&](double x) { return std::min(columns - 1, static_cast<long>((x - x0) / cell)); };
   auto row_of = [&](double y) { return std::min(rows - 1, static_cast<long>((y - y0) / cell)); };
   // Counting sort of the points by cell: cell c holds members[start[c] .. start[c + 1]). Each
-  // point's cell is kept from the count for the placing.
+  // point's cell is worked out again for the placing rather than kept from the count: fresh memory
+  // is dear (memory_reuse.h), and a million points' cells took 8 MB at the search's peak.
   std::vector<size_t> start(static_cast<size_t>(columns * rows) + 1, 0);
   std::vector<uint32_t> members(count);
-  std::vector<size_t> cell_of(count);
-  for (size_t i = 0; i < count; ++i) {
+  auto cell_at = [&](size_t i) {
     double x, y;
     at(from, i, x, y);
-    cell_of[i] = static_cast<size_t>(row_of(y) * columns + column_of(x));
-    ++start[cell_of[i] + 1];
-  }
+    return static_cast<size_t>(row_of(y) * columns + column_of(x));
+  };
+  for (size_t i = 0; i < count; ++i) ++start[cell_at(i) + 1];
   for (size_t c = 1; c < start.size(); ++c) start[c] += start[c - 1];
   {
     std::vector<size_t> fill(start.begin(), start.end() - 1);
-    for (size_t i = 0; i < count; ++i) members[fill[cell_of[i]]++] = static_cast<uint32_t>(i);
+    for (size_t i = 0; i < count; ++i) members[fill[cell_at(i)]++] = static_cast<uint32_t>(i);
   }
-  cell_of = {};
   k = std::min(k, count);
   out.k = k;
   out.nearest.reset(new uint32_t[count * k]);
