@@ -108,6 +108,20 @@ Neighbourhoods nearest_neighbours(size_t count, PlanePoint at, const void* from,
     // std::vector bookkeeping.
     std::vector<std::pair<double, size_t>> best(k);
     size_t held = 0;
+    // A candidate at `distance` kept if it ranks among the k best so far.
+    auto offer = [&](double distance, size_t index) {
+      if (held == k && distance > best[k - 1].first) return;
+      const std::pair<double, size_t> candidate{distance, index};
+      if (held == k && !(candidate < best[k - 1])) return;
+      size_t slot = held < k ? held++ : k - 1;
+      for (; slot > 0 && candidate < best[slot - 1]; --slot) best[slot] = best[slot - 1];
+      best[slot] = candidate;
+    };
+    // The point at `position` gets the k best, nearest first.
+    auto write_best = [&](size_t position) {
+      uint32_t* nearest = out.nearest.get() + position * k;
+      for (size_t b = 0; b < held; ++b) *nearest++ = static_cast<uint32_t>(best[b].second);
+    };
     // For up to kBlockMostK neighbours: the 3 x 3 block of cells about the point's cell, gathered
     // once for the points of that cell (they come one after another). Each point measures its
     // distance to all of the block in one pass the compiler vectorizes, and only a point whose k-th
@@ -167,19 +181,12 @@ Neighbourhoods nearest_neighbours(size_t count, PlanePoint at, const void* from,
           within += distance[m] <= kth;
         }
         held = 0;
-        for (size_t w = 0; w < within; ++w) {
-          const std::pair<double, size_t> candidate{distance[block_within[w]], block_index[block_within[w]]};
-          if (held == k && !(candidate < best[k - 1])) continue;
-          size_t slot = held < k ? held++ : k - 1;
-          for (; slot > 0 && candidate < best[slot - 1]; --slot) best[slot] = best[slot - 1];
-          best[slot] = candidate;
-        }
+        for (size_t w = 0; w < within; ++w) offer(distance[block_within[w]], block_index[block_within[w]]);
         const double fx = std::clamp((xi - x0) / cell - static_cast<double>(cx), 0.0, 1.0);
         const double fy = std::clamp((yi - y0) / cell - static_cast<double>(cy), 0.0, 1.0);
         const double beyond = (1 + std::min({fx, 1 - fx, fy, 1 - fy})) * cell;
         if ((held == k && best[k - 1].first <= beyond * beyond * (1 - 1e-9)) || block_seen == count) {
-          uint32_t* nearest = out.nearest.get() + position * k;
-          for (size_t b = 0; b < held; ++b) *nearest++ = static_cast<uint32_t>(best[b].second);
+          write_best(position);
           continue;
         }
       }
@@ -190,13 +197,7 @@ Neighbourhoods nearest_neighbours(size_t count, PlanePoint at, const void* from,
         seen += start[c + 1] - start[c];
         for (size_t m = start[c]; m < start[c + 1]; ++m) {
           const double ddx = cell_xy[2 * m] - xi, ddy = cell_xy[2 * m + 1] - yi;
-          const double distance = ddx * ddx + ddy * ddy;
-          if (held == k && distance > best[k - 1].first) continue;
-          const std::pair<double, size_t> candidate{distance, members[m]};
-          if (held == k && !(candidate < best[k - 1])) continue;
-          size_t slot = held < k ? held++ : k - 1;
-          for (; slot > 0 && candidate < best[slot - 1]; --slot) best[slot] = best[slot - 1];
-          best[slot] = candidate;
+          offer(ddx * ddx + ddy * ddy, members[m]);
         }
       };
       take_cell(cx, cy);
@@ -245,8 +246,7 @@ Neighbourhoods nearest_neighbours(size_t count, PlanePoint at, const void* from,
         const double reach = static_cast<double>(ring) * cell;
         done = (held == k && best[k - 1].first <= reach * reach) || seen == count;
       }
-      uint32_t* nearest = out.nearest.get() + position * k;
-      for (size_t b = 0; b < held; ++b) *nearest++ = static_cast<uint32_t>(best[b].second);
+      write_best(position);
     }
   }, 64);
   out.order = std::move(members);
