@@ -14,6 +14,7 @@
 #include "host/scan/local_polynomial.h"
 #include "host/scan/lts_judges.h"
 #include "host/scan/lts_resolution.h"
+#include "host/scan/lts_sphere.h"
 #include "host/scan/median.h"
 #include "host/scan/neighbours.h"
 #include "host/scan/reading_step.h"
@@ -779,6 +780,12 @@ LtsResult filter_in_order(const std::vector<Point3>& points, const LtsOptions& o
       }
       if (unjudged[i]) result.unjudged.push_back(i);
     }
+    // A point still not judged may lie on a ball, whose flank or cap a sphere describes where the
+    // windows' polynomials did not (lts_sphere.h): one that condemns it takes it off the list.
+    // Over seeds 1 to 14 and five noise levels outliers listed instead of caught: ball plate
+    // 311 -> 152, sphere 569 -> 326, dome 11 -> 7; false alarms +3 on the ball plate and +1 on the
+    // dome, none passed unlisted.
+    judge_on_spheres(points, wide, condemned, sigma, options.outlier_sigmas, limit, replacement, result.unjudged);
   }
   for (size_t i = 0; i < points.size(); ++i) {
     const bool outlier = condemned[i];

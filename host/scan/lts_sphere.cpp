@@ -1,0 +1,284 @@
+// A sphere's cap fitted robustly to a point's neighbours by their vertical residuals, for the LTS judges.
+#include "host/scan/lts_sphere.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "host/parallel/parallel_for.h"
+#include "host/scan/small_solve.h"
+#include "host/scan/sphere_fit.h"
+
+namespace dg::host::lts {
+
+namespace {
+
+// Larger balls are nearly planes over a window, and the polynomial models describe them; the
+// sphere's centre height and radius then move together and do not determine each other.
+constexpr double kRadiusMaxMm = 1000;
+
+// A cap in coordinates relative to the judged point: z = c + s sqrt(r^2 - (x - a)^2 - (y - b)^2).
+struct Cap {
+  double a = 0, b = 0, c = 0, r = 0;
+  double s = 1;
+};
+
+// The cap's height over (x, y) and the root w = sqrt(r^2 - dx^2 - dy^2) in it; false outside its outline.
+bool height_on(const Cap& k, double x, double y, double& z, double& w) {
+  const double dx = x - k.a, dy = y - k.b, q = k.r * k.r - dx * dx - dy * dy;
+  if (!(q > 0)) return false;
+  w = std::sqrt(q);
+  z = k.c + k.s * w;
+  return true;
+}
+
+// The derivatives of the height with respect to (a, b, c, r) at (x, y), with root w.
+void height_gradient(const Cap& k, double x, double y, double w, double (&g)[4]) {
+  g[0] = k.s * (x - k.a) / w;
+  g[1] = k.s * (y - k.b) / w;
+  g[2] = 1;
+  g[3] = k.s * k.r / w;
+}
+
+class CapFit {
+ public:
+  CapFit(const std::vector<Point3>& points, size_t i) : points_(points), origin_(points[i]) {}
+
+  Point3 local(size_t j) const {
+    return {points_[j].x - origin_.x, points_[j].y - origin_.y, points_[j].z - origin_.z};
+  }
+
+  // |vertical residual| of point j, HUGE_VAL outside the outline.
+  double off(const Cap& k, size_t j) const {
+    const Point3 p = local(j);
+    double z = 0, w = 0;
+    return height_on(k, p.x, p.y, z, w) ? std::fabs(p.z - z) : HUGE_VAL;
+  }
+
+  // The cap through `subset`: the algebraic sphere, then Gauss-Newton steps on the vertical
+  // residuals (halved while they do not lower the misfit; the points off the outline are left out
+  // of a step and counted as lost).
+  bool fit(const std::vector<size_t>& subset, Cap& k) const {
+    if (subset.size() < 5) return false;
+    std::vector<Point3> local_points;
+    local_points.reserve(subset.size());
+    for (size_t j : subset) local_points.push_back(local(j));
+    Point3 centre{};
+    if (!fit_sphere_algebraic(local_points, Point3{}, centre, k.r) || !(k.r < kRadiusMaxMm)) return false;
+    k.a = centre.x, k.b = centre.y, k.c = centre.z;
+    int above = 0;
+    for (const Point3& p : local_points) above += p.z > k.c ? 1 : -1;
+    k.s = above >= 0 ? 1 : -1;
+    Misfit now = misfit(local_points, k);
+    for (int step = 0; step < 12; ++step) {
+      double n[4][4] = {}, rhs[4] = {}, delta[4] = {};
+      for (const Point3& p : local_points) {
+        double z = 0, w = 0, g[4];
+        if (!height_on(k, p.x, p.y, z, w)) continue;
+        height_gradient(k, p.x, p.y, w, g);
+        for (int u = 0; u < 4; ++u) {
+          rhs[u] += g[u] * (p.z - z);
+          for (int v = 0; v < 4; ++v) n[u][v] += g[u] * g[v];
+        }
+      }
+      if (!solve_small(4, n, rhs, delta)) return false;
+      double move = 1;
+      bool better = false;
+      for (int halving = 0; halving < 8 && !better; ++halving, move *= 0.5) {
+        Cap trial = k;
+        trial.a += move * delta[0], trial.b += move * delta[1], trial.c += move * delta[2], trial.r += move * delta[3];
+        const Misfit trial_misfit = misfit(local_points, trial);
+        if (!(now < trial_misfit)) {
+          k = trial;
+          better = trial_misfit < now;
+          now = trial_misfit;
+        }
+      }
+      const double step_mm = std::fabs(delta[0]) + std::fabs(delta[1]) + std::fabs(delta[2]) + std::fabs(delta[3]);
+      if (!better || 2 * move * step_mm < 1e-10) break;
+    }
+    return std::isfinite(now.ss) && local_points.size() - now.lost >= 5 && k.r > 0 && k.r < kRadiusMaxMm;
+  }
+
+ private:
+  // How well a cap fits: first how many points lie off its outline, then their sum of squares.
+  struct Misfit {
+    size_t lost = 0;
+    double ss = 0;
+    bool operator<(const Misfit& o) const { return lost < o.lost || (lost == o.lost && ss < o.ss); }
+  };
+  static Misfit misfit(const std::vector<Point3>& local_points, const Cap& k) {
+    Misfit m;
+    for (const Point3& p : local_points) {
+      double z = 0, w = 0;
+      if (height_on(k, p.x, p.y, z, w)) {
+        m.ss += (p.z - z) * (p.z - z);
+      } else {
+        ++m.lost;
+      }
+    }
+    return m;
+  }
+
+  const std::vector<Point3>& points_;
+  Point3 origin_;
+};
+
+}  // namespace
+
+SphereFit sphere_model(const std::vector<Point3>& points, IndexSpan window, size_t i, const std::vector<char>& excluded,
+                    double sigma_mm) {
+  const std::vector<size_t> members = others_in(window, i, excluded);
+  const size_t n = members.size();
+  SphereFit best;
+  if (n < static_cast<size_t>(kSphereKeptMin)) return best;
+  const CapFit fitter(points, i);
+  // Least trimmed squares over the maximal-breakdown half, [n/2] + [(p + 1)/2] with p = 4.
+  const size_t h = n / 2 + 2;
+  std::vector<std::pair<double, size_t>> ranked(n);
+  auto smallest = [&](const Cap& k, size_t count) {
+    for (size_t m = 0; m < n; ++m) ranked[m] = {fitter.off(k, members[m]), members[m]};
+    std::nth_element(ranked.begin(), ranked.begin() + static_cast<std::ptrdiff_t>(count - 1), ranked.end());
+    std::vector<size_t> subset;
+    for (size_t m = 0; m < count && ranked[m].first < HUGE_VAL; ++m) subset.push_back(ranked[m].second);
+    std::sort(subset.begin(), subset.end());
+    return subset;
+  };
+  const std::vector<size_t> nearest = nearest_four(points, members, i);
+  // Starts: the caps through each member's block of nine nearest members (a 3 x 3 block of the
+  // grid). The algebraic sphere through a whole window that crosses a ball's foot, or holds an
+  // outlier hundreds of sigmas off, is no start: it came out thousands of millimetres in radius.
+  // A block on one surface is; the best kStarts blocks by the h-th smallest residual of the window
+  // (least median of squares) are taken on by concentration steps.
+  constexpr size_t kBlock = 9, kStarts = 3;
+  std::vector<std::pair<double, Cap>> starts;
+  std::vector<std::pair<double, size_t>> by_distance(n);
+  std::vector<size_t> block;
+  std::vector<double> offs(n);
+  for (size_t c = 0; c < n && n >= kBlock; ++c) {
+    const Point3& centre = points[members[c]];
+    for (size_t m = 0; m < n; ++m) {
+      by_distance[m] = {std::hypot(points[members[m]].x - centre.x, points[members[m]].y - centre.y), members[m]};
+    }
+    std::partial_sort(by_distance.begin(), by_distance.begin() + kBlock, by_distance.end());
+    block.clear();
+    for (size_t m = 0; m < kBlock; ++m) block.push_back(by_distance[m].second);
+    Cap k;
+    if (!fitter.fit(block, k)) continue;
+    for (size_t m = 0; m < n; ++m) offs[m] = fitter.off(k, members[m]);
+    std::nth_element(offs.begin(), offs.begin() + static_cast<std::ptrdiff_t>(h - 1), offs.end());
+    if (offs[h - 1] < HUGE_VAL) starts.push_back({offs[h - 1], k});
+  }
+  const size_t taken = std::min(kStarts, starts.size());
+  std::partial_sort(starts.begin(), starts.begin() + static_cast<std::ptrdiff_t>(taken), starts.end(),
+                    [](const std::pair<double, Cap>& u, const std::pair<double, Cap>& v) { return u.first < v.first; });
+  for (size_t t = 0; t < taken; ++t) {
+    Cap k = starts[t].second;
+    std::vector<size_t> subset = smallest(k, h);
+    bool fitted = false;
+    for (int step = 0; step < 6; ++step) {
+      if (!fitter.fit(subset, k)) break;
+      fitted = true;
+      std::vector<size_t> next = smallest(k, h);
+      if (next == subset) break;
+      subset.swap(next);
+    }
+    if (!fitted) continue;
+    // Every point within the noise's reach of the sphere, and the sphere through them (twice: the
+    // kept set may grow as the fit leaves the trimmed half's bias).
+    std::vector<size_t> kept;
+    bool ok = true;
+    for (int pass = 0; pass < 3 && ok; ++pass) {
+      std::vector<size_t> within;
+      for (size_t j : members) {
+        if (fitter.off(k, j) <= kSphereKeepSigmas * sigma_mm) within.push_back(j);
+      }
+      std::sort(within.begin(), within.end());
+      if (within.size() < static_cast<size_t>(kSphereKeptMin)) ok = false;
+      else if (within == kept) break;
+      else {
+        kept.swap(within);
+        ok = fitter.fit(kept, k);
+      }
+    }
+    if (!ok) continue;
+    SphereFit out;
+    double ss = 0, nn[4][4] = {};
+    for (size_t j : kept) {
+      const Point3 p = fitter.local(j);
+      double z = 0, w = 0, g[4];
+      if (!height_on(k, p.x, p.y, z, w)) {
+        ok = false;
+        break;
+      }
+      ss += (p.z - z) * (p.z - z);
+      height_gradient(k, p.x, p.y, w, g);
+      for (int u = 0; u < 4; ++u) {
+        for (int v = 0; v < 4; ++v) nn[u][v] += g[u] * g[v];
+      }
+    }
+    double z_i = 0, w_i = 0, g_i[4], solved[4] = {};
+    if (!ok || !height_on(k, 0, 0, z_i, w_i)) continue;
+    height_gradient(k, 0, 0, w_i, g_i);
+    double rhs[4] = {g_i[0], g_i[1], g_i[2], g_i[3]};
+    if (!solve_small(4, nn, rhs, solved)) continue;
+    out.gain = g_i[0] * solved[0] + g_i[1] * solved[1] + g_i[2] * solved[2] + g_i[3] * solved[3];
+    out.prediction = points[i].z + z_i;
+    out.dof = static_cast<int>(kept.size()) - 4;
+    out.scale = std::sqrt(ss / out.dof);
+    out.near_worst = 0;
+    for (size_t j : nearest) {
+      const double r = fitter.off(k, j);
+      out.near_worst = std::max(out.near_worst, r);
+      if (std::binary_search(kept.begin(), kept.end(), j)) {
+        ++out.near_kept;
+      } else {
+        out.unkept_near_gap_mm = std::min(out.unkept_near_gap_mm, std::fabs(points[j].z - points[i].z));
+      }
+    }
+    out.ok = std::isfinite(out.prediction) && std::isfinite(out.gain) && out.gain >= 0;
+    if (!out.ok) continue;
+    if (!best.ok || out.near_kept > best.near_kept ||
+        (out.near_kept == best.near_kept && out.dof > best.dof)) {
+      best = out;
+    }
+  }
+  return best;
+}
+
+void judge_on_spheres(const std::vector<Point3>& points, const WindowLists& wide, std::vector<char>& condemned,
+                      double sigma_mm, double outlier_sigmas, double limit_mm, std::vector<double>& replacement,
+                      std::vector<size_t>& unjudged) {
+  // Each sphere leaves out only the points condemned before this pass, so the verdicts do not
+  // depend on one another.
+  std::vector<char> condemn(unjudged.size(), 0);
+  std::vector<double> height(unjudged.size(), 0);
+  parallel_for(unjudged.size(), [&](size_t begin, size_t end, unsigned) {
+    for (size_t u = begin; u < end; ++u) {
+      const size_t i = unjudged[u];
+      const SphereFit m = sphere_model(points, wide[i], i, condemned, sigma_mm);
+      if (!m.ok || m.scale > 2.0 * sigma_mm || m.near_kept < 3 || m.gain > kLineGainMax) continue;
+      const double bound = prediction_bound(outlier_sigmas, sigma_mm, m.gain, m.scale);
+      const double off = std::fabs(points[i].z - m.prediction);
+      // A neighbour the sphere leaves out that lies nearer the point than the sphere does: the
+      // point is of that neighbour's surface, past the sphere's edge. At the dome's rim, on the
+      // scan's edge, a window of the cap had a sphere through a few of the plate's points beside
+      // the rim put plate points 17 to 370 sigma off (six false alarms over fourteen seeds).
+      if (m.unkept_near_gap_mm < off) continue;
+      condemn[u] = off > std::max(bound, limit_mm);
+      height[u] = m.prediction;
+    }
+  });
+  size_t still = 0;
+  for (size_t u = 0; u < unjudged.size(); ++u) {
+    const size_t i = unjudged[u];
+    if (condemn[u]) {
+      condemned[i] = 1;
+      replacement[i] = height[u];
+    } else {
+      unjudged[still++] = i;
+    }
+  }
+  unjudged.resize(still);
+}
+
+}  // namespace dg::host::lts
