@@ -150,7 +150,12 @@ SphereFit sphere_model(const std::vector<Point3>& points, IndexSpan window, size
   // A block on one surface is; the best kStarts blocks by the h-th smallest residual of the window
   // (least median of squares) are taken on by concentration steps.
   constexpr size_t kBlock = 9, kStarts = 3;
-  std::vector<std::pair<double, Cap>> starts;
+  struct Start {
+    double median_off;  // the h-th smallest |residual| of the window
+    size_t consensus;   // how many of the window lie within the noise's reach
+    Cap cap;
+  };
+  std::vector<Start> starts;
   std::vector<std::pair<double, size_t>> by_distance(n);
   std::vector<size_t> block;
   std::vector<double> offs(n);
@@ -164,18 +169,30 @@ SphereFit sphere_model(const std::vector<Point3>& points, IndexSpan window, size
     for (size_t m = 0; m < kBlock; ++m) block.push_back(by_distance[m].second);
     Cap k;
     if (!fitter.fit(block, k)) continue;
-    for (size_t m = 0; m < n; ++m) offs[m] = fitter.off(k, members[m]);
+    size_t consensus = 0;
+    for (size_t m = 0; m < n; ++m) {
+      offs[m] = fitter.off(k, members[m]);
+      consensus += offs[m] <= kSphereKeepSigmas * sigma_mm;
+    }
     std::nth_element(offs.begin(), offs.begin() + static_cast<std::ptrdiff_t>(h - 1), offs.end());
-    if (offs[h - 1] < HUGE_VAL) starts.push_back({offs[h - 1], k});
+    if (offs[h - 1] < HUGE_VAL) starts.push_back({offs[h - 1], consensus, k});
   }
+  // The best starts by the median residual, taken on by concentration steps; and, where the
+  // point's surface is less than half of the window (the last ring of a ball above its foot,
+  // beside the plate), the best by how many points the noise's reach holds, taken on directly.
+  std::vector<std::pair<Cap, bool>> candidates;
   const size_t taken = std::min(kStarts, starts.size());
   std::partial_sort(starts.begin(), starts.begin() + static_cast<std::ptrdiff_t>(taken), starts.end(),
-                    [](const std::pair<double, Cap>& u, const std::pair<double, Cap>& v) { return u.first < v.first; });
-  for (size_t t = 0; t < taken; ++t) {
-    Cap k = starts[t].second;
+                    [](const Start& u, const Start& v) { return u.median_off < v.median_off; });
+  for (size_t t = 0; t < taken; ++t) candidates.push_back({starts[t].cap, true});
+  std::partial_sort(starts.begin(), starts.begin() + static_cast<std::ptrdiff_t>(taken), starts.end(),
+                    [](const Start& u, const Start& v) { return u.consensus > v.consensus; });
+  for (size_t t = 0; t < taken; ++t) candidates.push_back({starts[t].cap, false});
+  for (const auto& [start_cap, concentrate] : candidates) {
+    Cap k = start_cap;
+    bool fitted = !concentrate;
     std::vector<size_t> subset = smallest(k, h);
-    bool fitted = false;
-    for (int step = 0; step < 6; ++step) {
+    for (int step = 0; step < 6 && concentrate; ++step) {
       if (!fitter.fit(subset, k)) break;
       fitted = true;
       std::vector<size_t> next = smallest(k, h);
@@ -187,7 +204,7 @@ SphereFit sphere_model(const std::vector<Point3>& points, IndexSpan window, size
     // kept set may grow as the fit leaves the trimmed half's bias).
     std::vector<size_t> kept;
     bool ok = true;
-    for (int pass = 0; pass < 3 && ok; ++pass) {
+    for (int pass = 0; pass < 5 && ok; ++pass) {
       std::vector<size_t> within;
       for (size_t j : members) {
         if (fitter.off(k, j) <= kSphereKeepSigmas * sigma_mm) within.push_back(j);
@@ -223,6 +240,7 @@ SphereFit sphere_model(const std::vector<Point3>& points, IndexSpan window, size
     if (!solve_small(4, nn, rhs, solved)) continue;
     out.gain = g_i[0] * solved[0] + g_i[1] * solved[1] + g_i[2] * solved[2] + g_i[3] * solved[3];
     out.prediction = points[i].z + z_i;
+    out.slope = std::hypot(k.a, k.b) / w_i;
     out.dof = static_cast<int>(kept.size()) - 4;
     out.scale = std::sqrt(ss / out.dof);
     out.near_worst = 0;
@@ -256,7 +274,8 @@ void judge_on_spheres(const std::vector<Point3>& points, const WindowLists& wide
     for (size_t u = begin; u < end; ++u) {
       const size_t i = unjudged[u];
       const SphereFit m = sphere_model(points, wide[i], i, condemned, sigma_mm);
-      if (!m.ok || m.scale > 2.0 * sigma_mm || m.near_kept < 3 || m.gain > kLineGainMax) continue;
+      const int near_needed = m.slope >= kSphereSteepSlope ? 2 : 3;
+      if (!m.ok || m.scale > 2.0 * sigma_mm || m.near_kept < near_needed || m.gain > kLineGainMax) continue;
       const double bound = prediction_bound(outlier_sigmas, sigma_mm, m.gain, m.scale);
       const double off = std::fabs(points[i].z - m.prediction);
       // A neighbour the sphere leaves out that lies nearer the point than the sphere does: the

@@ -120,9 +120,9 @@ size_t missed_near_axes(dg::sim::PartKind part, double sigma_um, unsigned seeds,
 }  // namespace
 
 TEST(LtsSphere, OutliersOnTheSpheresFlankAreCaughtNotOnlyListed) {
-  // Within 11.5 mm of the axis the flank falls up to 1.9 mm a step. Before the sphere judged,
-  // 2 um and seeds 1 to 4 left five such outliers listed as not judged.
-  LONGS_EQUAL(0, missed_near_axes(dg::sim::PartKind::kSphere, 2.0, 4, 11.5));
+  // Within 12.5 mm of the axis, where the flank grows as steep as 5.6 beside the ball's foot.
+  // Before the sphere judged, 2 um and seeds 1 to 4 left 20 such outliers listed as not judged.
+  LONGS_EQUAL(0, missed_near_axes(dg::sim::PartKind::kSphere, 2.0, 4, 12.5));
 }
 
 TEST(LtsSphere, OutliersOnTheBallPlatesBallsAreCaughtNotOnlyListed) {
