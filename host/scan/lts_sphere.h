@@ -53,7 +53,10 @@ SphereFit sphere_model(const std::vector<Point3>& points, IndexSpan window, size
 // step and its top bends more than a cubic over the window follows: there the windows' polynomials
 // could not tell an outlier from the surface. The sphere only condemns: a point it would clear
 // stays listed, since at a crease a sphere continued past its edge can pass for the other surface
-// (the dome's plate beside its rim at 10 um: two outliers cleared over fourteen seeds).
+// (the dome's plate beside its rim at 10 um: two outliers cleared over fourteen seeds). Then a
+// condemned point that such a sphere (fitted without every condemned point) predicts within its
+// bound is no longer condemned but listed: a real point on a ball's first ring that a judge
+// following the ball worse condemned.
 void judge_on_spheres(const std::vector<Point3>& points, const WindowLists& wide, std::vector<char>& condemned,
                       double sigma_mm, double outlier_sigmas, double limit_mm, std::vector<double>& replacement,
                       std::vector<size_t>& unjudged);
