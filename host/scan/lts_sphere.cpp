@@ -280,16 +280,23 @@ bool may_judge(const SphereFit& m, double sigma_mm) {
 void judge_on_spheres(const std::vector<Point3>& points, const WindowLists& wide, std::vector<char>& condemned,
                       double sigma_mm, double outlier_sigmas, double limit_mm, std::vector<double>& replacement,
                       std::vector<size_t>& unjudged) {
-  // Each sphere leaves out only the points condemned before this pass, so the verdicts do not
-  // depend on one another.
+  // The sphere about point i and its bound, where it may judge. Each sphere leaves out only the
+  // points condemned before the pass it serves, so the verdicts of a pass do not depend on one
+  // another.
+  auto judging_sphere = [&](size_t i, SphereFit& m, double& bound) {
+    m = sphere_model(points, wide[i], i, condemned, sigma_mm);
+    if (!may_judge(m, sigma_mm)) return false;
+    bound = prediction_bound(outlier_sigmas, sigma_mm, m.gain, m.scale);
+    return true;
+  };
   std::vector<char> condemn(unjudged.size(), 0);
   std::vector<double> height(unjudged.size(), 0);
   parallel_for(unjudged.size(), [&](size_t begin, size_t end, unsigned) {
     for (size_t u = begin; u < end; ++u) {
       const size_t i = unjudged[u];
-      const SphereFit m = sphere_model(points, wide[i], i, condemned, sigma_mm);
-      if (!may_judge(m, sigma_mm)) continue;
-      const double bound = prediction_bound(outlier_sigmas, sigma_mm, m.gain, m.scale);
+      SphereFit m;
+      double bound = 0;
+      if (!judging_sphere(i, m, bound)) continue;
       const double off = std::fabs(points[i].z - m.prediction);
       // A neighbour the sphere leaves out that lies nearer the point than the sphere does: the
       // point is of that neighbour's surface, past the sphere's edge. At the dome's rim, on the
@@ -323,10 +330,9 @@ void judge_on_spheres(const std::vector<Point3>& points, const WindowLists& wide
   parallel_for(accused.size(), [&](size_t begin, size_t end, unsigned) {
     for (size_t u = begin; u < end; ++u) {
       const size_t i = accused[u];
-      const SphereFit m = sphere_model(points, wide[i], i, condemned, sigma_mm);
-      if (!may_judge(m, sigma_mm)) continue;
-      const double bound = prediction_bound(outlier_sigmas, sigma_mm, m.gain, m.scale);
-      doubted[u] = std::fabs(points[i].z - m.prediction) <= bound;
+      SphereFit m;
+      double bound = 0;
+      doubted[u] = judging_sphere(i, m, bound) && std::fabs(points[i].z - m.prediction) <= bound;
     }
   });
   for (size_t u = 0; u < accused.size(); ++u) {
