@@ -202,8 +202,8 @@ SphereFit sphere_model(const std::vector<Point3>& points, IndexSpan window, size
       subset.swap(next);
     }
     if (!fitted) continue;
-    // Every point within the noise's reach of the sphere, and the sphere through them (twice: the
-    // kept set may grow as the fit leaves the trimmed half's bias).
+    // Every point within the noise's reach of the sphere, and the sphere through them, until the
+    // kept set settles (it may grow as the fit leaves the start's bias; five passes at most).
     std::vector<size_t> kept;
     bool ok = true;
     for (int pass = 0; pass < 5 && ok; ++pass) {
