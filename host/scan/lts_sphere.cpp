@@ -83,18 +83,20 @@ class CapFit {
       if (!solve_small(4, n, rhs, delta)) return false;
       double move = 1;
       bool better = false;
-      for (int halving = 0; halving < 8 && !better; ++halving, move *= 0.5) {
+      for (int halving = 0; halving < 8 && !better; ++halving) {
         Cap trial = k;
         trial.a += move * delta[0], trial.b += move * delta[1], trial.c += move * delta[2], trial.r += move * delta[3];
         const Misfit trial_misfit = misfit(local_points, trial);
-        if (!(now < trial_misfit)) {
+        better = trial_misfit < now;
+        if (better) {
           k = trial;
-          better = trial_misfit < now;
           now = trial_misfit;
+        } else {
+          move *= 0.5;
         }
       }
       const double step_mm = std::fabs(delta[0]) + std::fabs(delta[1]) + std::fabs(delta[2]) + std::fabs(delta[3]);
-      if (!better || 2 * move * step_mm < 1e-10) break;
+      if (!better || move * step_mm < 1e-10) break;
     }
     return std::isfinite(now.ss) && local_points.size() - now.lost >= 5 && k.r > 0 && k.r < kRadiusMaxMm;
   }
@@ -245,10 +247,7 @@ SphereFit sphere_model(const std::vector<Point3>& points, IndexSpan window, size
     out.slope = std::hypot(k.a, k.b) / w_i;
     out.dof = static_cast<int>(kept.size()) - 4;
     out.scale = std::sqrt(ss / out.dof);
-    out.near_worst = 0;
     for (size_t j : nearest) {
-      const double r = fitter.off(k, j);
-      out.near_worst = std::max(out.near_worst, r);
       if (std::binary_search(kept.begin(), kept.end(), j)) {
         ++out.near_kept;
       } else {

@@ -50,8 +50,9 @@ SphereFit fit_about_centre(const std::vector<Point3>& points, double sigma_mm) {
 }  // namespace
 
 TEST(LtsSphere, ASphereOnTheReferenceSpheresFlankPredictsTheTrueHeightWithoutThePointOrItsOutliers) {
-  // Where the flank falls 1.6 to 4 mm a step ((29, 8) is 11.4 mm from the axis), with the point
-  // itself 1 mm off and two neighbours 0.3 mm off: the sphere left them out and predicted the part.
+  // Where the flank is 2.0 steep ((29, 8), 11.4 mm from the axis; its four nearest neighbours lie
+  // 1.1 to 2.1 mm above or below it), with the point itself 1 mm off and two neighbours 0.3 mm
+  // off: the sphere left them out and predicted the part.
   const double sigma_mm = 0.002;
   for (unsigned seed = 1; seed <= 5; ++seed) {
     std::vector<Point3> points = window_on(dg::sim::PartKind::kSphere, 29, 8, sigma_mm, seed);
@@ -69,8 +70,8 @@ TEST(LtsSphere, ASphereOnTheReferenceSpheresFlankPredictsTheTrueHeightWithoutThe
 
 TEST(LtsSphere, AtTheSpheresFootTheSphereKeepsItsOwnSideAndNotThePlate) {
   // (8, 14) is 12.04 mm from the axis, 10 mm above the plate beside it: a window of which the
-  // plate holds a third. The sphere keeps the ball's points, predicts the point, and leaves the
-  // plate out.
+  // plate holds 21 of the 48 other points. The sphere keeps the ball's points, predicts the point,
+  // and leaves the plate out.
   const double sigma_mm = 0.001;
   const std::vector<Point3> points = window_on(dg::sim::PartKind::kSphere, 8, 14, sigma_mm, 3);
   const SphereFit m = fit_about_centre(points, sigma_mm);
@@ -126,9 +127,8 @@ TEST(LtsSphere, OutliersOnTheSpheresFlankAreCaughtNotOnlyListed) {
 }
 
 TEST(LtsSphere, OutliersOnTheBallPlatesBallsAreCaughtNotOnlyListed) {
-  // Within 4.6 mm of a ball's axis its cap bends more than a cubic over the window follows at the
-  // noise of 5 um. Before the sphere judged, seeds 1 to 3 left three such outliers listed as not
-  // judged.
+  // Within 4.6 mm of a ball's axis, on its cap. Before the sphere judged, 5 um and seeds 1 to 3
+  // left three such outliers listed as not judged.
   LONGS_EQUAL(0, missed_near_axes(dg::sim::PartKind::kBallPlate, 5.0, 3, 4.6));
 }
 
