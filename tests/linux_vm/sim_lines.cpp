@@ -124,20 +124,36 @@ int read_gauge(const std::string& dir, const int lines[7], long dx, long dy) {
     usleep(4000);
   }
   usleep(1000);
-  req.drive(true);
-  // Sample DATA at each CK rise, as a Digimatic receiver does.
+  // Sample DATA at each CK rise, as a Digimatic receiver does. A receiver that misses a rise asks
+  // again, as a real one must: under software emulation this polling reader or the rig can stall
+  // for longer than a CK phase.
   dg::DigimaticBits bits;
   int count = 0;
-  bool clock = ck.value();
-  const uint64_t give_up = now_ns() + 10000000000ull;
-  while (count < dg::kDigimaticBits && now_ns() < give_up) {
-    const bool level = ck.value();
-    if (level && !clock) bits.set_bit(count++, data.value());
-    clock = level;
+  for (int attempt = 1; attempt <= 3 && count < dg::kDigimaticBits; ++attempt) {
+    if (attempt > 1) {
+      std::printf("read: only %d of %d bits came; asking again\n", count, dg::kDigimaticBits);
+      // The rig finishes the frame it began: wait until CK has been still for half a second.
+      bool level = ck.value();
+      uint64_t still_since = now_ns();
+      while (now_ns() - still_since < 500000000ull) {
+        if (ck.value() != level) level = !level, still_since = now_ns();
+        usleep(1000);
+      }
+    }
+    bits = dg::DigimaticBits{};
+    count = 0;
+    req.drive(true);
+    bool clock = ck.value();
+    const uint64_t give_up = now_ns() + 10000000000ull;
+    while (count < dg::kDigimaticBits && now_ns() < give_up) {
+      const bool level = ck.value();
+      if (level && !clock) bits.set_bit(count++, data.value());
+      clock = level;
+    }
+    req.drive(false);
   }
-  req.drive(false);
   if (count < dg::kDigimaticBits) {
-    std::printf("read: only %d of %d bits came\n", count, dg::kDigimaticBits);
+    std::printf("read: only %d of %d bits came, three times\n", count, dg::kDigimaticBits);
     return 1;
   }
   dg::DigimaticReading reading;
