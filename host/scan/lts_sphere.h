@@ -33,9 +33,9 @@ constexpr double kSphereSteepSlope = 1.5;
 // sphere fitted to them again.
 // As a LooFit: the prediction at i, the kept residuals' scale, the prediction's gain (its variance
 // over sigma^2, from the fit's linearization), and how many of the four nearest neighbours were
-// kept (`near_worst` is not set: the judges here do not read it). Not ok where fewer than
-// kSphereKeptMin points are kept, the points determine no sphere of radius under 1 m, or i lies
-// outside the sphere's outline.
+// kept (`near_worst` stays HUGE_VAL, the worst case: the judges here do not read it). Not ok
+// where fewer than kSphereKeptMin points are kept, the points determine no sphere of radius under
+// 1 m, or i lies outside the sphere's outline.
 struct SphereFit : LooFit {
   // The least height difference between point i and one of its four nearest neighbours that the
   // sphere did not keep (HUGE_VAL when it kept them all).

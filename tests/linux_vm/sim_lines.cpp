@@ -136,7 +136,10 @@ int read_gauge(const std::string& dir, const int lines[7], long dx, long dy) {
       bool level = ck.value();
       uint64_t still_since = now_ns();
       while (now_ns() - still_since < 500000000ull) {
-        if (ck.value() != level) level = !level, still_since = now_ns();
+        if (ck.value() != level) {
+          level = !level;
+          still_since = now_ns();
+        }
         usleep(1000);
       }
     }
