@@ -277,8 +277,8 @@ bool may_judge(const SphereFit& m, double sigma_mm) {
 }  // namespace
 
 void judge_on_spheres(const std::vector<Point3>& points, const WindowLists& wide, std::vector<char>& condemned,
-                      double sigma_mm, double outlier_sigmas, double limit_mm, std::vector<double>& replacement,
-                      std::vector<size_t>& unjudged) {
+                      const std::vector<char>& beyond_doubt, double sigma_mm, double outlier_sigmas, double limit_mm,
+                      std::vector<double>& replacement, std::vector<size_t>& unjudged) {
   // The sphere about point i and its bound, where it may judge. Each sphere leaves out only the
   // points condemned before the pass it serves, so the verdicts of a pass do not depend on one
   // another.
@@ -323,7 +323,7 @@ void judge_on_spheres(const std::vector<Point3>& points, const WindowLists& wide
   // sphere 6 -> 0, on the dome 9 -> 8 and the step gauge 5 -> 4; no outlier among them).
   std::vector<size_t> accused;
   for (size_t i = 0; i < points.size(); ++i) {
-    if (condemned[i]) accused.push_back(i);
+    if (condemned[i] && !beyond_doubt[i]) accused.push_back(i);
   }
   std::vector<char> doubted(accused.size(), 0);
   parallel_for(accused.size(), [&](size_t begin, size_t end, unsigned) {

@@ -23,6 +23,9 @@ constexpr double kSphereKeepSigmas = 4;
 // five noise levels 95 more outliers caught, no false alarm more). On the dome's rim, 0.93 steep,
 // a sphere keeping two neighbours condemned a real point at 10 um.
 constexpr double kSphereSteepSlope = 1.5;
+// A condemned point that a window describing its neighbours to the noise misses by this many
+// times its bound is beyond a sphere's doubt (judge_on_spheres).
+constexpr double kBeyondDoubt = 10;
 
 // A sphere z = c + s sqrt(r^2 - (x - a)^2 - (y - b)^2) (s = +1 for a ball, -1 for a bowl) through
 // point i's neighbours in `window`, without i and the `excluded`, fitted to their heights: the
@@ -57,9 +60,10 @@ SphereFit sphere_model(const std::vector<Point3>& points, IndexSpan window, size
 // (the dome's plate beside its rim at 10 um: two outliers cleared over fourteen seeds). Then a
 // condemned point that such a sphere (fitted without every condemned point) predicts within its
 // bound is no longer condemned but listed: a real point on a ball's first ring that a judge
-// following the ball worse condemned.
+// following the ball worse condemned. Not asked of the points marked `beyond_doubt`: condemned by
+// a window that describes their neighbours to the noise, at kBeyondDoubt times its bound or more.
 void judge_on_spheres(const std::vector<Point3>& points, const WindowLists& wide, std::vector<char>& condemned,
-                      double sigma_mm, double outlier_sigmas, double limit_mm, std::vector<double>& replacement,
-                      std::vector<size_t>& unjudged);
+                      const std::vector<char>& beyond_doubt, double sigma_mm, double outlier_sigmas, double limit_mm,
+                      std::vector<double>& replacement, std::vector<size_t>& unjudged);
 
 }  // namespace dg::host::lts

@@ -141,3 +141,40 @@ TEST(LtsSphere, NoRealPointOnTheReferenceSphereIsCondemned) {
     for (const dg::host::LtsOutlier& o : r.outliers) CHECK(p.outliers.count(o.index) == 1);
   }
 }
+
+namespace {
+
+// judge_on_spheres over the 7 x 7 window about (29, 8) on the reference sphere's flank (2.0 steep),
+// its centre, a real point, condemned by an earlier judge; `beyond_doubt` marks it or not. Whether
+// it is still condemned after the spheres' second opinion.
+bool still_condemned(bool beyond_doubt, std::vector<size_t>& unjudged) {
+  const double sigma_mm = 0.002;
+  const std::vector<Point3> points = window_on(dg::sim::PartKind::kSphere, 29, 8, sigma_mm, 2);
+  dg::host::lts::WindowLists wide;
+  wide.reset(points.size(), points.size());
+  std::vector<size_t> all(points.size());
+  for (size_t k = 0; k < all.size(); ++k) all[k] = k;
+  wide.set(24, all.data(), all.size());
+  std::vector<char> condemned(points.size(), 0), marked(points.size(), 0);
+  condemned[24] = 1;
+  marked[24] = beyond_doubt;
+  std::vector<double> replacement(points.size(), 0);
+  unjudged.clear();
+  dg::host::lts::judge_on_spheres(points, wide, condemned, marked, sigma_mm, 5, 0, replacement, unjudged);
+  return condemned[24] != 0;
+}
+
+}  // namespace
+
+TEST(LtsSphere, ARealPointCondemnedOnTheFlankIsListedUnlessBeyondDoubt) {
+  // The sphere through its neighbours predicts the real point within its bound: no longer
+  // condemned, listed as not judged.
+  std::vector<size_t> unjudged;
+  CHECK_FALSE(still_condemned(false, unjudged));
+  LONGS_EQUAL(1, unjudged.size());
+  LONGS_EQUAL(24, unjudged[0]);
+  // Marked beyond doubt (a window describing its neighbours missed it by ten times its bound), it
+  // is not asked: the verdict stands and nothing is listed.
+  CHECK(still_condemned(true, unjudged));
+  CHECK(unjudged.empty());
+}
