@@ -38,7 +38,9 @@ constexpr double kBeyondDoubt = 10;
 // over sigma^2, from the fit's linearization), and how many of the four nearest neighbours were
 // kept (`near_worst` stays HUGE_VAL, the worst case: the judges here do not read it). Not ok
 // where fewer than kSphereKeptMin points are kept, the points determine no sphere of radius under
-// 1 m, or i lies outside the sphere's outline.
+// 1 m, or i lies outside the sphere's outline. The nearest four are sought among the fitted
+// points and the excluded ones marked `stand_in`, which count as kept where the sphere passes
+// within kSphereKeepSigmas * `sigma_mm` of their `replacement` heights.
 struct SphereFit : LooFit {
   // The least height difference between point i and one of its four nearest neighbours that the
   // sphere did not keep (HUGE_VAL when it kept them all).
@@ -46,22 +48,25 @@ struct SphereFit : LooFit {
   double slope = 0;  // the sphere's steepest slope at point i (mm per mm)
 };
 SphereFit sphere_model(const std::vector<Point3>& points, IndexSpan window, size_t i, const std::vector<char>& excluded,
-                    double sigma_mm);
+                    double sigma_mm, const std::vector<char>* stand_in = nullptr,
+                    const std::vector<double>* replacement = nullptr);
 
 // The points listed as not judged (`unjudged`, ascending) that a sphere through their wider window
 // condemns leave the list: `condemned` is set and their `replacement` is the sphere's height. A
 // sphere condemns where it describes its points to the noise (scale within 2 sigma), keeps three of
 // the point's four nearest neighbours (two on a kSphereSteepSlope), extrapolates no further than a
 // line may (gain up to kLineGainMax), puts the point beyond its bound and `limit_mm`, and no
-// neighbour it left out lies nearer the point. A ball's flank falls by millimetres within a grid
-// step and its top bends more than a cubic over the window follows: there the windows' polynomials
-// could not tell an outlier from the surface. The sphere only condemns: a point it would clear
-// stays listed, since at a crease a sphere continued past its edge can pass for the other surface
-// (the dome's plate beside its rim at 10 um: two outliers cleared over fourteen seeds). Then a
-// condemned point that such a sphere (fitted without every condemned point) predicts within its
-// bound is no longer condemned but listed: a real point on a ball's first ring that a judge
-// following the ball worse condemned. Not asked of the points marked `beyond_doubt`: condemned by
-// a window that describes their neighbours to the noise, at kBeyondDoubt times its bound or more.
+// neighbour it left out lies nearer the point; in passes until one condemns none more, the points
+// condemned by an earlier pass standing in among the nearest by their spheres' heights. A ball's
+// flank falls by millimetres within a grid step and its top bends more than a cubic over the
+// window follows: there the windows' polynomials could not tell an outlier from the surface. The
+// sphere only condemns: a point it would clear stays listed, since at a crease a sphere continued
+// past its edge can pass for the other surface (the dome's plate beside its rim at 10 um: two
+// outliers cleared over fourteen seeds). Then a condemned point that such a sphere (fitted
+// without every condemned point) predicts within its bound is no longer condemned but listed: a
+// real point on a ball's first ring that a judge following the ball worse condemned. Not asked of
+// the points marked `beyond_doubt`: condemned by a window that describes their neighbours to the
+// noise, at kBeyondDoubt times its bound or more.
 void judge_on_spheres(const std::vector<Point3>& points, const WindowLists& wide, std::vector<char>& condemned,
                       const std::vector<char>& beyond_doubt, double sigma_mm, double outlier_sigmas, double limit_mm,
                       std::vector<double>& replacement, std::vector<size_t>& unjudged);
