@@ -1,5 +1,6 @@
-// A sphere's cap as a model of a point's neighbours, for the LTS judges where a ball bends or falls
-// faster than a polynomial over the grid's window follows (a reference sphere's flank, a ball plate's balls).
+// A sphere's cap (or a plane) as a model of a point's neighbours, for the LTS judges where a ball bends
+// or falls faster than a polynomial over the grid's window follows (a reference sphere's flank, a ball
+// plate's balls) or a block's edge drops by millimetres.
 #pragma once
 #include <cmath>
 #include <cstddef>
@@ -26,6 +27,9 @@ constexpr double kSphereSteepSlope = 1.5;
 // A condemned point that a window describing its neighbours to the noise misses by this many
 // times its bound is beyond a sphere's doubt (judge_on_spheres).
 constexpr double kBeyondDoubt = 10;
+// How an excluded point stands among the nearest four (sphere_model's `stand_in`): not at all (0),
+// as a neighbour not kept, or by its replacement height.
+constexpr char kNotKept = 1, kByHeight = 2;
 
 // A sphere z = c + s sqrt(r^2 - (x - a)^2 - (y - b)^2) (s = +1 for a ball, -1 for a bowl) through
 // point i's neighbours in `window`, without i and the `excluded`, fitted to their heights: the
@@ -39,8 +43,9 @@ constexpr double kBeyondDoubt = 10;
 // kept (`near_worst` stays HUGE_VAL, the worst case: the judges here do not read it). Not ok
 // where fewer than kSphereKeptMin points are kept, the points determine no sphere of radius under
 // 1 m, or i lies outside the sphere's outline. The nearest four are sought among the fitted
-// points and the excluded ones marked `stand_in`, which count as kept where the sphere passes
-// within kSphereKeepSigmas * `sigma_mm` of their `replacement` heights.
+// points and the excluded ones that `stand_in` marks: kNotKept ones count as not kept, kByHeight
+// ones as kept where the sphere passes within kSphereKeepSigmas * `sigma_mm` of their
+// `replacement` heights.
 struct SphereFit : LooFit {
   // The least height difference between point i and one of its four nearest neighbours that the
   // sphere did not keep (HUGE_VAL when it kept them all).
@@ -50,6 +55,11 @@ struct SphereFit : LooFit {
 SphereFit sphere_model(const std::vector<Point3>& points, IndexSpan window, size_t i, const std::vector<char>& excluded,
                     double sigma_mm, const std::vector<char>* stand_in = nullptr,
                     const std::vector<double>* replacement = nullptr);
+// The same with a plane z = a + b x + c y for the sphere: the flat side of a window that crosses a
+// cliff (the plate behind a step gauge's block).
+SphereFit plane_model(const std::vector<Point3>& points, IndexSpan window, size_t i, const std::vector<char>& excluded,
+                      double sigma_mm, const std::vector<char>* stand_in = nullptr,
+                      const std::vector<double>* replacement = nullptr);
 
 // The points listed as not judged (`unjudged`, ascending) that a sphere through their wider window
 // condemns leave the list: `condemned` is set and their `replacement` is the sphere's height. A
@@ -57,7 +67,9 @@ SphereFit sphere_model(const std::vector<Point3>& points, IndexSpan window, size
 // the point's four nearest neighbours (two on a kSphereSteepSlope), extrapolates no further than a
 // line may (gain up to kLineGainMax), puts the point beyond its bound and `limit_mm`, and no
 // neighbour it left out lies nearer the point; in passes until one condemns none more, the points
-// condemned by an earlier pass standing in among the nearest by their spheres' heights. A ball's
+// condemned by an earlier pass standing in among the nearest by their spheres' heights. Where no
+// sphere may judge, a plane may, on the same terms but always keeping three of the four nearest
+// (the points the other judges condemned among them, as not kept). A ball's
 // flank falls by millimetres within a grid step and its top bends more than a cubic over the
 // window follows: there the windows' polynomials could not tell an outlier from the surface. The
 // sphere only condemns: a point it would clear stays listed, since at a crease a sphere continued
