@@ -784,7 +784,7 @@ LtsResult filter_in_order(const std::vector<Point3>& points, const LtsOptions& o
     // windows' polynomials did not, or beside a cliff where a plane describes its side (lts_sphere.h):
     // one that condemns it takes it off the list, and a condemned point it predicts is listed
     // instead. Over seeds 1 to 14 and five noise levels outliers listed instead of caught: ball
-    // plate 311 -> 61, sphere 569 -> 185, dome 11 -> 7, step gauge 108 -> 98; false alarms on the
+    // plate 311 -> 59, sphere 569 -> 135, dome 11 -> 7, step gauge 108 -> 77; false alarms on the
     // ball plate 57 -> 34, the sphere 6 -> 0, the dome 8 -> 8, the step gauge 5 -> 3; none passed
     // unlisted.
     // A condemned point whose whole window describes its neighbours to the noise, its four

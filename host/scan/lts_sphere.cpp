@@ -16,6 +16,9 @@ namespace {
 // Larger balls are nearly planes over a window, and the polynomial models describe them; the
 // sphere's centre height and radius then move together and do not determine each other.
 constexpr double kRadiusMaxMm = 1000;
+// How much farther than the plane the neighbours a plane leaves out lie from a point, for two of
+// the four nearest to do (may_judge).
+constexpr double kCliffRatio = 10;
 // The most passes of the spheres over the points still listed (judge_on_spheres).
 constexpr int kSpherePasses = 4;
 
@@ -318,7 +321,7 @@ SphereFit robust_model(const std::vector<Point3>& points, IndexSpan window, size
     out.dof = static_cast<int>(kept.size()) - P;
     out.scale = std::sqrt(ss / out.dof);
     for (size_t j : nearest) {
-      if (excluded[j] && (*stand_in)[j] != kByHeight) {
+      if (excluded[j] && ((*stand_in)[j] != kByHeight || !replacement)) {
         continue;  // among the nearest, but not kept
       } else if (excluded[j]) {
         // An excluded neighbour (condemned) by its replacement height: kept where the sphere passes
@@ -362,10 +365,15 @@ SphereFit plane_model(const std::vector<Point3>& points, IndexSpan window, size_
 namespace {
 
 // Whether a sphere (or a plane) about a point may judge it: it describes its points to the noise,
-// keeps the point's nearest neighbours (two of four on a sphere's steep flank, three elsewhere) and
-// extrapolates no further than a line may.
-bool may_judge(const SphereFit& m, double sigma_mm, bool sphere) {
-  const int near_needed = sphere && m.slope >= kSphereSteepSlope ? 2 : 3;
+// keeps the point's nearest neighbours and extrapolates no further than a line may. Two of the
+// four nearest suffice on a sphere's steep flank, and for a plane (to condemn a point `off_mm`
+// from it) where those it leaves out lie kCliffRatio times farther from the point: the base at the
+// foot of the reference sphere's drop, two of whose nearest are the ball's, 6 to 10 mm higher.
+// Three elsewhere: a real point on a ball's first ring, 0.65 mm above the plate, had its ball
+// neighbours 1.4 mm above it.
+bool may_judge(const SphereFit& m, double sigma_mm, bool sphere, double off_mm = HUGE_VAL) {
+  const bool cliff = !sphere && m.unkept_near_gap_mm >= kCliffRatio * off_mm;
+  const int near_needed = (sphere && m.slope >= kSphereSteepSlope) || cliff ? 2 : 3;
   return m.ok && m.scale <= 2.0 * sigma_mm && m.near_kept >= near_needed && m.gain <= kLineGainMax;
 }
 
@@ -387,13 +395,15 @@ void judge_on_spheres(const std::vector<Point3>& points, const WindowLists& wide
   // gauge 69 unfound instead of 98, sphere 168 instead of 185).
   std::vector<char> by_sphere(points.size(), 0), standing(points.size(), 0);
   for (size_t i = 0; i < points.size(); ++i) standing[i] = condemned[i] ? kNotKept : 0;
-  auto judging_sphere = [&](size_t i, SphereFit& m, double& bound) {
+  auto judging_sphere = [&](size_t i, SphereFit& m, double& bound, bool condemning) {
     m = sphere_model(points, wide[i], i, condemned, sigma_mm, &by_sphere, &replacement);
-    // Where no sphere may judge, a plane: the plate behind a step gauge's block, where the window
-    // crosses a cliff of millimetres.
+    // Where no sphere may judge, a plane: the plate behind a step gauge's block or below the
+    // reference sphere's equator, where the window crosses a cliff of millimetres. Only to condemn
+    // may it keep two of the four nearest at a cliff: to list a condemned point as well, it listed
+    // four outliers on the saddle (over seeds 1 to 14 and five noise levels).
     if (!may_judge(m, sigma_mm, true)) {
       m = plane_model(points, wide[i], i, condemned, sigma_mm, &standing, &replacement);
-      if (!may_judge(m, sigma_mm, false)) return false;
+      if (!may_judge(m, sigma_mm, false, condemning ? std::fabs(points[i].z - m.prediction) : HUGE_VAL)) return false;
     }
     bound = prediction_bound(outlier_sigmas, sigma_mm, m.gain, m.scale);
     return true;
@@ -414,7 +424,7 @@ void judge_on_spheres(const std::vector<Point3>& points, const WindowLists& wide
         const size_t i = unjudged[u];
         SphereFit m;
         double bound = 0;
-        if (!judging_sphere(i, m, bound)) continue;
+        if (!judging_sphere(i, m, bound, true)) continue;
         const double off = std::fabs(points[i].z - m.prediction);
         // A neighbour the sphere leaves out that lies nearer the point than the sphere does: the
         // point is of that neighbour's surface, past the sphere's edge. At the dome's rim, on the
@@ -454,7 +464,7 @@ void judge_on_spheres(const std::vector<Point3>& points, const WindowLists& wide
       const size_t i = accused[u];
       SphereFit m;
       double bound = 0;
-      doubted[u] = judging_sphere(i, m, bound) && std::fabs(points[i].z - m.prediction) <= bound;
+      doubted[u] = judging_sphere(i, m, bound, false) && std::fabs(points[i].z - m.prediction) <= bound;
     }
   });
   for (size_t u = 0; u < accused.size(); ++u) {

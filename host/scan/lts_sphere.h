@@ -56,7 +56,7 @@ SphereFit sphere_model(const std::vector<Point3>& points, IndexSpan window, size
                     double sigma_mm, const std::vector<char>* stand_in = nullptr,
                     const std::vector<double>* replacement = nullptr);
 // The same with a plane z = a + b x + c y for the sphere: the flat side of a window that crosses a
-// cliff (the plate behind a step gauge's block).
+// cliff (the plate behind a step gauge's block, the base below the reference sphere's equator).
 SphereFit plane_model(const std::vector<Point3>& points, IndexSpan window, size_t i, const std::vector<char>& excluded,
                       double sigma_mm, const std::vector<char>* stand_in = nullptr,
                       const std::vector<double>* replacement = nullptr);
@@ -68,8 +68,9 @@ SphereFit plane_model(const std::vector<Point3>& points, IndexSpan window, size_
 // line may (gain up to kLineGainMax), puts the point beyond its bound and `limit_mm`, and no
 // neighbour it left out lies nearer the point; in passes until one condemns none more, the points
 // condemned by an earlier pass standing in among the nearest by their spheres' heights. Where no
-// sphere may judge, a plane may, on the same terms but always keeping three of the four nearest
-// (the points the other judges condemned among them, as not kept). A ball's
+// sphere may judge, a plane may, on the same terms but keeping three of the four nearest (the
+// points the other judges condemned among them, as not kept), or two to condemn a point beside a
+// cliff whose side it leaves out. A ball's
 // flank falls by millimetres within a grid step and its top bends more than a cubic over the
 // window follows: there the windows' polynomials could not tell an outlier from the surface. The
 // sphere only condemns: a point it would clear stays listed, since at a crease a sphere continued
