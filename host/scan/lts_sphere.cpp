@@ -45,11 +45,24 @@ void height_gradient(const Cap& k, double x, double y, double w, double (&g)[4])
   g[3] = k.s * k.r / w;
 }
 
-class CapFit {
+// The window's points relative to the judged point i, the frame both shapes are fitted in.
+class LocalFrame {
+ public:
+  LocalFrame(const std::vector<Point3>& points, size_t i) : points_(points), origin_(points[i]) {}
+  Point3 local(size_t j) const {
+    return {points_[j].x - origin_.x, points_[j].y - origin_.y, points_[j].z - origin_.z};
+  }
+
+ private:
+  const std::vector<Point3>& points_;
+  Point3 origin_;
+};
+
+class CapFit : public LocalFrame {
  public:
   using Params = Cap;
   static constexpr int kParams = 4;
-  CapFit(const std::vector<Point3>& points, size_t i) : points_(points), origin_(points[i]) {}
+  using LocalFrame::LocalFrame;
 
   // The height over (x, y) and its derivatives with respect to the parameters; false outside.
   static bool height(const Cap& k, double x, double y, double& z, double (&g)[kParams]) {
@@ -62,10 +75,6 @@ class CapFit {
   static double slope(const Cap& k) {
     double z = 0, w = 0;
     return height_on(k, 0, 0, z, w) ? std::hypot(k.a, k.b) / w : HUGE_VAL;
-  }
-
-  Point3 local(size_t j) const {
-    return {points_[j].x - origin_.x, points_[j].y - origin_.y, points_[j].z - origin_.z};
   }
 
   // |vertical residual| of point j, HUGE_VAL outside the outline.
@@ -141,9 +150,6 @@ class CapFit {
     }
     return m;
   }
-
-  const std::vector<Point3>& points_;
-  Point3 origin_;
 };
 
 // A plane z = a + b x + c y in coordinates relative to the judged point, fitted to the heights.
@@ -151,15 +157,12 @@ struct Tilt {
   double a = 0, b = 0, c = 0;
 };
 
-class PlaneFit {
+class PlaneFit : public LocalFrame {
  public:
   using Params = Tilt;
   static constexpr int kParams = 3;
-  PlaneFit(const std::vector<Point3>& points, size_t i) : points_(points), origin_(points[i]) {}
+  using LocalFrame::LocalFrame;
 
-  Point3 local(size_t j) const {
-    return {points_[j].x - origin_.x, points_[j].y - origin_.y, points_[j].z - origin_.z};
-  }
   double off(const Tilt& k, size_t j) const {
     const Point3 p = local(j);
     return std::fabs(p.z - (k.a + k.b * p.x + k.c * p.y));
@@ -186,10 +189,6 @@ class PlaneFit {
     k = {x[0], x[1], x[2]};
     return std::isfinite(k.a) && std::isfinite(k.b) && std::isfinite(k.c);
   }
-
- private:
-  const std::vector<Point3>& points_;
-  Point3 origin_;
 };
 
 // A shape (CapFit, PlaneFit) through point i's neighbours in `window`, robustly: see sphere_model.
@@ -214,7 +213,7 @@ SphereFit robust_model(const std::vector<Point3>& points, IndexSpan window, size
     std::sort(subset.begin(), subset.end());
     return subset;
   };
-  // The four nearest of the members and the excluded that stand in by their replacement heights.
+  // The four nearest of the members and the excluded that `stand_in` marks (kNotKept, kByHeight).
   std::vector<size_t> near_pool = members;
   for (size_t m = 0; stand_in && m < window.size(); ++m) {
     if (window[m] != i && excluded[window[m]] && (*stand_in)[window[m]]) near_pool.push_back(window[m]);
@@ -382,9 +381,6 @@ bool may_judge(const SphereFit& m, double sigma_mm, bool sphere, double off_mm =
 void judge_on_spheres(const std::vector<Point3>& points, const WindowLists& wide, std::vector<char>& condemned,
                       const std::vector<char>& beyond_doubt, double sigma_mm, double outlier_sigmas, double limit_mm,
                       std::vector<double>& replacement, std::vector<size_t>& unjudged) {
-  // The sphere about point i and its bound, where it may judge. Each sphere leaves out only the
-  // points condemned before the pass it serves, so the verdicts of a pass do not depend on one
-  // another.
   // The condemned as they stand among a point's nearest four: for a sphere those a sphere condemned,
   // by the heights it gave them (`by_sphere`); for a plane also those the other judges condemned,
   // as not kept. A plane that let the next nearest point take their places condemned real points
@@ -395,7 +391,10 @@ void judge_on_spheres(const std::vector<Point3>& points, const WindowLists& wide
   // gauge 69 unfound instead of 98, sphere 168 instead of 185).
   std::vector<char> by_sphere(points.size(), 0), standing(points.size(), 0);
   for (size_t i = 0; i < points.size(); ++i) standing[i] = condemned[i] ? kNotKept : 0;
-  auto judging_sphere = [&](size_t i, SphereFit& m, double& bound, bool condemning) {
+  // The sphere (or plane) about point i and its bound, where it may judge. Each leaves out only
+  // the points condemned before the pass it serves, so the verdicts of a pass do not depend on one
+  // another.
+  auto judging_model = [&](size_t i, SphereFit& m, double& bound, bool condemning) {
     m = sphere_model(points, wide[i], i, condemned, sigma_mm, &by_sphere, &replacement);
     // Where no sphere may judge, a plane: the plate behind a step gauge's block or below the
     // reference sphere's equator, where the window crosses a cliff of millimetres. Only to condemn
@@ -424,7 +423,7 @@ void judge_on_spheres(const std::vector<Point3>& points, const WindowLists& wide
         const size_t i = unjudged[u];
         SphereFit m;
         double bound = 0;
-        if (!judging_sphere(i, m, bound, true)) continue;
+        if (!judging_model(i, m, bound, true)) continue;
         const double off = std::fabs(points[i].z - m.prediction);
         // A neighbour the sphere leaves out that lies nearer the point than the sphere does: the
         // point is of that neighbour's surface, past the sphere's edge. At the dome's rim, on the
@@ -464,7 +463,7 @@ void judge_on_spheres(const std::vector<Point3>& points, const WindowLists& wide
       const size_t i = accused[u];
       SphereFit m;
       double bound = 0;
-      doubted[u] = judging_sphere(i, m, bound, false) && std::fabs(points[i].z - m.prediction) <= bound;
+      doubted[u] = judging_model(i, m, bound, false) && std::fabs(points[i].z - m.prediction) <= bound;
     }
   });
   for (size_t u = 0; u < accused.size(); ++u) {
