@@ -376,6 +376,138 @@ bool may_judge(const SphereFit& m, double sigma_mm, bool sphere, double off_mm =
   return m.ok && m.scale <= 2.0 * sigma_mm && m.near_kept >= near_needed && m.gain <= kLineGainMax;
 }
 
+// Points still listed in twos and threes, each among another's nearest four and none beside
+// another listed point: a pair or triple of outliers keeps each of its members from being judged,
+// since each one's model leaves the others out, and so keeps too few of its nearest four or finds
+// one of them nearer than itself (the step gauge's planted pairs beside a block's edge). The
+// hypothesis that the whole group is off is tested: every member condemned, standing in among the
+// others' nearest by the height its model without the group gives it, and each judged again on the
+// usual terms (`judging_model`, its bound, `limit_mm`, no neighbour it leaves out nearer). The
+// group is condemned only when every member is; else it stays listed. A longer run of listed
+// points is no group of outliers (a ball's first ring, which the grid does not resolve) and is
+// left alone. True when some group was condemned. Over seeds 1 to 14 and five noise levels,
+// outliers listed instead of caught: ball plate 59 -> 41, sphere 135 -> 119, step gauge 77 -> 73;
+// false alarms on the ball plate 34 -> 35, the other parts unchanged.
+template <typename JudgingModel>
+bool condemn_groups(const std::vector<Point3>& points, const WindowLists& wide, std::vector<char>& condemned,
+                    double sigma_mm, double outlier_sigmas, double limit_mm, std::vector<char>& by_sphere,
+                    std::vector<char>& standing, std::vector<double>& replacement, std::vector<size_t>& unjudged,
+                    JudgingModel judging_model) {
+  constexpr size_t kGroupMost = 4;
+  constexpr size_t kNone = static_cast<size_t>(-1);
+  // A point's model without the condemned, whether or not it may judge: a sphere where one
+  // describes its points to the noise, else a plane.
+  auto model_of = [&](size_t g) {
+    SphereFit m = sphere_model(points, wide[g], g, condemned, sigma_mm, &by_sphere, &replacement);
+    if (!m.ok || m.scale > 2.0 * sigma_mm) {
+      m = plane_model(points, wide[g], g, condemned, sigma_mm, &standing, &replacement);
+    }
+    return m;
+  };
+  // The suspects: listed points beyond their bound from that model. A real point listed beside a
+  // cliff has a model of its own side, which keeps it.
+  std::vector<char> suspect(unjudged.size(), 0);
+  parallel_for(unjudged.size(), [&](size_t begin, size_t end, unsigned) {
+    for (size_t u = begin; u < end; ++u) {
+      const size_t i = unjudged[u];
+      const SphereFit m = model_of(i);
+      const double bound = prediction_bound(outlier_sigmas, sigma_mm, m.gain, m.scale);
+      suspect[u] = m.ok && std::fabs(points[i].z - m.prediction) > std::max(bound, limit_mm);
+    }
+  });
+  // Union-find over the suspects, joined to those of their nearest four that are suspects too.
+  std::vector<size_t> root(points.size(), kNone);
+  for (size_t u = 0; u < unjudged.size(); ++u) {
+    if (suspect[u]) root[unjudged[u]] = unjudged[u];
+  }
+  auto find = [&](size_t i) {
+    while (root[i] != i) i = root[i] = root[root[i]];
+    return i;
+  };
+  const std::vector<char> none(points.size(), 0);
+  for (size_t u = 0; u < unjudged.size(); ++u) {
+    const size_t i = unjudged[u];
+    if (!suspect[u]) continue;
+    for (size_t j : nearest_four(points, others_in(wide[i], i, none), i)) {
+      if (root[j] == kNone) continue;
+      const size_t a = find(i), b = find(j);
+      if (a != b) root[std::max(a, b)] = std::min(a, b);
+    }
+  }
+  std::vector<std::vector<size_t>> groups(points.size());
+  for (size_t i : unjudged) {
+    if (root[i] != kNone) groups[find(i)].push_back(i);
+  }
+  bool any = false;
+  std::vector<char> condemned_now(points.size(), 0);
+  for (size_t i : unjudged) {
+    std::vector<size_t> group = groups[i];
+    if (group.size() < 2 || group.size() > kGroupMost) continue;
+    // A member its model clears (or cannot judge) under the hypothesis leaves it, and the rest are
+    // tested again without it: a real point at a block's corner, a suspect beside three outliers.
+    while (group.size() >= 2) {
+      std::vector<double> saved, height;
+      for (size_t g : group) {
+        saved.push_back(replacement[g]);
+        condemned[g] = 1;
+        standing[g] = kNotKept;
+      }
+      // Each member's height from its model without the group.
+      bool estimated = true;
+      for (size_t g : group) {
+        const SphereFit m = model_of(g);
+        estimated = estimated && m.ok;
+        height.push_back(m.prediction);
+      }
+      for (size_t k = 0; estimated && k < group.size(); ++k) {
+        replacement[group[k]] = height[k];
+        by_sphere[group[k]] = standing[group[k]] = kByHeight;
+      }
+      std::vector<size_t> off_members;
+      auto condemned_in_group = [&](size_t j) { return std::find(group.begin(), group.end(), j) != group.end(); };
+      for (size_t k = 0; estimated && k < group.size(); ++k) {
+        const size_t g = group[k];
+        SphereFit m;
+        double bound = 0;
+        if (!judging_model(g, m, bound, true)) continue;
+        const double off = std::fabs(points[g].z - m.prediction);
+        // A condemned neighbour at its replacement height nearer the member than its model by more than
+        // the bound: the
+        // member may be of that neighbour's surface. Two real points on a ball's first ring, whose
+        // ball-side neighbour was an outlier, had nothing else at their height, and the plate's
+        // plane condemned them both.
+        bool nearer = false;
+        for (size_t j : nearest_four(points, others_in(wide[g], g, none), g)) {
+          nearer = nearer ||
+                   (condemned[j] && !condemned_in_group(j) && std::fabs(replacement[j] - points[g].z) + bound < off);
+        }
+        if (!nearer && m.unkept_near_gap_mm >= off && off > std::max(bound, limit_mm)) off_members.push_back(g);
+        height[k] = m.prediction;
+      }
+      const bool all_off = off_members.size() == group.size();
+      for (size_t k = 0; k < group.size(); ++k) {
+        const size_t g = group[k];
+        if (all_off) {
+          replacement[g] = height[k];
+          condemned_now[g] = 1;
+        } else {
+          condemned[g] = 0;
+          by_sphere[g] = standing[g] = 0;
+          replacement[g] = saved[k];
+        }
+      }
+      any = any || all_off;
+      if (all_off || !estimated || off_members.empty()) break;
+      group.swap(off_members);
+    }
+  }
+  if (any) {
+    unjudged.erase(std::remove_if(unjudged.begin(), unjudged.end(), [&](size_t i) { return condemned_now[i] != 0; }),
+                   unjudged.end());
+  }
+  return any;
+}
+
 }  // namespace
 
 void judge_on_spheres(const std::vector<Point3>& points, const WindowLists& wide, std::vector<char>& condemned,
@@ -415,39 +547,46 @@ void judge_on_spheres(const std::vector<Point3>& points, const WindowLists& wide
   // point take a condemned one's place instead caught fewer (ball plate 63, sphere 189) and
   // condemned a real point on a ball's first ring, where three of the four nearest were then the
   // plate's.
-  for (int pass = 0; pass < kSpherePasses; ++pass) {
-    std::vector<char> condemn(unjudged.size(), 0);
-    std::vector<double> height(unjudged.size(), 0);
-    parallel_for(unjudged.size(), [&](size_t begin, size_t end, unsigned) {
-      for (size_t u = begin; u < end; ++u) {
+  auto condemning_passes = [&] {
+    for (int pass = 0; pass < kSpherePasses; ++pass) {
+      std::vector<char> condemn(unjudged.size(), 0);
+      std::vector<double> height(unjudged.size(), 0);
+      parallel_for(unjudged.size(), [&](size_t begin, size_t end, unsigned) {
+        for (size_t u = begin; u < end; ++u) {
+          const size_t i = unjudged[u];
+          SphereFit m;
+          double bound = 0;
+          if (!judging_model(i, m, bound, true)) continue;
+          const double off = std::fabs(points[i].z - m.prediction);
+          // A neighbour the sphere leaves out that lies nearer the point than the sphere does: the
+          // point is of that neighbour's surface, past the sphere's edge. At the dome's rim, on the
+          // scan's edge, a window of the cap had a sphere through a few of the plate's points beside
+          // the rim put plate points 17 to 370 sigma off (six false alarms over fourteen seeds).
+          if (m.unkept_near_gap_mm < off) continue;
+          condemn[u] = off > std::max(bound, limit_mm);
+          height[u] = m.prediction;
+        }
+      });
+      size_t still = 0;
+      for (size_t u = 0; u < unjudged.size(); ++u) {
         const size_t i = unjudged[u];
-        SphereFit m;
-        double bound = 0;
-        if (!judging_model(i, m, bound, true)) continue;
-        const double off = std::fabs(points[i].z - m.prediction);
-        // A neighbour the sphere leaves out that lies nearer the point than the sphere does: the
-        // point is of that neighbour's surface, past the sphere's edge. At the dome's rim, on the
-        // scan's edge, a window of the cap had a sphere through a few of the plate's points beside
-        // the rim put plate points 17 to 370 sigma off (six false alarms over fourteen seeds).
-        if (m.unkept_near_gap_mm < off) continue;
-        condemn[u] = off > std::max(bound, limit_mm);
-        height[u] = m.prediction;
+        if (condemn[u]) {
+          condemned[i] = 1;
+          by_sphere[i] = standing[i] = kByHeight;
+          replacement[i] = height[u];
+        } else {
+          unjudged[still++] = i;
+        }
       }
-    });
-    size_t still = 0;
-    for (size_t u = 0; u < unjudged.size(); ++u) {
-      const size_t i = unjudged[u];
-      if (condemn[u]) {
-        condemned[i] = 1;
-        by_sphere[i] = standing[i] = kByHeight;
-        replacement[i] = height[u];
-      } else {
-        unjudged[still++] = i;
-      }
+      const bool more = still < unjudged.size();
+      unjudged.resize(still);
+      if (!more) break;
     }
-    const bool more = still < unjudged.size();
-    unjudged.resize(still);
-    if (!more) break;
+  };
+  condemning_passes();
+  if (condemn_groups(points, wide, condemned, sigma_mm, outlier_sigmas, limit_mm, by_sphere, standing, replacement,
+                     unjudged, judging_model)) {
+    condemning_passes();
   }
   // A condemned point that a sphere of its surface predicts within its bound is not known to be
   // off the surface: the judge that condemned it followed the ball worse. It is kept and listed
