@@ -199,18 +199,36 @@ SphereFit plane_about_centre(dg::sim::PartKind part, double cx, double cy, doubl
 
 }  // namespace
 
-TEST(LtsSphere, BehindAStepGaugeBlockThePlaneKeepsThePlateAndNotTheBlock) {
-  // (39, 15) lies on the plate just behind the last block, 11 mm below the block's top at
-  // (39, 14): the plane keeps the plate's side of the window and predicts the point.
+namespace {
+
+// The plane about (cx, cy) on the step gauge at 1 um of noise, over three seeds, describes its
+// points to the noise, keeps three of the four nearest and predicts the true height.
+void check_step_gauge_plane(double cx, double cy) {
   const double sigma_mm = 0.001;
   for (unsigned seed = 1; seed <= 3; ++seed) {
-    const SphereFit m = plane_about_centre(dg::sim::PartKind::kStepGauge, 39, 15, sigma_mm, seed);
+    const SphereFit m = plane_about_centre(dg::sim::PartKind::kStepGauge, cx, cy, sigma_mm, seed);
     CHECK(m.ok);
-    DOUBLES_EQUAL(dg::sim::shape_height_mm(dg::sim::PartKind::kStepGauge, 39, 15), m.prediction,
+    DOUBLES_EQUAL(dg::sim::shape_height_mm(dg::sim::PartKind::kStepGauge, cx, cy), m.prediction,
                   5 * sigma_mm * std::sqrt(1 + m.gain));
     CHECK(m.scale <= 1.5 * sigma_mm);
     LONGS_EQUAL(3, m.near_kept);
   }
+}
+
+}  // namespace
+
+TEST(LtsSphere, BehindAStepGaugeBlockThePlaneKeepsThePlateAndNotTheBlock) {
+  // (39, 15) lies on the plate just behind the last block, 11 mm below the block's top at
+  // (39, 14): the plane keeps the plate's side of the window and predicts the point.
+  check_step_gauge_plane(39, 15);
+}
+
+TEST(LtsSphere, OnABlocksFrontRowThePlaneKeepsTheBlockWhereTheLargerPlateLiesBeside) {
+  // (30, 5) lies on the fifth block's front row: three of its nearest are the block's top, the
+  // fourth the plate 9 mm below. The window holds more of the plate (21 points) than of the block
+  // (19 beside the point) and 8 of the block before it: the plane of the block is found though the
+  // plate's plane comes from more of the window's 3 x 3 blocks.
+  check_step_gauge_plane(30, 5);
 }
 
 TEST(LtsSphere, OnABallsCapNoPlaneDescribesTheWindow) {
