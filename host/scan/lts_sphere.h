@@ -69,20 +69,20 @@ SphereFit plane_model(const std::vector<Point3>& points, IndexSpan window, size_
 // neighbour it left out lies nearer the point; in passes until one condemns none more, the points
 // condemned by an earlier pass standing in among the nearest by their spheres' heights. Where no
 // sphere may judge, a plane may, on the same terms but keeping three of the four nearest (the
-// points the other judges condemned among them, as not kept unless beyond doubt, then by their
-// heights), or two to condemn a point beside a cliff whose side it leaves out. Listed points off
-// their models in twos to fours, each among another's nearest four, are then judged together on
-// the hypothesis that all of them are off (each standing in for the others by its model's
-// height), and condemned only if every one is; the passes follow once more if any were. A ball's
-// flank falls by millimetres within a grid step and its top bends more than a cubic over the
-// window follows: there the windows' polynomials could not tell an outlier from the surface. The
-// sphere only condemns: a point it would clear stays listed, since at a crease a sphere continued
-// past its edge can pass for the other surface (the dome's plate beside its rim at 10 um: two
-// outliers cleared over fourteen seeds). Then a condemned point that such a sphere or plane (fitted
-// without every condemned point) predicts within its bound is no longer condemned but listed: a
-// real point on a ball's first ring that a judge following the ball worse condemned. Not asked of
-// the points marked `beyond_doubt`: condemned by a window that describes their neighbours to the
-// noise, at kBeyondDoubt times its bound or more.
+// points the other judges condemned among them, by the heights those gave them), or two to
+// condemn a point beside a cliff whose side it leaves out. Listed points off their models in twos
+// to fours, each among another's nearest four, are then judged together on the hypothesis that
+// all of them are off (each standing in for the others by its model's height), and condemned only
+// if every one is; the passes follow once more if any were. A ball's flank falls by millimetres
+// within a grid step and its top bends more than a cubic over the window follows: there the
+// windows' polynomials could not tell an outlier from the surface. The sphere only condemns: a
+// point it would clear stays listed, since at a crease a sphere continued past its edge can pass
+// for the other surface (the dome's plate beside its rim at 10 um: two outliers cleared over
+// fourteen seeds). Then a condemned point that such a sphere or plane (fitted without every
+// condemned point) predicts within its bound is no longer condemned but listed: a real point on a
+// ball's first ring that a judge following the ball worse condemned. Not asked of the points
+// marked `beyond_doubt`: condemned by a window that describes their neighbours to the noise, at
+// kBeyondDoubt times its bound or more.
 void judge_on_spheres(const std::vector<Point3>& points, const WindowLists& wide, std::vector<char>& condemned,
                       const std::vector<char>& beyond_doubt, double sigma_mm, double outlier_sigmas, double limit_mm,
                       std::vector<double>& replacement, std::vector<size_t>& unjudged);
