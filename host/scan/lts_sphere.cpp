@@ -404,8 +404,9 @@ bool may_judge(const SphereFit& m, double sigma_mm, bool sphere, double off_mm =
   return m.ok && m.scale <= 2.0 * sigma_mm && m.near_kept >= near_needed && m.gain <= kLineGainMax;
 }
 
-// Points still listed in twos and threes, each among another's nearest four and none beside
-// another listed point: a pair or triple of outliers keeps each of its members from being judged,
+// Points still listed and off their models in groups of two to kGroupMost, each among another's
+// nearest four, with no other such point beside them: a pair or triple of outliers keeps each of
+// its members from being judged,
 // since each one's model leaves the others out, and so keeps too few of its nearest four or finds
 // one of them nearer than itself (the step gauge's planted pairs beside a block's edge). The
 // hypothesis that the whole group is off is tested: every member condemned, standing in among the
@@ -413,9 +414,10 @@ bool may_judge(const SphereFit& m, double sigma_mm, bool sphere, double off_mm =
 // usual terms (`judging_model`, its bound, `limit_mm`, no neighbour it leaves out nearer). The
 // group is condemned only when every member is; else it stays listed. A longer run of listed
 // points is no group of outliers (a ball's first ring, which the grid does not resolve) and is
-// left alone. True when some group was condemned. Over seeds 1 to 14 and five noise levels,
-// outliers listed instead of caught: ball plate 59 -> 41, sphere 135 -> 119, step gauge 77 -> 73;
-// false alarms on the ball plate 34 -> 35, the other parts unchanged.
+// left alone. True when some group was condemned. Over seeds 1 to 14 and five noise levels, when
+// it came (before the distinct starts and the caps beyond half of the window), outliers listed
+// instead of caught: ball plate 59 -> 41, sphere 135 -> 119, step gauge 77 -> 73; false alarms on
+// the ball plate 34 -> 35, the other parts unchanged.
 template <typename JudgingModel>
 bool condemn_groups(const std::vector<Point3>& points, const WindowLists& wide, std::vector<char>& condemned,
                     double sigma_mm, double outlier_sigmas, double limit_mm, std::vector<char>& by_sphere,
@@ -499,11 +501,10 @@ bool condemn_groups(const std::vector<Point3>& points, const WindowLists& wide, 
         double bound = 0;
         if (!judging_model(g, m, bound, true)) continue;
         const double off = std::fabs(points[g].z - m.prediction);
-        // A condemned neighbour at its replacement height nearer the member than its model by more than
-        // the bound: the
-        // member may be of that neighbour's surface. Two real points on a ball's first ring, whose
-        // ball-side neighbour was an outlier, had nothing else at their height, and the plate's
-        // plane condemned them both.
+        // A condemned neighbour at its replacement height nearer the member than its model by more
+        // than the bound: the member may be of that neighbour's surface. Two real points on a
+        // ball's first ring, whose ball-side neighbour was an outlier, had nothing else at their
+        // height, and the plate's plane condemned them both.
         bool nearer = false;
         for (size_t j : nearest_four(points, others_in(wide[g], g, none), g)) {
           nearer = nearer ||
