@@ -404,25 +404,32 @@ bool may_judge(const SphereFit& m, double sigma_mm, bool sphere, double off_mm =
   return m.ok && m.scale <= 2.0 * sigma_mm && m.near_kept >= near_needed && m.gain <= kLineGainMax;
 }
 
+// What a judging model (a sphere, else a plane) says of a listed point: whether it condemns it
+// (it may judge, puts the point beyond its bound and the limit, and no neighbour it leaves out
+// lies nearer the point), with its height there, the point's distance from it and its bound.
+struct Verdict {
+  bool condemns = false;
+  double height = 0, off = 0, bound = 0;
+};
+
 // Points still listed and off their models in groups of two to kGroupMost, each among another's
 // nearest four, with no other such point beside them: a pair or triple of outliers keeps each of
-// its members from being judged,
-// since each one's model leaves the others out, and so keeps too few of its nearest four or finds
-// one of them nearer than itself (the step gauge's planted pairs beside a block's edge). The
-// hypothesis that the whole group is off is tested: every member condemned, standing in among the
-// others' nearest by the height its model without the group gives it, and each judged again on the
-// usual terms (`judging_model`, its bound, `limit_mm`, no neighbour it leaves out nearer). The
-// group is condemned only when every member is; else it stays listed. A longer run of listed
-// points is no group of outliers (a ball's first ring, which the grid does not resolve) and is
-// left alone. True when some group was condemned. Over seeds 1 to 14 and five noise levels, when
-// it came (before the distinct starts and the caps beyond half of the window), outliers listed
-// instead of caught: ball plate 59 -> 41, sphere 135 -> 119, step gauge 77 -> 73; false alarms on
-// the ball plate 34 -> 35, the other parts unchanged.
-template <typename JudgingModel>
+// its members from being judged, since each one's model leaves the others out, and so keeps too
+// few of its nearest four or finds one of them nearer than itself (the step gauge's planted pairs
+// beside a block's edge). The hypothesis that the whole group is off is tested: every member
+// condemned, standing in among the others' nearest by the height its model without the group
+// gives it, and each judged again by `verdict_of`, as the passes judge. The group is condemned
+// only when every member is; else it stays listed. A longer run of listed points is no group of
+// outliers (a ball's first ring, which the grid does not resolve) and is left alone. True when
+// some group was condemned. Over seeds 1 to 14 and five noise levels, when it came (before the
+// distinct starts and the caps beyond half of the window), outliers listed instead of caught:
+// ball plate 59 -> 41, sphere 135 -> 119, step gauge 77 -> 73; false alarms on the ball plate
+// 34 -> 35, the other parts unchanged.
+template <typename VerdictOf>
 bool condemn_groups(const std::vector<Point3>& points, const WindowLists& wide, std::vector<char>& condemned,
                     double sigma_mm, double outlier_sigmas, double limit_mm, std::vector<char>& by_sphere,
                     std::vector<char>& standing, std::vector<double>& replacement, std::vector<size_t>& unjudged,
-                    JudgingModel judging_model) {
+                    VerdictOf verdict_of) {
   constexpr size_t kGroupMost = 4;
   constexpr size_t kNone = static_cast<size_t>(-1);
   // A point's model without the condemned, whether or not it may judge: a sphere where one
@@ -469,7 +476,6 @@ bool condemn_groups(const std::vector<Point3>& points, const WindowLists& wide, 
     if (root[i] != kNone) groups[find(i)].push_back(i);
   }
   bool any = false;
-  std::vector<char> condemned_now(points.size(), 0);
   for (size_t i : unjudged) {
     std::vector<size_t> group = groups[i];
     if (group.size() < 2 || group.size() > kGroupMost) continue;
@@ -497,28 +503,26 @@ bool condemn_groups(const std::vector<Point3>& points, const WindowLists& wide, 
       auto condemned_in_group = [&](size_t j) { return std::find(group.begin(), group.end(), j) != group.end(); };
       for (size_t k = 0; estimated && k < group.size(); ++k) {
         const size_t g = group[k];
-        SphereFit m;
-        double bound = 0;
-        if (!judging_model(g, m, bound, true)) continue;
-        const double off = std::fabs(points[g].z - m.prediction);
+        const Verdict v = verdict_of(g);
+        if (!v.condemns) continue;
         // A condemned neighbour at its replacement height nearer the member than its model by more
         // than the bound: the member may be of that neighbour's surface. Two real points on a
         // ball's first ring, whose ball-side neighbour was an outlier, had nothing else at their
         // height, and the plate's plane condemned them both.
         bool nearer = false;
         for (size_t j : nearest_four(points, others_in(wide[g], g, none), g)) {
-          nearer = nearer ||
-                   (condemned[j] && !condemned_in_group(j) && std::fabs(replacement[j] - points[g].z) + bound < off);
+          const bool other = condemned[j] && !condemned_in_group(j);
+          nearer = nearer || (other && std::fabs(replacement[j] - points[g].z) + v.bound < v.off);
         }
-        if (!nearer && m.unkept_near_gap_mm >= off && off > std::max(bound, limit_mm)) off_members.push_back(g);
-        height[k] = m.prediction;
+        if (nearer) continue;
+        off_members.push_back(g);
+        height[k] = v.height;
       }
       const bool all_off = off_members.size() == group.size();
       for (size_t k = 0; k < group.size(); ++k) {
         const size_t g = group[k];
         if (all_off) {
           replacement[g] = height[k];
-          condemned_now[g] = 1;
         } else {
           condemned[g] = 0;
           by_sphere[g] = standing[g] = 0;
@@ -530,8 +534,9 @@ bool condemn_groups(const std::vector<Point3>& points, const WindowLists& wide, 
       group.swap(off_members);
     }
   }
+  // The listed points condemned now are the groups' (a group that failed was cleared again).
   if (any) {
-    unjudged.erase(std::remove_if(unjudged.begin(), unjudged.end(), [&](size_t i) { return condemned_now[i] != 0; }),
+    unjudged.erase(std::remove_if(unjudged.begin(), unjudged.end(), [&](size_t i) { return condemned[i] != 0; }),
                    unjudged.end());
   }
   return any;
@@ -580,24 +585,29 @@ void judge_on_spheres(const std::vector<Point3>& points, const WindowLists& wide
   // point take a condemned one's place instead caught fewer (ball plate 63, sphere 189) and
   // condemned a real point on a ball's first ring, where three of the four nearest were then the
   // plate's.
+  // What the model about a listed point i says of it.
+  auto verdict_of = [&](size_t i) {
+    Verdict v;
+    SphereFit m;
+    if (!judging_model(i, m, v.bound, true)) return v;
+    v.height = m.prediction;
+    v.off = std::fabs(points[i].z - m.prediction);
+    // A neighbour the sphere leaves out that lies nearer the point than the sphere does: the
+    // point is of that neighbour's surface, past the sphere's edge. At the dome's rim, on the
+    // scan's edge, a window of the cap had a sphere through a few of the plate's points beside
+    // the rim put plate points 17 to 370 sigma off (six false alarms over fourteen seeds).
+    v.condemns = m.unkept_near_gap_mm >= v.off && v.off > std::max(v.bound, limit_mm);
+    return v;
+  };
   auto condemning_passes = [&] {
     for (int pass = 0; pass < kSpherePasses; ++pass) {
       std::vector<char> condemn(unjudged.size(), 0);
       std::vector<double> height(unjudged.size(), 0);
       parallel_for(unjudged.size(), [&](size_t begin, size_t end, unsigned) {
         for (size_t u = begin; u < end; ++u) {
-          const size_t i = unjudged[u];
-          SphereFit m;
-          double bound = 0;
-          if (!judging_model(i, m, bound, true)) continue;
-          const double off = std::fabs(points[i].z - m.prediction);
-          // A neighbour the sphere leaves out that lies nearer the point than the sphere does: the
-          // point is of that neighbour's surface, past the sphere's edge. At the dome's rim, on the
-          // scan's edge, a window of the cap had a sphere through a few of the plate's points beside
-          // the rim put plate points 17 to 370 sigma off (six false alarms over fourteen seeds).
-          if (m.unkept_near_gap_mm < off) continue;
-          condemn[u] = off > std::max(bound, limit_mm);
-          height[u] = m.prediction;
+          const Verdict v = verdict_of(unjudged[u]);
+          condemn[u] = v.condemns;
+          height[u] = v.height;
         }
       });
       size_t still = 0;
@@ -618,7 +628,7 @@ void judge_on_spheres(const std::vector<Point3>& points, const WindowLists& wide
   };
   condemning_passes();
   if (condemn_groups(points, wide, condemned, sigma_mm, outlier_sigmas, limit_mm, by_sphere, standing, replacement,
-                     unjudged, judging_model)) {
+                     unjudged, verdict_of)) {
     condemning_passes();
   }
   // A condemned point that a sphere of its surface predicts within its bound is not known to be

@@ -304,17 +304,8 @@ TEST(LtsSphere, APairOfOutliersBesideAStepGaugeBlockIsCaughtTogether) {
   // edge, 0.44 and 0.60 mm high: each one's plane left the other out, so kept two of its four
   // nearest, and found the other nearer than itself. Both were listed as not judged, until the
   // hypothesis that both are off was tested.
-  const dg::test::Planted p = dg::test::plant_outliers(dg::sim::PartKind::kStepGauge, 5.0, 9);
-  const dg::host::LtsResult r = dg::host::lts_filter(p.points, dg::host::LtsOptions{});
-  size_t found = 0;
-  for (size_t i : p.outliers) {
-    if (p.points[i].x != 34 || (p.points[i].y != 9 && p.points[i].y != 10)) continue;
-    ++found;
-    bool caught = false;
-    for (const dg::host::LtsOutlier& o : r.outliers) caught = caught || o.index == i;
-    CHECK(caught);
-  }
-  LONGS_EQUAL(2, found);
+  CHECK(step_gauge_outlier_caught(5.0, 9, 34, 9));
+  CHECK(step_gauge_outlier_caught(5.0, 9, 34, 10));
 }
 
 TEST(LtsSphere, BesideANeighbourTheWindowsCondemnedThePlaneStillJudgesABlocksCorner) {
